@@ -1,0 +1,1 @@
+"""searchtrack.estimate (filled in by later issues)."""

@@ -1,0 +1,1 @@
+"""searchtrack.models (filled in by later issues)."""

@@ -1,0 +1,87 @@
+"""The one result type every solver returns (status, objective, bound, gap, runtime, backend, plan)."""
+
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass, field
+from typing import Generic, TypeVar
+
+PlanT = TypeVar("PlanT")
+
+
+class Status(enum.Enum):
+    """Outcome of a solve, shared by every backend (each native status is mapped explicitly)."""
+
+    OPTIMAL = "OPTIMAL"  # the plan is proven optimal
+    FEASIBLE = "FEASIBLE"  # a valid plan, optimality not proven
+    INFEASIBLE = "INFEASIBLE"  # proven that no valid plan exists
+    NO_SOLUTION = "NO_SOLUTION"  # no plan found within the limits, nothing proven
+    ERROR = "ERROR"  # the backend failed; see the message
+
+    @property
+    def has_plan(self) -> bool:
+        """True for the statuses that carry a plan."""
+        return self in (Status.OPTIMAL, Status.FEASIBLE)
+
+
+class Sense(enum.Enum):
+    """Whether the objective is maximised or minimised."""
+
+    MAXIMIZE = "max"
+    MINIMIZE = "min"
+
+
+@dataclass(frozen=True)
+class Result(Generic[PlanT]):
+    """What a solver returns.
+
+    Parameters
+    ----------
+    status
+        The outcome.
+    objective
+        Objective value of ``plan``; ``None`` when there is no plan.
+    bound
+        Proven bound on the optimum (upper for maximisation), ``None`` when the backend proves none.
+    runtime_s
+        Wall-clock seconds spent.
+    backend
+        Name of the backend that produced ``plan`` (for ``auto``, the one that answered).
+    plan
+        The solution, or ``None``.
+    sense
+        Maximise or minimise (sets the sign convention of ``gap``).
+    message
+        Free text: the native status, why a fallback fired, what was proven.
+    """
+
+    status: Status
+    objective: float | None
+    bound: float | None
+    runtime_s: float
+    backend: str
+    plan: PlanT | None
+    sense: Sense = Sense.MAXIMIZE
+    message: str = ""
+    stats: dict[str, float] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if not (self.runtime_s >= 0.0 and math.isfinite(self.runtime_s)):
+            raise ValueError(f"runtime_s={self.runtime_s!r}: must be finite and non-negative")
+        if self.status.has_plan and (self.plan is None or self.objective is None):
+            raise ValueError(f"status={self.status.name} needs a plan and an objective")
+        if not self.status.has_plan and self.plan is not None:
+            raise ValueError(f"status={self.status.name} must not carry a plan")
+
+    @property
+    def gap(self) -> float | None:
+        """Relative optimality gap ``|bound − objective| / max(|objective|, 1)``; 0 when optimal."""
+        if self.status is Status.OPTIMAL:
+            return 0.0
+        if self.objective is None or self.bound is None:
+            return None
+        diff = self.bound - self.objective
+        if self.sense is Sense.MINIMIZE:
+            diff = -diff
+        return max(0.0, diff) / max(abs(self.objective), 1.0)

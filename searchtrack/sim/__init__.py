@@ -1,0 +1,1 @@
+"""searchtrack.sim (filled in by later issues)."""
