@@ -1,6 +1,7 @@
 """searchtrack: teams of UAVs that search for and track an unknown number of moving targets.
 
-Layers, each importing only those before it: ``models`` → ``estimate`` → ``plan`` → ``sim`` → ``cli``.
+Layers, each importing only those before it:
+``models`` → ``estimate`` → ``plan`` → ``sim`` → ``cli``.
 """
 
 from __future__ import annotations

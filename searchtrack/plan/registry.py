@@ -18,7 +18,9 @@ Q = TypeVar("Q")
 class SolveFn(Protocol[ProblemT, PlanT]):
     """Signature every backend implements."""
 
-    def __call__(self, problem: ProblemT, *, time_limit_s: float, seed: int) -> Result[PlanT]: ...
+    def __call__(
+        self, problem: ProblemT, /, *, time_limit_s: float, seed: int
+    ) -> Result[PlanT]: ...
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,4 @@
-"""The one result type every solver returns (status, objective, bound, gap, runtime, backend, plan)."""
+"""The one result type every solver returns: status, objective, bound, gap, runtime, plan."""
 
 from __future__ import annotations
 

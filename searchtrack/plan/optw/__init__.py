@@ -1,4 +1,4 @@
-"""Orienteering with time windows (OPTW) and team OPTW: instances, file format, validator, solvers."""
+"""Orienteering with time windows (OPTW) and team OPTW: instances, files, validator, solvers."""
 
 from __future__ import annotations
 

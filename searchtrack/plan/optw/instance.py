@@ -46,10 +46,10 @@ def _int_ticks(name: str, values: ArrayLike, n: int | None = None) -> NDArray[np
 class OPTWInstance:
     """A (team) orienteering problem with time windows.
 
-    Each route leaves ``start`` at its opening time, visits vertices (service may start only inside
-    the vertex's window ``[open, close]``; arriving early means waiting) and reaches ``end`` no later
-    than its closing time and within ``tmax`` of departure. Each vertex is collected at most once over
-    all ``vehicles`` routes; the objective is the total profit collected.
+    Each route leaves ``start`` at its opening time, visits vertices (service may start only
+    inside the vertex's window ``[open, close]``; arriving early means waiting) and reaches ``end``
+    no later than its closing time and within ``tmax`` of departure. Each vertex is collected at
+    most once over all ``vehicles`` routes; the objective is the total profit collected.
 
     Parameters
     ----------
@@ -340,7 +340,7 @@ def euclidean_ticks(
         d2 = (d * d).sum(axis=2) * (scale * scale)
         if np.any(d2 >= 2**62):
             raise InvalidInputError("coords", "…", "too large for exact integer distances")
-        return _isqrt(d2) // (10**cdec)
+        return np.asarray(_isqrt(d2) // (10**cdec), dtype=np.int64)
     diff = xy[:, None, :] - xy[None, :, :]
     dist = np.sqrt((diff * diff).sum(axis=2)) / speed
     return to_ticks("travel", dist, scale, rounding)

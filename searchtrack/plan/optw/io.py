@@ -185,7 +185,10 @@ def write_optw(instance: OPTWInstance, path: str | Path) -> None:
             "travel", "…", "not the truncated Euclidean distances of the coordinates"
         )
     order = [instance.start] + [v for v in range(instance.n) if v != instance.start]
-    out = [f"4 {instance.vehicles} {instance.n - 1} 1", f"0 {_fmt(instance.latest_finish, decimals)}"]
+    out = [
+        f"4 {instance.vehicles} {instance.n - 1} 1",
+        f"0 {_fmt(instance.latest_finish, decimals)}",
+    ]
     for v in order:
         x, y = instance.coords[v]
         out.append(

@@ -68,9 +68,8 @@ def reach(inst: OPTWInstance) -> Reach:
         if cand[w] <= -_NEVER:
             break
         done[w] = True
-        if not customers[w] and not (inst.end is None and w == inst.start):
-            if w != inst.end:
-                continue
+        if not customers[w] and w != inst.end and not (inst.end is None and w == inst.start):
+            continue
         dep = latest[w] - t[:, w] - s
         lat = np.minimum(dep, c)
         ok = (customers | (np.arange(n) == inst.start)) & ~done & (lat >= o)

@@ -5,6 +5,7 @@ Shares no code with any solver: a plan a backend returns is accepted only if thi
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -77,7 +78,7 @@ def validate(instance: OPTWInstance, routes: Sequence[Sequence[int]]) -> Validat
                 owner[v] = r
         t = int(inst.open[route[0]])
         visits = [Visit(route[0], t, 0, t)]
-        for prev, v in zip(route, route[1:], strict=False):
+        for prev, v in itertools.pairwise(route):
             arrival = visits[-1].start + int(inst.service[prev]) + int(inst.travel[prev, v])
             begin = max(arrival, int(inst.open[v]))
             visits.append(Visit(v, arrival, begin - arrival, begin))
@@ -87,7 +88,9 @@ def validate(instance: OPTWInstance, routes: Sequence[Sequence[int]]) -> Validat
                     f"({int(inst.close[v])})"
                 )
         last = visits[-1]
-        finish = last.arrival if inst.end is not None else last.start + int(inst.service[last.vertex])
+        finish = last.arrival
+        if inst.end is None:
+            finish = last.start + int(inst.service[last.vertex])
         if finish > finish_limit:
             problems.append(f"{tag}: finishes at {finish}, after the limit {finish_limit}")
         schedules.append(tuple(visits))

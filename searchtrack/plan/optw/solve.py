@@ -1,0 +1,177 @@
+"""Solve an OPTW by backend name; ``auto`` answers with the heuristic, then improves or proves it.
+
+Every plan a backend returns is re-checked by the independent validator; a plan it rejects turns
+the result into ``ERROR`` (never a silent wrong answer).
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+
+from searchtrack.errors import InvalidInputError
+from searchtrack.plan.optw.instance import OPTWInstance, Routes
+from searchtrack.plan.optw.validate import validate
+from searchtrack.plan.registry import Backend, Registry
+from searchtrack.plan.result import Result, Status
+from searchtrack.plan.stop import Deadline, check_time_limit
+
+log = logging.getLogger("searchtrack.plan.optw")
+
+_TOL = 1e-6
+
+
+def _ils(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:
+    from searchtrack.plan.optw.ils import solve_ils
+
+    return solve_ils(inst, time_limit_s=time_limit_s, seed=seed)
+
+
+def _labelling(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:
+    from searchtrack.plan.optw.labelling import solve_labelling
+
+    return solve_labelling(inst, time_limit_s=time_limit_s, seed=seed)
+
+
+def _cpsat(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:
+    from searchtrack.plan.optw.cpsat import solve_cpsat
+
+    return solve_cpsat(inst, time_limit_s=time_limit_s, seed=seed)
+
+
+def _mip(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:
+    from searchtrack.plan.optw.mip import solve_mip
+
+    return solve_mip(inst, time_limit_s=time_limit_s, seed=seed)
+
+
+def heuristic_share(time_limit_s: float) -> float:
+    """Seconds ``auto`` gives the heuristic before the exact solver: 10 % of the limit, ≤ 1 s."""
+    return min(1.0, max(0.02, 0.1 * time_limit_s))
+
+
+def _auto(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:
+    from searchtrack.plan.optw.cpsat import solve_cpsat
+    from searchtrack.plan.optw.ils import solve_ils
+    from searchtrack.plan.optw.labelling import solve_labelling
+
+    deadline = Deadline(time_limit_s)
+    first = solve_ils(inst, time_limit_s=heuristic_share(time_limit_s), seed=seed)
+    if first.status is Status.OPTIMAL or deadline.remaining() < 1e-3:
+        return _relabel(first, deadline, f"auto: ils answered ({first.message})")
+    exact_solve = solve_labelling if inst.vehicles == 1 else solve_cpsat
+    second = exact_solve(
+        inst, time_limit_s=max(1e-3, deadline.remaining()), seed=seed, initial=first.plan
+    )
+    candidates = [r for r in (second, first) if r.status.has_plan]
+    if not candidates:
+        return _relabel(second, deadline, f"auto: no plan ({second.message})")
+    best = max(candidates, key=lambda r: r.objective or 0.0)
+    bounds = [r.bound for r in (first, second) if r.bound is not None]
+    bound = min(bounds) if bounds else None
+    objective = best.objective if best.objective is not None else 0.0
+    status = Status.OPTIMAL if bound is not None and objective >= bound - _TOL else best.status
+    note = (
+        f"auto: ils {first.objective:g} in {first.runtime_s:.2f} s; "
+        f"{second.backend} {second.status.name}"
+        + (f" {second.objective:g}" if second.objective is not None else "")
+        + f"; {best.backend} answered"
+    )
+    return Result(
+        status=status,
+        objective=objective,
+        bound=bound,
+        runtime_s=deadline.elapsed(),
+        backend=best.backend,
+        plan=best.plan,
+        message=note,
+        stats={"heuristic_objective": first.objective or 0.0, "heuristic_s": first.runtime_s},
+    )
+
+
+def _relabel(result: Result[Routes], deadline: Deadline, message: str) -> Result[Routes]:
+    return Result(
+        status=result.status,
+        objective=result.objective,
+        bound=result.bound,
+        runtime_s=deadline.elapsed(),
+        backend=result.backend,
+        plan=result.plan,
+        message=message,
+        stats=result.stats,
+    )
+
+
+def _single_vehicle(inst: OPTWInstance) -> str | None:
+    return None if inst.vehicles == 1 else "solves single-vehicle instances only (vehicles=1)"
+
+
+BACKENDS: Registry[OPTWInstance, Routes] = Registry("optw")
+BACKENDS.register(Backend("auto", _auto, True,
+                          "ILS answer at once, then labelling (m = 1) or CP-SAT to prove it"))
+BACKENDS.register(Backend("ils", _ils, False, "iterated local search (Vansteenwegen et al. 2009+)"))
+BACKENDS.register(Backend("labelling", _labelling, True,
+                          "labelling DP with decremental state-space relaxation (m = 1)",
+                          supports=_single_vehicle))
+BACKENDS.register(Backend("cpsat", _cpsat, True, "OR-Tools CP-SAT circuit model"))
+BACKENDS.register(Backend("mip", _mip, True, "integer program (5.17)–(5.26) with OR-Tools SCIP"))
+
+
+def solve(
+    instance: OPTWInstance, *, backend: str = "auto", time_limit_s: float = 10.0, seed: int = 0
+) -> Result[Routes]:
+    """Solve ``instance`` with the named backend within ``time_limit_s`` seconds.
+
+    Parameters
+    ----------
+    instance
+        The (team) OPTW.
+    backend
+        ``"auto"``, ``"ils"``, ``"labelling"``, ``"cpsat"`` or ``"mip"``.
+    time_limit_s
+        Wall-clock limit, honoured by every backend.
+    seed
+        Seed of the heuristic's random choices and of the solvers that take one.
+
+    Raises
+    ------
+    InvalidInputError
+        Unknown backend, a backend that cannot take this instance, or a bad time limit.
+    """
+    check_time_limit(time_limit_s)
+    if not isinstance(seed, int) or seed < 0:
+        raise InvalidInputError("seed", seed, "must be a non-negative integer")
+    chosen = BACKENDS.get(backend)
+    reason = chosen.supports(instance)
+    if reason is not None:
+        raise InvalidInputError("backend", backend, reason)
+    started = time.perf_counter()
+    result = chosen.solve(instance, time_limit_s=time_limit_s, seed=seed)
+    log.info("optw %s via %s: %s %s in %.3f s", instance.name, backend, result.status.name,
+             result.objective, time.perf_counter() - started)
+    return checked(instance, result)
+
+
+def checked(instance: OPTWInstance, result: Result[Routes]) -> Result[Routes]:
+    """``result`` if the validator accepts its plan and objective, else an ``ERROR`` result."""
+    if result.plan is None:
+        return result
+    report = validate(instance, result.plan)
+    problems = list(report.violations)
+    if result.objective is not None and abs(report.profit - result.objective) > _TOL:
+        problems.append(f"reported profit {result.objective} but the routes collect "
+                        f"{report.profit}")
+    if result.bound is not None and report.profit > result.bound + _TOL:
+        problems.append(f"profit {report.profit} exceeds the claimed bound {result.bound}")
+    if not problems:
+        return result
+    log.error("optw %s: %s returned an invalid plan: %s", instance.name, result.backend, problems)
+    return Result(
+        status=Status.ERROR,
+        objective=None,
+        bound=None,
+        runtime_s=result.runtime_s,
+        backend=result.backend,
+        plan=None,
+        message="validator rejected the plan: " + "; ".join(problems),
+    )

@@ -1,0 +1,60 @@
+"""The shared solver vocabulary: result type, registry and deadline."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from searchtrack.errors import InvalidInputError
+from searchtrack.plan import Backend, Deadline, Registry, Result, Sense, Status
+
+
+def test_result_gap_for_max_and_min() -> None:
+    """The gap is relative to the objective and signed by the sense; 0 when optimal."""
+    r = Result(Status.FEASIBLE, 90.0, 100.0, 1.0, "x", plan=[1])
+    assert r.gap == pytest.approx(10 / 90)
+    r = Result(Status.FEASIBLE, 110.0, 100.0, 1.0, "x", plan=[1], sense=Sense.MINIMIZE)
+    assert r.gap == pytest.approx(10 / 110)
+    assert Result(Status.OPTIMAL, 5.0, 5.0, 0.0, "x", plan=[1]).gap == 0.0
+    assert Result(Status.FEASIBLE, 5.0, None, 0.0, "x", plan=[1]).gap is None
+
+
+def test_result_refuses_nonsense() -> None:
+    """Negative runtimes, plans without objectives and failures with plans are refused."""
+    with pytest.raises(ValueError, match="runtime_s"):
+        Result(Status.FEASIBLE, 1.0, None, -1.0, "x", plan=[1])
+    with pytest.raises(ValueError, match="needs a plan"):
+        Result(Status.OPTIMAL, None, None, 1.0, "x", plan=None)
+    with pytest.raises(ValueError, match="must not carry"):
+        Result(Status.ERROR, None, None, 1.0, "x", plan=[1])
+
+
+def test_registry_lookup_and_errors() -> None:
+    """Backends are found by name; unknown names list the valid ones; duplicates are refused."""
+    reg: Registry[int, int] = Registry("toy")
+
+    def solve(problem: int, /, *, time_limit_s: float, seed: int) -> Result[int]:
+        return Result(Status.OPTIMAL, float(problem), float(problem), 0.0, "double", plan=problem)
+
+    reg.register(Backend("double", solve, True, "returns the input"))
+    assert reg.get("double").solve(3, time_limit_s=1.0, seed=0).objective == 3.0
+    with pytest.raises(InvalidInputError, match=r"\['double'\]"):
+        reg.get("nope")
+    with pytest.raises(ValueError, match="already"):
+        reg.register(Backend("double", solve, True, "again"))
+
+
+@pytest.mark.parametrize("bad", [0.0, -1.0, math.nan])
+def test_deadline_rejects_bad_limits(bad: float) -> None:
+    """Zero, negative and NaN time limits are rejected with the field named."""
+    with pytest.raises(InvalidInputError, match="time_limit_s"):
+        Deadline(bad)
+
+
+def test_deadline_counts_down() -> None:
+    """A deadline reports elapsed and remaining time, and sub-deadlines fit inside it."""
+    d = Deadline(10.0)
+    assert 0.0 <= d.elapsed() < 1.0 and 9.0 < d.remaining() <= 10.0 and not d.expired()
+    assert d.sub(0.5).time_limit_s <= 5.0
+    assert Deadline(1e-9).expired() or Deadline(1e-9).remaining() < 1e-6

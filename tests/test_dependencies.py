@@ -1,0 +1,38 @@
+"""The dependency set: OR-Tools and cvxpy import together in either order (no HiGHS clash)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from importlib import metadata
+
+import pytest
+
+ORDERS = {
+    "cvxpy first": "import cvxpy\nfrom ortools.sat.python import cp_model\n"
+    "from ortools.linear_solver import pywraplp\nassert pywraplp.Solver.CreateSolver('SCIP')\n"
+    "import numpy as np\nx = cvxpy.Variable(2)\n"
+    "p = cvxpy.Problem(cvxpy.Minimize(cvxpy.sum(x)), [x >= 1]); p.solve()\n"
+    "assert abs(p.value - 2) < 1e-6",
+    "ortools first": "from ortools.linear_solver import pywraplp\nimport cvxpy\n"
+    "from ortools.sat.python import cp_model\nassert pywraplp.Solver.CreateSolver('SCIP')",
+    "searchtrack first": "import searchtrack.plan.optw.solve\nimport cvxpy\n"
+    "from ortools.sat.python import cp_model",
+}
+
+
+@pytest.mark.parametrize("order", sorted(ORDERS))
+def test_solvers_import_in_any_order(order: str) -> None:
+    """OR-Tools and cvxpy both work whichever is imported first, in a fresh interpreter."""
+    proc = subprocess.run([sys.executable, "-c", ORDERS[order]], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+
+
+def test_no_dependency_pulls_in_highspy() -> None:
+    """searchtrack depends on cvxpy-base (not cvxpy, which requires highspy), so no HiGHS clash."""
+    requires = metadata.requires("searchtrack") or []
+    names = {r.split(";")[0].split("[")[0].split(">")[0].split("=")[0].split("<")[0].strip()
+             for r in requires}
+    assert "cvxpy-base" in names
+    assert "cvxpy" not in names and "highspy" not in names
