@@ -298,6 +298,28 @@ class RoadNetwork:
         _, idx = self._tree.query(xy.reshape(-1, 2))
         return np.asarray(idx, dtype=np.int64)
 
+    def nodes_within(
+        self, xy_m: ArrayLike, radius_m: ArrayLike
+    ) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+        """The nodes within ``radius_m`` (straight line, inclusive) of each of ``k`` points.
+
+        ``radius_m`` is one radius or one per point. Returns flat ``(point, node)`` index pairs,
+        grouped by point in order and by node index within a point: the footprint node sets
+        ``𝒩_k^j`` of §5.2 for UAVs at ``xy_m``.
+        """
+        xy = np.asarray(xy_m, dtype=np.float64).reshape(-1, 2)
+        if not np.all(np.isfinite(xy)):
+            raise InvalidInputError("xy_m", xy_m, "must be finite points of shape (k, 2)")
+        r = np.broadcast_to(np.asarray(radius_m, dtype=np.float64), (xy.shape[0],))
+        if not np.all(np.isfinite(r) & (r >= 0)):
+            raise InvalidInputError("radius_m", radius_m, "must be finite and ≥ 0 (m)")
+        hits = [np.sort(np.asarray(h, dtype=np.int64))
+                for h in self._tree.query_ball_point(xy, r)] if xy.size else []
+        sizes = np.array([h.size for h in hits], dtype=np.int64)
+        point = np.repeat(np.arange(sizes.size, dtype=np.int64), sizes)
+        node = np.concatenate(hits) if hits else np.empty(0, dtype=np.int64)
+        return point, node.astype(np.int64)
+
     # ----- views -----------------------------------------------------------------------------
 
     def to_networkx(self) -> nx.Graph:

@@ -1,0 +1,212 @@
+"""The fixed-wing UAV as a Dubins car at fixed altitude (thesis 001 §5.1), vectorised over UAVs.
+
+Kinematics (5.1): ``ẋ = S cos θ``, ``ẏ = S sin θ``, ``θ̇ = u``. A force ``F = [X, Y]`` on a unit
+mass gives (5.2)–(5.3) ``θ̇ = (Y cos θ − X sin θ)/S`` and ``Ṡ = X cos θ + Y sin θ``; the turn rate
+is saturated by ``sat(·, θ̇_max)`` (5.5) and the speed updated by an Euler step (5.4).
+
+Erratum: (5.4) saturates the speed symmetrically, ``sat(S, S_max)``, which lets it fall to zero
+or below, where (5.3) divides by ``S``. Here the speed is clamped to ``[S_min, S_max]`` with
+``S_min > 0``. Over one step the turn rate and speed are held, and the state advances along the
+resulting arc in closed form (``method="exact"``), by classical RK4 (``"rk4"``), or by the
+thesis's explicit Euler step (``"euler"``: position from the heading at the start of the step,
+with the commanded speed; the digest's reading of (5.4) uses the previous speed, the same thing
+for the thesis's constant-speed UAV).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from searchtrack.errors import InvalidInputError
+from searchtrack.models import _checks
+
+FloatArray = NDArray[np.float64]
+Method = Literal["exact", "rk4", "euler"]
+MPS_PER_MPH = 0.44704
+
+
+def sat(x: ArrayLike, x_max: float) -> FloatArray:
+    """The saturation function (5.5): ``x`` clipped to ``[−x_max, x_max]``."""
+    limit = _checks.non_negative("x_max", x_max)
+    return np.clip(np.asarray(x, dtype=np.float64), -limit, limit)
+
+
+@dataclass(frozen=True)
+class DubinsLimits:
+    """Speed and turn-rate limits of a UAV; defaults are Table 6.4's (80 mph, 70 °/s).
+
+    Parameters
+    ----------
+    speed_max_mps
+        ``S_max`` (m/s).
+    speed_min_mps
+        ``S_min`` (m/s), ``0 < S_min ≤ S_max``; equal to ``S_max`` for a constant-speed UAV.
+    turn_rate_max_rps
+        ``θ̇_max`` (rad/s), > 0. Table 6.2 uses 50 °/s.
+    """
+
+    speed_max_mps: float = 80.0 * MPS_PER_MPH
+    speed_min_mps: float = 80.0 * MPS_PER_MPH
+    turn_rate_max_rps: float = math.radians(70.0)
+
+    def __post_init__(self) -> None:
+        hi = _checks.positive("speed_max_mps", self.speed_max_mps)
+        lo = _checks.positive("speed_min_mps", self.speed_min_mps)
+        if lo > hi:
+            raise InvalidInputError("speed_min_mps", self.speed_min_mps,
+                                    f"must not exceed speed_max_mps={hi!r}")
+        object.__setattr__(self, "speed_max_mps", hi)
+        object.__setattr__(self, "speed_min_mps", lo)
+        object.__setattr__(self, "turn_rate_max_rps",
+                           _checks.positive("turn_rate_max_rps", self.turn_rate_max_rps))
+
+    def turn_radius_m(self, speed_mps: ArrayLike) -> FloatArray:
+        """The tightest turn radius ``S/θ̇_max`` (m) at ``speed_mps``."""
+        return np.asarray(speed_mps, dtype=np.float64) / self.turn_rate_max_rps
+
+    def clamp_speed(self, speed_mps: ArrayLike) -> FloatArray:
+        """``speed_mps`` clamped to ``[S_min, S_max]``."""
+        return np.clip(np.asarray(speed_mps, dtype=np.float64), self.speed_min_mps,
+                       self.speed_max_mps)
+
+
+@dataclass(frozen=True)
+class UavState:
+    """Positions, headings and speeds of ``n`` UAVs (read-only arrays, shape ``(n,)``).
+
+    ``heading_rad`` is measured from the x axis (east) anticlockwise; it is kept in
+    ``[−π, π)`` after each step. Speeds must be positive.
+    """
+
+    x_m: FloatArray
+    y_m: FloatArray
+    heading_rad: FloatArray
+    speed_mps: FloatArray
+
+    def __post_init__(self) -> None:
+        x = _checks.finite_array("x_m", np.atleast_1d(np.asarray(self.x_m, dtype=float)), (None,))
+        shape = (x.shape[0],)
+        set_ = object.__setattr__
+        set_(self, "x_m", x)
+        for name in ("y_m", "heading_rad", "speed_mps"):
+            value = np.atleast_1d(np.asarray(getattr(self, name), dtype=float))
+            set_(self, name, _checks.finite_array(name, value, shape))
+        if np.any(self.speed_mps <= 0):
+            raise InvalidInputError("speed_mps", self.speed_mps, "speeds must be > 0 (m/s)")
+
+    @property
+    def n(self) -> int:
+        """Number of UAVs."""
+        return int(self.x_m.shape[0])
+
+    @property
+    def xy_m(self) -> FloatArray:
+        """``(n, 2)`` positions (m)."""
+        return np.column_stack([self.x_m, self.y_m])
+
+    @property
+    def velocity_mps(self) -> FloatArray:
+        """``(n, 2)`` velocities (m/s)."""
+        heading = np.column_stack([np.cos(self.heading_rad), np.sin(self.heading_rad)])
+        return np.asarray(self.speed_mps[:, None] * heading, dtype=np.float64)
+
+
+def force_to_controls(
+    state: UavState, force: ArrayLike, dt_s: float, limits: DubinsLimits
+) -> tuple[FloatArray, FloatArray]:
+    """The turn rate (rad/s) and speed (m/s) a unit-mass force ``(n, 2)`` commands for one step.
+
+    Turn rate ``sat((Y cos θ − X sin θ)/S, θ̇_max)`` ((5.3)–(5.5)) and speed
+    ``S + (X cos θ + Y sin θ)Δt`` (5.4), clamped to ``[S_min, S_max]``.
+    """
+    f = _checks.points("force", force)
+    if f.shape[0] != state.n:
+        raise InvalidInputError("force", force, f"must have shape ({state.n}, 2), one per UAV")
+    dt = _checks.positive("dt_s", dt_s)
+    c, s = np.cos(state.heading_rad), np.sin(state.heading_rad)
+    turn = (f[:, 1] * c - f[:, 0] * s) / state.speed_mps
+    accel = f[:, 0] * c + f[:, 1] * s
+    return sat(turn, limits.turn_rate_max_rps), limits.clamp_speed(state.speed_mps + accel * dt)
+
+
+def _wrap(angle: FloatArray) -> FloatArray:
+    return np.asarray((angle + np.pi) % (2.0 * np.pi) - np.pi)
+
+
+def _rates(theta: FloatArray, speed: FloatArray, turn: FloatArray) -> tuple[FloatArray, ...]:
+    return speed * np.cos(theta), speed * np.sin(theta), turn
+
+
+def propagate(
+    state: UavState,
+    turn_rate_rps: ArrayLike,
+    speed_mps: ArrayLike,
+    dt_s: float,
+    limits: DubinsLimits,
+    *,
+    method: Method = "exact",
+) -> UavState:
+    """Advance the UAVs ``dt_s`` seconds under (5.1) with held turn rate and speed.
+
+    Parameters
+    ----------
+    state
+        UAVs at the start of the step.
+    turn_rate_rps
+        Commanded turn rate ``u`` (rad/s), one or one per UAV; saturated by (5.5).
+    speed_mps
+        Commanded speed (m/s), one or one per UAV; clamped to ``[S_min, S_max]``.
+    dt_s
+        Step length ``Δt`` (s), > 0.
+    limits
+        Speed and turn-rate limits.
+    method
+        ``"exact"`` (closed-form arc), ``"rk4"`` or ``"euler"`` (the thesis's (5.4)).
+    """
+    dt = _checks.positive("dt_s", dt_s)
+    n = (state.n,)
+    u = _checks.finite_array("turn_rate_rps", np.broadcast_to(
+        np.asarray(turn_rate_rps, dtype=float), n), n)
+    v = _checks.finite_array("speed_mps", np.broadcast_to(np.asarray(speed_mps, dtype=float), n), n)
+    if np.any(v < 0):
+        raise InvalidInputError("speed_mps", speed_mps, "must be ≥ 0 (m/s) before clamping")
+    u, v = sat(u, limits.turn_rate_max_rps), limits.clamp_speed(v)
+    x, y, th = state.x_m, state.y_m, state.heading_rad
+    if method == "exact":
+        half = 0.5 * u * dt
+        chord = v * dt * np.sinc(half / np.pi)  # arc of angle 2·half: chord = S Δt sin(h)/h
+        x_new, y_new = x + chord * np.cos(th + half), y + chord * np.sin(th + half)
+        th_new = th + u * dt
+    elif method == "rk4":
+        k1 = _rates(th, v, u)
+        k2 = _rates(th + 0.5 * dt * k1[2], v, u)
+        k3 = _rates(th + 0.5 * dt * k2[2], v, u)
+        k4 = _rates(th + dt * k3[2], v, u)
+        x_new, y_new, th_new = (
+            base + dt / 6.0 * (a + 2.0 * b + 2.0 * c + d)
+            for base, a, b, c, d in zip((x, y, th), k1, k2, k3, k4, strict=True)
+        )
+    elif method == "euler":
+        x_new, y_new, th_new = x + v * np.cos(th) * dt, y + v * np.sin(th) * dt, th + u * dt
+    else:
+        raise InvalidInputError("method", method, "must be 'exact', 'rk4' or 'euler'")
+    return UavState(x_m=x_new, y_m=y_new, heading_rad=_wrap(th_new), speed_mps=v)
+
+
+def step_force(
+    state: UavState,
+    force: ArrayLike,
+    dt_s: float,
+    limits: DubinsLimits,
+    *,
+    method: Method = "exact",
+) -> UavState:
+    """One step of the UAVs under unit-mass forces ``(n, 2)`` (N/kg): (5.3)–(5.5), then
+    :func:`propagate`."""
+    turn, speed = force_to_controls(state, force, dt_s, limits)
+    return propagate(state, turn, speed, dt_s, limits, method=method)
