@@ -1,0 +1,423 @@
+"""Numba kernel of the OPTW labelling solver: one bounded pass of ng/DSSR-relaxed labelling.
+
+A pass works on a *core graph* (source ``src``, customers, sink ``snk``; see
+:mod:`searchtrack.plan.optw.labelling`) in its own time axis: the forward pass in service-start
+ticks, the backward pass on the reversed graph with time ``H − τ``. Both are the same forward
+labelling algorithm (Righini & Salani 2009, §3), so there is only one kernel.
+
+A label is ``(vertex, time, profit, mask)``: ``mask`` holds the vertices the label may not visit,
+the ng-memory (Baldacci, Mingozzi & Roberti 2011) joined with the vertices that can no longer be
+reached in time (Feillet et al. 2004). Label ``a`` dominates ``b`` at the same vertex when
+``time_a ≤ time_b``, ``profit_a ≥ profit_b`` and ``mask_a ⊆ mask_b``. Labels are expanded in
+order of time from a bucket queue. A new label is compared with every live label at its vertex
+that has the same ng-memory (found through a hash table) and with the most recent others.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from numba import njit, objmode
+
+DONE = 0  # the pass finished: every label was expanded or pruned
+TIMEOUT = 1  # the deadline passed
+FULL = 2  # the label store reached its capacity
+
+_CHECK_EVERY = 64  # expanded labels between two clock reads
+
+
+@njit(cache=True)
+def _clock() -> float:
+    with objmode(now="float64"):
+        now = time.perf_counter()
+    return now
+
+
+@njit(cache=True)
+def _grow1(a, cap):  # type: ignore[no-untyped-def]
+    b = np.empty(cap, dtype=a.dtype)
+    b[: a.shape[0]] = a
+    return b
+
+
+@njit(cache=True)
+def _grow2(a, cap):  # type: ignore[no-untyped-def]
+    b = np.zeros((cap, a.shape[1]), dtype=a.dtype)
+    b[: a.shape[0]] = a
+    return b
+
+
+@njit(cache=True)
+def shortest_paths(dur, big):  # type: ignore[no-untyped-def]
+    """All-pairs shortest durations (Floyd–Warshall), capped at ``big`` (no path)."""
+    n = dur.shape[0]
+    sp = dur.copy()
+    for k in range(n):
+        for i in range(n):
+            dik = sp[i, k]
+            if dik >= big:
+                continue
+            for j in range(n):
+                d = dik + sp[k, j]
+                if d < sp[i, j]:
+                    sp[i, j] = d
+    return sp
+
+
+@njit(cache=True)
+def _unreach_count(thr, v, t):  # type: ignore[no-untyped-def]
+    """Number of entries of the sorted row ``thr[v]`` below ``t`` (vertices out of reach)."""
+    lo = 0
+    hi = thr.shape[1]
+    while lo < hi:
+        mid = (lo + hi) >> 1
+        if thr[v, mid] < t:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True)
+def _completion(tab, v, t, horizon, width, prof):  # type: ignore[no-untyped-def]
+    """Upper bound on the profit still collectable after serving ``v`` at time ``t``.
+
+    ``tab[v, k]`` is the best profit (``v`` included) of an opposite-direction label at ``v``
+    whose time lies in bucket ``k`` or earlier; the opposite time of ``t`` is ``horizon − t``.
+    """
+    s = horizon - t
+    if s < 0:
+        return -np.inf
+    k = s // width
+    if k >= tab.shape[1]:
+        k = tab.shape[1] - 1
+    return tab[v, k] - prof[v]
+
+
+@njit(cache=True)
+def _profit_outside(mask, prof, n):  # type: ignore[no-untyped-def]
+    """Total profit of the customers ``1 … n − 2`` whose bit is not set in ``mask``."""
+    total = 0.0
+    for c in range(1, n - 1):
+        if not (mask[c >> 6] >> np.uint64(c & 63)) & np.uint64(1):
+            total += prof[c]
+    return total
+
+
+@njit(cache=True)
+def _is_elementary(par, lv, leaf, stamp, mark):  # type: ignore[no-untyped-def]
+    """True when the path ending at label ``leaf`` visits no vertex twice."""
+    x = leaf
+    while x >= 0:
+        v = lv[x]
+        if stamp[v] == mark:
+            return False
+        stamp[v] = mark
+        x = par[x]
+    return True
+
+
+@njit(cache=True)
+def _dominance(head, h, nxt, alive, lt, lp, lm, t, p, mask, limit, work):  # type: ignore[no-untyped-def]
+    """Compare a new label ``(t, p, mask)`` with the first ``limit`` live labels of a list.
+
+    The list starts at ``head[h]`` and follows ``nxt``. Returns True when one of them dominates
+    the new label; otherwise marks dead every label the new one dominates. Dead labels met on
+    the way are unlinked. Equal labels count as dominating the newcomer.
+    """
+    nw = mask.shape[0]
+    prev = -1
+    x = head[h]
+    k = 0
+    while x >= 0 and k < limit:
+        work[0] += 1
+        nx = nxt[x]
+        if alive[x]:
+            k += 1
+            if lt[x] <= t and lp[x] >= p:
+                sub = True
+                for w in range(nw):
+                    if lm[x, w] & ~mask[w]:
+                        sub = False
+                        break
+                if sub:
+                    return True
+            if t <= lt[x] and p >= lp[x]:
+                sup = True
+                for w in range(nw):
+                    if mask[w] & ~lm[x, w]:
+                        sup = False
+                        break
+                if sup:
+                    alive[x] = False
+        if not alive[x]:
+            if prev < 0:
+                head[h] = nx
+            else:
+                nxt[prev] = nx
+        else:
+            prev = x
+        x = nx
+    return False
+
+
+@njit(cache=True)
+def _hash(v, key):  # type: ignore[no-untyped-def]
+    h = np.uint64(v) * np.uint64(0x9E3779B97F4A7C15)
+    for w in range(key.shape[0]):
+        h = (h ^ key[w]) * np.uint64(0xBF58476D1CE4E5B9)
+        h ^= h >> np.uint64(31)
+    return h
+
+
+@njit(cache=True)
+def _find_group(slots, gv, gkey, v, key):  # type: ignore[no-untyped-def]
+    """Group of ``(v, key)``, or ``-1 − slot`` with the free slot where it would go."""
+    m = np.uint64(slots.shape[0] - 1)
+    h = np.int64(_hash(v, key) & m)
+    while slots[h] >= 0:
+        g = slots[h]
+        if gv[g] == v:
+            same = True
+            for w in range(key.shape[0]):
+                if gkey[g, w] != key[w]:
+                    same = False
+                    break
+            if same:
+                return g
+        h = np.int64((np.uint64(h) + np.uint64(1)) & m)
+    return -1 - h
+
+
+@njit(cache=True)
+def _rehash(slots, gv, gkey, n_groups):  # type: ignore[no-untyped-def]
+    new = np.full(2 * slots.shape[0], -1, dtype=np.int64)
+    m = np.uint64(new.shape[0] - 1)
+    for g in range(n_groups):
+        h = np.int64(_hash(gv[g], gkey[g]) & m)
+        while new[h] >= 0:
+            h = np.int64((np.uint64(h) + np.uint64(1)) & m)
+        new[h] = g
+    return new
+
+
+@njit(cache=True)
+def label_pass(  # type: ignore[no-untyped-def]
+    dur, succ_ptr, succ, opn, cls, prof, ng, thr, cum, src, snk,
+    tab, use_tab, horizon, width, qshift, lb, ub, gap, cap_max, deadline, scan,
+):
+    """Run one labelling pass; see the module docstring.
+
+    Parameters
+    ----------
+    dur
+        ``(N, N)`` service-plus-travel ticks of each arc.
+    succ_ptr, succ
+        Successor lists (CSR) of the feasible arcs.
+    opn, cls
+        ``(N,)`` window on the service start of each vertex in this pass's time axis.
+    prof
+        ``(N,)`` profit of each vertex (0 for ``src`` and ``snk``).
+    ng
+        ``(N, W)`` ng-neighbourhood bitmask of each vertex (own bit included).
+    thr, cum
+        ``thr[v]`` sorted times after which the customers fall out of reach from ``v``;
+        ``cum[v, r]`` the mask of the first ``r`` of them.
+    tab, use_tab, horizon, width
+        Opposite-direction profit table used as completion bound (see :func:`_completion`);
+        bucket ``k`` covers times ``[k·width, (k+1)·width)``.
+    qshift
+        Labels are expanded in order of ``time >> qshift`` (0: exact time order).
+    lb, ub, gap
+        Best known profit and an upper bound on the optimum; a label survives only if its bound
+        reaches ``lb + gap``, and the pass stops once ``lb + gap > ub``.
+    cap_max
+        Most labels to store.
+    deadline
+        ``time.perf_counter()`` value at which to stop.
+    scan
+        A new label is compared with every label at its vertex with the same ng-memory, and
+        with the ``scan`` most recent other labels there.
+    Returns
+    -------
+    tuple
+        ``(status, lb, best, sinks, n_sinks, lv, lp, par, n_labels, own, pops)``: ``best`` the
+        sink label of the best elementary path that beat the given ``lb`` (−1 if none),
+        ``sinks[:n_sinks]`` sink labels of non-elementary paths that reached ``lb + gap`` when
+        found, ``own`` this pass's profit table (same bucketing as ``tab``), ``pops`` the labels
+        expanded.
+    """
+    n = dur.shape[0]
+    nw = ng.shape[1]
+    cap = min(1 << 15, cap_max)
+    lv = np.empty(cap, dtype=np.int64)  # vertex
+    lt = np.empty(cap, dtype=np.int64)  # time
+    lp = np.empty(cap, dtype=np.float64)  # profit
+    lbnd = np.empty(cap, dtype=np.float64)  # profit + completion bound
+    par = np.empty(cap, dtype=np.int64)  # parent label
+    nxt = np.empty(cap, dtype=np.int64)  # next label at the same vertex
+    qnx = np.empty(cap, dtype=np.int64)  # next label in the same time bucket
+    alive = np.empty(cap, dtype=np.bool_)  # not dominated
+    lm = np.zeros((cap, nw), dtype=np.uint64)
+    head = np.full(n, -1, dtype=np.int64)  # labels of each vertex
+    qhead = np.full((horizon >> qshift) + 1, -1, dtype=np.int64)
+    own = np.full(tab.shape, -np.inf)
+    sinks = np.empty(64, dtype=np.int64)
+    n_sinks = 0
+    stamp = np.zeros(n, dtype=np.int64)
+    mark = 0
+    best = -1
+    one = np.uint64(1)
+    scratch = np.zeros(nw, dtype=np.uint64)
+    memo = np.zeros(nw, dtype=np.uint64)
+    lmem = np.zeros((cap, nw), dtype=np.uint64)  # ng-memory part of the mask
+    gnx = np.empty(cap, dtype=np.int64)  # next label of the same group
+    # groups: the labels of one vertex with one ng-memory, found through a hash table
+    slots = np.full(1 << 12, -1, dtype=np.int64)
+    gv = np.empty(1 << 11, dtype=np.int64)
+    gkey = np.zeros((1 << 11, nw), dtype=np.uint64)
+    ghead = np.empty(1 << 11, dtype=np.int64)
+    n_groups = 0
+    work = np.zeros(1, dtype=np.int64)  # labels visited by dominance checks
+
+    t0 = opn[src]
+    r = _unreach_count(thr, src, t0)
+    lv[0] = src
+    lt[0] = t0
+    lp[0] = 0.0
+    lbnd[0] = np.inf
+    par[0] = -1
+    qnx[0] = -1
+    nxt[0] = -1
+    alive[0] = True
+    for w in range(nw):
+        lm[0, w] = cum[src, r, w]
+    head[src] = 0
+    qhead[t0 >> qshift] = 0
+    n_lab = 1
+    pops = 0
+    status = DONE
+    q = t0 >> qshift
+    while q < qhead.shape[0]:
+        lab = qhead[q]
+        if lab < 0:
+            q += 1
+            continue
+        qhead[q] = qnx[lab]
+        if not alive[lab] or lbnd[lab] < lb + gap:
+            continue
+        pops += 1
+        if pops % _CHECK_EVERY == 0 and _clock() > deadline:
+            status = TIMEOUT
+            break
+        v = lv[lab]
+        t = lt[lab]
+        p = lp[lab]
+        for e in range(succ_ptr[v], succ_ptr[v + 1]):
+            j = succ[e]
+            if j != snk and (lm[lab, j >> 6] >> np.uint64(j & 63)) & one:
+                continue
+            a = t + dur[v, j]
+            if a < opn[j]:
+                a = opn[j]
+            if a > cls[j]:
+                continue
+            p2 = p + prof[j]
+            if j == snk:
+                bnd = p2
+            else:
+                bnd = np.inf
+                if use_tab:
+                    bnd = p2 + _completion(tab, j, a, horizon, width, prof)
+            if bnd < lb + gap:
+                continue
+            g = -1
+            if j != snk:
+                r = _unreach_count(thr, j, a)
+                for w in range(nw):
+                    memo[w] = lmem[lab, w] & ng[j, w]
+                memo[j >> 6] |= one << np.uint64(j & 63)
+                for w in range(nw):
+                    scratch[w] = memo[w] | cum[j, r, w]
+                if not use_tab:
+                    # without a table: at most the customers neither remembered nor out of reach
+                    bnd = p2 + _profit_outside(scratch, prof, n)
+                    if bnd < lb + gap:
+                        continue
+                g = _find_group(slots, gv, gkey, j, memo)
+                if g >= 0 and _dominance(ghead, g, gnx, alive, lt, lp, lm, a, p2, scratch,
+                                         cap_max, work):
+                    continue
+                if _dominance(head, j, nxt, alive, lt, lp, lm, a, p2, scratch, scan, work):
+                    continue
+                if g < 0:
+                    slot = -1 - g
+                    if n_groups == gv.shape[0]:
+                        gv = _grow1(gv, 2 * n_groups)
+                        ghead = _grow1(ghead, 2 * n_groups)
+                        gkey = _grow2(gkey, 2 * n_groups)
+                    g = n_groups
+                    n_groups += 1
+                    gv[g] = j
+                    ghead[g] = -1
+                    for w in range(nw):
+                        gkey[g, w] = memo[w]
+                    slots[slot] = g
+                    if 2 * n_groups > slots.shape[0]:
+                        slots = _rehash(slots, gv, gkey, n_groups)
+            if n_lab >= cap:
+                if cap >= cap_max:
+                    status = FULL
+                    break
+                cap = min(2 * cap, cap_max)
+                lv = _grow1(lv, cap)
+                lt = _grow1(lt, cap)
+                lp = _grow1(lp, cap)
+                lbnd = _grow1(lbnd, cap)
+                par = _grow1(par, cap)
+                nxt = _grow1(nxt, cap)
+                qnx = _grow1(qnx, cap)
+                alive = _grow1(alive, cap)
+                lm = _grow2(lm, cap)
+                lmem = _grow2(lmem, cap)
+                gnx = _grow1(gnx, cap)
+            s = n_lab
+            n_lab += 1
+            lv[s] = j
+            lt[s] = a
+            lp[s] = p2
+            lbnd[s] = bnd
+            par[s] = lab
+            if j == snk:
+                alive[s] = False
+                mark += 1
+                if _is_elementary(par, lv, s, stamp, mark):
+                    lb = p2
+                    best = s
+                    if lb + gap > ub:
+                        break
+                else:
+                    if n_sinks == sinks.shape[0]:
+                        sinks = _grow1(sinks, 2 * n_sinks)
+                    sinks[n_sinks] = s
+                    n_sinks += 1
+                continue
+            alive[s] = True
+            for w in range(nw):
+                lm[s, w] = scratch[w]
+                lmem[s, w] = memo[w]
+            nxt[s] = head[j]
+            head[j] = s
+            gnx[s] = ghead[g]
+            ghead[g] = s
+            qnx[s] = qhead[a >> qshift]
+            qhead[a >> qshift] = s
+            k = a // width
+            if k >= own.shape[1]:
+                k = own.shape[1] - 1
+            if p2 > own[j, k]:
+                own[j, k] = p2
+        if status != DONE or lb + gap > ub:
+            break
+    return status, lb, best, sinks, n_sinks, lv, lp, par, n_lab, own, pops, work[0]
