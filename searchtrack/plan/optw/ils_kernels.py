@@ -2,9 +2,9 @@
 
 Data layout (all integer times in ticks):
 
-* ``ins = (T, S, O, C, P, cand)``: travel ``(N, N)``, service, open, close, profit over ``N = n + 1``
-  vertices, the last being a *sink* that stands for the end vertex (or, for an open end, a free
-  stop at the last visit); ``cand`` lists the customers worth visiting.
+* ``ins = (T, S, Op, C, P, cand)``: travel ``(N, N)``, service, open, close, profit over
+  ``N = n + 1`` vertices, the last being a *sink* that stands for the end vertex (or, for an open
+  end, a free stop at the last visit); ``cand`` lists the customers worth visiting.
 * ``sol = (rt, ln, arr, st, ms, own)``: per route the vertices ``rt[r, :ln[r]]`` (start first,
   sink last), arrival, service start and MaxShift per position (Vansteenwegen et al. 2009,
   eqs. 5.27–5.28 of the digest), and the route owning each vertex (−1 if unvisited).
@@ -45,18 +45,18 @@ def rand_int(rng: np.ndarray, k: int) -> int:
 @njit(cache=True)
 def schedule(ins, sol, r):  # type: ignore[no-untyped-def]
     """Recompute arrival, service start and MaxShift of route ``r``."""
-    T, S, O, C = ins[0], ins[1], ins[2], ins[3]
+    T, S, Op, C = ins[0], ins[1], ins[2], ins[3]
     rt, ln, arr, st, ms = sol[0], sol[1], sol[2], sol[3], sol[4]
     n = ln[r]
     v = rt[r, 0]
-    arr[r, 0] = O[v]
-    st[r, 0] = O[v]
+    arr[r, 0] = Op[v]
+    st[r, 0] = Op[v]
     for p in range(1, n):
         u = rt[r, p - 1]
         v = rt[r, p]
         a = st[r, p - 1] + S[u] + T[u, v]
         arr[r, p] = a
-        st[r, p] = a if a > O[v] else O[v]
+        st[r, p] = a if a > Op[v] else Op[v]
     ms[r, n - 1] = C[rt[r, n - 1]] - st[r, n - 1]
     for p in range(n - 2, -1, -1):
         x = st[r, p + 1] - arr[r, p + 1] + ms[r, p + 1]
@@ -67,12 +67,16 @@ def schedule(ins, sol, r):  # type: ignore[no-untyped-def]
 @njit(cache=True)
 def copy_sol(dst, src):  # type: ignore[no-untyped-def]
     """Copy solution ``src`` into ``dst`` (same shapes)."""
-    for k in range(6):
-        dst[k][...] = src[k]
+    dst[0][...] = src[0]
+    dst[1][...] = src[1]
+    dst[2][...] = src[2]
+    dst[3][...] = src[3]
+    dst[4][...] = src[4]
+    dst[5][...] = src[5]
 
 
 @njit(cache=True)
-def profit_of(ins, sol) -> float:  # type: ignore[no-untyped-def]
+def profit_of(ins, sol):  # type: ignore[no-untyped-def]
     """Total profit collected by ``sol``."""
     P = ins[4]
     rt, ln = sol[0], sol[1]
@@ -84,7 +88,7 @@ def profit_of(ins, sol) -> float:  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def time_of(sol) -> int:  # type: ignore[no-untyped-def]
+def time_of(sol):  # type: ignore[no-untyped-def]
     """Sum over routes of the arrival time at the sink (the tie-breaking secondary objective)."""
     ln, arr = sol[1], sol[2]
     total = 0
@@ -98,16 +102,27 @@ def time_of(sol) -> int:  # type: ignore[no-untyped-def]
 def best_position(ins, sol, g):  # type: ignore[no-untyped-def]
     """Feasible insertion of ``g`` with the least Shift: ``(route, position, shift)``, route −1
     if none."""
-    T, S, O, C = ins[0], ins[1], ins[2], ins[3]
+    T, S, Op, C = ins[0], ins[1], ins[2], ins[3]
     rt, ln, arr, st, ms = sol[0], sol[1], sol[2], sol[3], sol[4]
-    og = O[g]
+    og = Op[g]
     cg = C[g]
     sg = S[g]
     br = -1
     bp = -1
     bd = _BIG
+    need = og + sg
     for r in range(ln.shape[0]):
-        for p in range(1, ln[r]):
+        # latest service starts st + ms are non-decreasing along a route: skip the positions
+        # whose successor must start before g could even finish (binary search)
+        lo = 1
+        hi = ln[r] - 1
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if st[r, mid] + ms[r, mid] < need:
+                lo = mid + 1
+            else:
+                hi = mid
+        for p in range(lo, ln[r]):
             i = rt[r, p - 1]
             dep = st[r, p - 1] + S[i]
             if dep > cg:
@@ -138,6 +153,29 @@ def insert_at(ins, sol, g, r, p):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
+def repair(ins, sol, r):  # type: ignore[no-untyped-def]
+    """Make route ``r`` feasible again by dropping the visits where windows are first missed.
+
+    Needed because removing a visit can delay the next one when travel times break the triangle
+    inequality (by at most a tick for truncated distances).
+    """
+    C = ins[3]
+    rt, ln, st, ms, own = sol[0], sol[1], sol[3], sol[4], sol[5]
+    while ms[r, 0] < 0 and ln[r] > 2:
+        n = ln[r]
+        p = 1
+        while p < n - 1 and st[r, p] <= C[rt[r, p]]:
+            p += 1
+        if p == n - 1:
+            p = n - 2
+        own[rt[r, p]] = -1
+        for q in range(p + 1, n):
+            rt[r, q - 1] = rt[r, q]
+        ln[r] = n - 1
+        schedule(ins, sol, r)
+
+
+@njit(cache=True)
 def remove_range(ins, sol, r, p, k):  # type: ignore[no-untyped-def]
     """Remove the ``k`` visits at positions ``p .. p+k-1`` of route ``r`` (customers only)."""
     rt, ln, own = sol[0], sol[1], sol[5]
@@ -154,85 +192,111 @@ def remove_range(ins, sol, r, p, k):  # type: ignore[no-untyped-def]
         rt[r, q - k] = rt[r, q]
     ln[r] = n - k
     schedule(ins, sol, r)
+    repair(ins, sol, r)
+
+
+@njit(cache=True)
+def _swap(a, w, i, j):  # type: ignore[no-untyped-def]
+    a[i], a[j] = a[j], a[i]
+    w[i], w[j] = w[j], w[i]
 
 
 @njit(cache=True)
 def insert_greedy(ins, sol, rng, alpha, noise):  # type: ignore[no-untyped-def]
     """Insert unvisited customers by best ``P^alpha / Shift`` until none fits; returns the count.
 
-    ``noise`` multiplies each score by ``1 + noise·U[0, 1)`` (randomised tie-breaking).
+    Every score is multiplied by ``1 + noise·U[0, 1)`` (randomised tie-breaking). A customer that
+    fits nowhere is set aside until an insertion with a negative Shift (a shortcut, possible
+    because travel times break the triangle inequality) makes room again: otherwise insertions
+    only consume slack.
     """
     P, cand = ins[4], ins[5]
     own = sol[5]
+    alive = np.empty(cand.shape[0], dtype=np.int64)
+    weight = np.empty(cand.shape[0], dtype=np.float64)
+    total = 0
+    for g in cand:
+        if own[g] < 0:
+            alive[total] = g
+            weight[total] = P[g] ** alpha
+            total += 1
+    na = total  # alive[:na] are tried, alive[na:total] are set aside
     count = 0
-    while True:
+    while na > 0:
         bs = -1.0
-        bg = -1
+        bi = -1
         br = -1
         bp = -1
-        for g in cand:
-            if own[g] >= 0:
-                continue
-            r, p, d = best_position(ins, sol, g)
+        bd = 0
+        i = 0
+        while i < na:
+            r, p, d = best_position(ins, sol, alive[i])
             if r < 0:
+                na -= 1
+                _swap(alive, weight, i, na)
                 continue
-            sc = P[g] ** alpha / (max(d, 0) + 1.0)
+            sc = weight[i] / (max(d, 0) + 1.0)
             if noise > 0.0:
                 sc *= 1.0 + noise * rand_u(rng)
             if sc > bs:
                 bs = sc
-                bg = g
+                bi = i
                 br = r
                 bp = p
-        if bg < 0:
-            return count
-        insert_at(ins, sol, bg, br, bp)
+                bd = d
+            i += 1
+        if bi < 0:
+            break
+        insert_at(ins, sol, alive[bi], br, bp)
         count += 1
+        na -= 1
+        _swap(alive, weight, bi, na)
+        total -= 1
+        _swap(alive, weight, na, total)
+        if bd < 0:
+            na = total
+    return count
 
 
-# --------------------------------------------------------------------------- search loop
+# --------------------------------------------------------------------------- removal
 @njit(cache=True)
-def better(pa, ta, pb, tb) -> bool:  # type: ignore[no-untyped-def]
+def remove_marked(ins, sol, mark):  # type: ignore[no-untyped-def]
+    """Remove every visited customer ``v`` with ``mark[v]`` set and clear the marks."""
+    rt, ln, own = sol[0], sol[1], sol[5]
+    for r in range(ln.shape[0]):
+        n = ln[r]
+        q = 1
+        for p in range(1, n - 1):
+            v = rt[r, p]
+            if mark[v]:
+                own[v] = -1
+                mark[v] = False
+            else:
+                rt[r, q] = v
+                q += 1
+        rt[r, q] = rt[r, n - 1]
+        if q + 1 != n:
+            ln[r] = q + 1
+            schedule(ins, sol, r)
+            repair(ins, sol, r)
+
+
+@njit(cache=True)
+def visited_list(sol, out):  # type: ignore[no-untyped-def]
+    """Write the visited customers into ``out``; return their number."""
+    rt, ln = sol[0], sol[1]
+    k = 0
+    for r in range(ln.shape[0]):
+        for p in range(1, ln[r] - 1):
+            out[k] = rt[r, p]
+            k += 1
+    return k
+
+
+@njit(cache=True)
+def better(pa, ta, pb, tb):  # type: ignore[no-untyped-def]
     """Lexicographic comparison: more profit, then less time."""
     eps = 1e-9 * max(1.0, abs(pb))
     if pa > pb + eps:
         return True
     return pa >= pb - eps and ta < tb
-
-
-@njit(cache=True)
-def run_ils(ins, cur, best, rng, ctl, fctl, n_iter):  # type: ignore[no-untyped-def]
-    """Run ``n_iter`` iterations of the ILS; ``ctl = [S, R, no_improve, iterations, r_max]``,
-    ``fctl = [best_profit]``.
-
-    The state (current, best, counters, random state) lives in the arrays, so the search can be
-    resumed call after call with identical results whatever the batch sizes.
-    """
-    ln = cur[1]
-    m = ln.shape[0]
-    for _ in range(n_iter):
-        insert_greedy(ins, cur, rng, 2.0, 0.0)
-        pc = profit_of(ins, cur)
-        tc = time_of(cur)
-        if better(pc, tc, fctl[0], fctl[1]):
-            copy_sol(best, cur)
-            fctl[0] = pc
-            fctl[1] = tc
-            ctl[1] = 1
-            ctl[2] = 0
-        else:
-            ctl[2] += 1
-        # shake
-        smallest = _BIG
-        for r in range(m):
-            if ln[r] - 2 < smallest:
-                smallest = ln[r] - 2
-        ctl[0] += ctl[1]
-        ctl[1] += 1
-        if smallest > 0 and ctl[0] >= smallest:
-            ctl[0] = ctl[0] % smallest
-        if ctl[1] >= ctl[4]:
-            ctl[1] = 1
-        for r in range(m):
-            remove_range(ins, cur, r, 1 + ctl[0], ctl[1])
-        ctl[3] += 1

@@ -1,0 +1,330 @@
+"""Numba search loop of the OPTW ILS: ruin operators, route reordering, acceptance, restarts.
+
+One iteration copies the current solution, ruins it (removes some visits, chosen by one of five
+operators), recreates it with the randomised greedy insertion of
+:mod:`searchtrack.plan.optw.ils_kernels`, improves it by reordering routes and inserting again,
+and accepts it by simulated annealing on the profit (ties broken by time). The temperature falls
+geometrically over cycles of growing length; each cycle restarts from the best solution. Same
+array layout as the kernels module.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from searchtrack.plan.optw.ils_kernels import (
+    best_position,
+    better,
+    copy_sol,
+    insert_at,
+    insert_greedy,
+    profit_of,
+    rand_int,
+    rand_u,
+    remove_marked,
+    remove_range,
+    schedule,
+    time_of,
+    visited_list,
+)
+
+# indices into the integer control array ``ctl``
+C_ITER, C_SINCE_BEST, C_CYCLE_IT, C_CYCLE_LEN, C_RESTARTS = 0, 1, 2, 3, 4
+# indices into the float state array ``fst``
+F_BEST_P, F_BEST_T, F_CUR_P, F_CUR_T, F_TEMP, F_T0 = 0, 1, 2, 3, 4, 5
+# indices into the parameter array ``par`` (see ``ils.Tuning``)
+(P_KFRAC, P_T0, P_T1, P_CYCLE0, P_GROW, P_EQUAL, P_ALO, P_AHI, P_NOISE,
+ P_WSEG, P_WRAND, P_WREL, P_WTARGET, P_WFIT, P_LS) = range(15)
+
+
+@njit(cache=True)
+def ruin_segment(ins, sol, rng, k):  # type: ignore[no-untyped-def]
+    """Remove ``k`` consecutive visits at a random position of each route."""
+    ln = sol[1]
+    for r in range(ln.shape[0]):
+        nc = ln[r] - 2
+        if nc > 0:
+            remove_range(ins, sol, r, 1 + rand_int(rng, nc), k)
+
+
+@njit(cache=True)
+def ruin_random(ins, sol, rng, k, buf, mark):  # type: ignore[no-untyped-def]
+    """Remove ``k`` visits chosen uniformly at random."""
+    nv = visited_list(sol, buf)
+    k = min(k, nv)
+    for i in range(k):
+        j = i + rand_int(rng, nv - i)
+        buf[i], buf[j] = buf[j], buf[i]
+        mark[buf[i]] = True
+    remove_marked(ins, sol, mark)
+
+
+@njit(cache=True)
+def _vertex_starts(sol, vst):  # type: ignore[no-untyped-def]
+    rt, ln, st = sol[0], sol[1], sol[3]
+    for r in range(ln.shape[0]):
+        for p in range(1, ln[r] - 1):
+            vst[rt[r, p]] = st[r, p]
+
+
+@njit(cache=True)
+def _pick_unvisited(ins, sol, rng, nv):  # type: ignore[no-untyped-def]
+    """A random unvisited candidate (−1 if none)."""
+    cand = ins[5]
+    own = sol[5]
+    nu = cand.shape[0] - nv
+    if nu <= 0:
+        return -1
+    pick = rand_int(rng, nu)
+    for g in cand:
+        if own[g] < 0:
+            if pick == 0:
+                return g
+            pick -= 1
+    return -1
+
+
+@njit(cache=True)
+def remove_vertex(ins, sol, w):  # type: ignore[no-untyped-def]
+    """Remove visited customer ``w`` from its route."""
+    rt, ln, own = sol[0], sol[1], sol[5]
+    r = own[w]
+    for p in range(1, ln[r] - 1):
+        if rt[r, p] == w:
+            remove_range(ins, sol, r, p, 1)
+            return
+
+
+@njit(cache=True)
+def ruin_related(ins, sol, rng, k, buf, mark, key, vst, mode):  # type: ignore[no-untyped-def]
+    """Remove up to ``k`` visits closest in travel and time to a seed vertex.
+
+    ``mode`` 0: the seed is a random visit. 1: the seed is a random unvisited customer, inserted
+    first once the ``k`` visits are gone if it fits. 2: as 1, but visits are removed one at a time
+    only until the seed fits (a targeted "replace" move).
+    """
+    T, Op, C = ins[0], ins[2], ins[3]
+    nv = visited_list(sol, buf)
+    if nv == 0:
+        return
+    k = min(k, nv)
+    _vertex_starts(sol, vst)
+    if mode > 0:
+        u = _pick_unvisited(ins, sol, rng, nv)
+        if u < 0:
+            return
+        lo = Op[u]
+        hi = C[u]
+    else:
+        u = buf[rand_int(rng, nv)]
+        lo = vst[u]
+        hi = vst[u]
+    for i in range(nv):
+        w = buf[i]
+        dt = 0
+        if vst[w] < lo:
+            dt = lo - vst[w]
+        elif vst[w] > hi:
+            dt = vst[w] - hi
+        key[i] = T[u, w] + T[w, u] + dt
+    order = np.argsort(key[:nv])
+    if mode == 2:
+        for i in range(k):
+            r, p, _ = best_position(ins, sol, u)
+            if r >= 0:
+                insert_at(ins, sol, u, r, p)
+                return
+            if sol[5][buf[order[i]]] >= 0:
+                remove_vertex(ins, sol, buf[order[i]])
+    else:
+        for i in range(k):
+            mark[buf[order[i]]] = True
+        remove_marked(ins, sol, mark)
+    if mode > 0:
+        r, p, _ = best_position(ins, sol, u)
+        if r >= 0:
+            insert_at(ins, sol, u, r, p)
+
+
+@njit(cache=True)
+def _eval_tail(ins, seq, f, n, t_prev):  # type: ignore[no-untyped-def]
+    """Forward schedule of ``seq[f:n]`` given the service start ``t_prev`` at ``seq[f-1]``;
+    returns the arrival at ``seq[n-1]`` or −1 if a window is missed."""
+    T, S, Op, C = ins[0], ins[1], ins[2], ins[3]
+    t = t_prev
+    a = t
+    for p in range(f, n):
+        u = seq[p - 1]
+        v = seq[p]
+        a = t + S[u] + T[u, v]
+        if a > C[v]:
+            return -1
+        t = a if a > Op[v] else Op[v]
+    return a
+
+
+@njit(cache=True)
+def reorder(ins, sol, r, seq):  # type: ignore[no-untyped-def]
+    """First-improvement 2-opt and or-opt (segments of 1–3) on route ``r``, minimising travel,
+    then arrival at the sink; returns True if the route changed."""
+    T = ins[0]
+    rt, ln, arr, st = sol[0], sol[1], sol[2], sol[3]
+    n = ln[r]
+    changed = False
+    improved = True
+    while improved:
+        improved = False
+        fin = arr[r, n - 1]
+        # or-opt: move segment [i, i+q) before position j
+        for q in range(1, 4):
+            for i in range(1, n - q):
+                a = rt[r, i - 1]
+                s0 = rt[r, i]
+                s1 = rt[r, i + q - 1]
+                b = rt[r, i + q]
+                gain_out = T[a, s0] + T[s1, b] - T[a, b]
+                for j in range(1, n):
+                    if i <= j <= i + q:
+                        continue
+                    c = rt[r, j - 1]
+                    d = rt[r, j]
+                    delta = T[c, s0] + T[s1, d] - T[c, d] - gain_out
+                    if delta > 0:
+                        continue
+                    # build the new sequence from the first changed position
+                    f = i if i < j else j
+                    for p in range(f):
+                        seq[p] = rt[r, p]
+                    w = f
+                    for p in range(f, n):
+                        if p == j:
+                            for x in range(q):
+                                seq[w] = rt[r, i + x]
+                                w += 1
+                        if i <= p < i + q:
+                            continue
+                        seq[w] = rt[r, p]
+                        w += 1
+                    nf = _eval_tail(ins, seq, f, n, st[r, f - 1])
+                    if nf < 0 or (delta == 0 and nf >= fin):
+                        continue
+                    for p in range(f, n):
+                        rt[r, p] = seq[p]
+                    schedule(ins, sol, r)
+                    improved = True
+                    changed = True
+                    break
+                if improved:
+                    break
+            if improved:
+                break
+        if improved:
+            continue
+        # 2-opt: reverse positions i..j
+        for i in range(1, n - 2):
+            a = rt[r, i - 1]
+            inner_f = 0
+            inner_b = 0
+            for j in range(i + 1, n - 1):
+                inner_f += T[rt[r, j - 1], rt[r, j]]
+                inner_b += T[rt[r, j], rt[r, j - 1]]
+                b = rt[r, j + 1]
+                delta = (T[a, rt[r, j]] + T[rt[r, i], b] + inner_b
+                         - T[a, rt[r, i]] - T[rt[r, j], b] - inner_f)
+                if delta > 0:
+                    continue
+                for p in range(i):
+                    seq[p] = rt[r, p]
+                for p in range(i, j + 1):
+                    seq[p] = rt[r, i + j - p]
+                for p in range(j + 1, n):
+                    seq[p] = rt[r, p]
+                nf = _eval_tail(ins, seq, i, n, st[r, i - 1])
+                if nf < 0 or (delta == 0 and nf >= fin):
+                    continue
+                for p in range(i, n):
+                    rt[r, p] = seq[p]
+                schedule(ins, sol, r)
+                improved = True
+                changed = True
+                break
+            if improved:
+                break
+    return changed
+
+
+@njit(cache=True)
+def local_search(ins, sol, rng, seq):  # type: ignore[no-untyped-def]
+    """Alternate reordering of every route and greedy insertion until neither helps."""
+    ln = sol[1]
+    while True:
+        moved = False
+        for r in range(ln.shape[0]):
+            if reorder(ins, sol, r, seq):
+                moved = True
+        if not moved:
+            return
+        if insert_greedy(ins, sol, rng, 2.0, 0.0) == 0:
+            return
+
+
+@njit(cache=True)
+def run_search(ins, cur, best, work, rng, ctl, fst, par, n_iter, buf, mark, key, vst, seq):  # type: ignore[no-untyped-def]
+    """Run ``n_iter`` ruin-and-recreate iterations with local search from the current solution.
+
+    All search state (solutions, counters, temperature, random state) lives in the arrays, so a
+    search resumed call after call gives identical results whatever the batch sizes.
+    """
+    wsum = par[P_WSEG] + par[P_WRAND] + par[P_WREL] + par[P_WTARGET] + par[P_WFIT]
+    for _ in range(n_iter):
+        copy_sol(work, cur)
+        nv = visited_list(work, buf)
+        kmax = max(int(par[P_KFRAC] * nv), min(nv, 4))  # short routes: up to all visits
+        k = 1 + rand_int(rng, max(1, kmax))
+        x = rand_u(rng) * wsum
+        if x < par[P_WSEG]:
+            ruin_segment(ins, work, rng, k)
+        elif x < par[P_WSEG] + par[P_WRAND]:
+            ruin_random(ins, work, rng, k, buf, mark)
+        elif x < par[P_WSEG] + par[P_WRAND] + par[P_WREL]:
+            ruin_related(ins, work, rng, k, buf, mark, key, vst, 0)
+        elif x < par[P_WSEG] + par[P_WRAND] + par[P_WREL] + par[P_WTARGET]:
+            ruin_related(ins, work, rng, k, buf, mark, key, vst, 1)
+        else:
+            ruin_related(ins, work, rng, k, buf, mark, key, vst, 2)
+        alpha = par[P_ALO] + (par[P_AHI] - par[P_ALO]) * rand_u(rng)
+        insert_greedy(ins, work, rng, alpha, par[P_NOISE])
+        if par[P_LS] > 0.0:
+            local_search(ins, work, rng, seq)
+        pw = profit_of(ins, work)
+        tw = time_of(work)
+        accept = better(pw, tw, fst[F_CUR_P], fst[F_CUR_T])
+        if not accept:
+            d = pw - fst[F_CUR_P]
+            if d >= -1e-9:
+                accept = rand_u(rng) < par[P_EQUAL]
+            elif fst[F_TEMP] > 0.0:
+                accept = rand_u(rng) < np.exp(d / fst[F_TEMP])
+        if accept:
+            copy_sol(cur, work)
+            fst[F_CUR_P] = pw
+            fst[F_CUR_T] = tw
+        if better(pw, tw, fst[F_BEST_P], fst[F_BEST_T]):
+            copy_sol(best, work)
+            fst[F_BEST_P] = pw
+            fst[F_BEST_T] = tw
+            ctl[C_SINCE_BEST] = 0
+        else:
+            ctl[C_SINCE_BEST] += 1
+        ctl[C_ITER] += 1
+        ctl[C_CYCLE_IT] += 1
+        if ctl[C_CYCLE_IT] >= ctl[C_CYCLE_LEN]:
+            copy_sol(cur, best)
+            fst[F_CUR_P] = fst[F_BEST_P]
+            fst[F_CUR_T] = fst[F_BEST_T]
+            ctl[C_CYCLE_IT] = 0
+            ctl[C_RESTARTS] += 1
+            ctl[C_CYCLE_LEN] = int(ctl[C_CYCLE_LEN] * par[P_GROW]) + 1
+        frac = ctl[C_CYCLE_IT] / ctl[C_CYCLE_LEN]
+        fst[F_TEMP] = fst[F_T0] * (par[P_T1] ** frac)
