@@ -14,7 +14,7 @@ al.), extended to ``m`` vehicles with the **three-index** formulation of the tea
 * big-M per arc, ``M_ij = latest_i + T_i + c_ij − earliest_j`` (valid because service starts stay
   inside ``[earliest, latest]``; a constraint with ``M ≤ 0`` is dropped as implied);
 * arcs and customers that no feasible route can use are eliminated first
-  (:func:`searchtrack.plan.optw.cpsat.arc_graph`);
+  (:func:`searchtrack.plan.optw.arcs.arc_graph`);
 * (5.23), the budget ``Σ (T_i y_ik + Σ_g c_ig x_igk) ≤ T_max``, is kept per vehicle with
   ``T_max = latest finish − departure`` (waiting is not in it, so the times do the exact check);
 * vehicles are interchangeable, so idle vehicles come last: ``x_{SE,k} ≤ x_{SE,k+1}``.
@@ -33,16 +33,15 @@ import numpy as np
 from ortools.linear_solver import pywraplp
 
 from searchtrack.errors import InvalidInputError
-from searchtrack.plan.optw.cpsat import (
-    ArcGraph,
-    _check_plan,
-    arc_graph,
+from searchtrack.plan.optw.arcs import ArcGraph, arc_graph
+from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes
+from searchtrack.plan.optw.plans import (
+    check_plan,
     idle_routes,
     initial_plan,
     routes_profit,
     schedule,
 )
-from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes
 from searchtrack.plan.result import Result, Status
 from searchtrack.plan.stop import Deadline, check_time_limit
 
@@ -269,7 +268,7 @@ def solve_mip(
     if native in (pywraplp.Solver.OPTIMAL, pywraplp.Solver.FEASIBLE):
         plan = _read_routes(mdl, instance)
         try:
-            _check_plan(instance, plan, "plan")
+            check_plan(instance, plan, "plan")
         except InvalidInputError as exc:
             _log.error("%s returned an invalid plan: %s", engine, exc)
             return Result(Status.ERROR, None, None, deadline.elapsed(), BACKEND, None,
