@@ -82,7 +82,7 @@ def llr_increment(zeta: float, sensitivity: float) -> float:
 
 
 def update_likelihood_field(
-    field: LikelihoodField, zeta: float, footprint: ArrayLike, sensitivity: float
+    field: LikelihoodField, zeta: float | ArrayLike, footprint: ArrayLike, sensitivity: float
 ) -> LikelihoodField:
     """Add ``m(ζ − m/2)`` to ``φ`` on every node of the sensor footprint (§3.3).
 
@@ -92,17 +92,31 @@ def update_likelihood_field(
     Parameters
     ----------
     zeta
-        The scalar measurement ``ζ`` in standard-deviation units.
+        The measurement ``ζ`` in standard-deviation units: one scalar for the whole footprint
+        (the thesis), or one value per footprint node (localised evidence).
     footprint
         Indices of the nodes within the footprint radius ``ρ`` of the UAV (may be empty).
     sensitivity
         ``m = z(P_d) − z(P_f) > 0`` (3.9).
     """
-    inc = llr_increment(zeta, sensitivity)
     nodes = node_set("footprint", footprint, field.n_nodes)
+    inc = zeta_increments(zeta, nodes.size, sensitivity)
     llr = np.array(field.llr, copy=True)
-    llr[nodes] += inc
+    np.add.at(llr, nodes, inc)
     return LikelihoodField(llr)
+
+
+def zeta_increments(zeta: float | ArrayLike, n_nodes: int,
+                    sensitivity: float) -> float | NDArray[np.float64]:
+    """``m(ζ − m/2)`` for a scalar ``ζ``, or per node for an ``(n_nodes,)`` array of them."""
+    if np.ndim(zeta) == 0:
+        return llr_increment(float(zeta), sensitivity)  # type: ignore[arg-type]
+    z = np.asarray(zeta, dtype=np.float64)
+    if z.shape != (n_nodes,) or not np.all(np.isfinite(z)):
+        raise InvalidInputError("zeta", zeta, f"must be a finite scalar or ({n_nodes},) array, "
+                                "one value per footprint node")
+    m = real("sensitivity", sensitivity, positive=True)
+    return np.asarray(m * (z - 0.5 * m), dtype=np.float64)
 
 
 @dataclass(frozen=True, eq=False)

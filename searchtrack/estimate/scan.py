@@ -8,12 +8,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
 from numpy.typing import ArrayLike
 
 from searchtrack.errors import InvalidInputError
 from searchtrack.estimate._checks import node_set, points, real
 from searchtrack.estimate.association import Association, Associator
-from searchtrack.estimate.lrt import LikelihoodField, llr_increment, update_likelihood_field
+from searchtrack.estimate.lrt import LikelihoodField, update_likelihood_field, zeta_increments
 from searchtrack.estimate.node_tracker import (
     TrackerBank,
     measurement_density,
@@ -21,6 +22,10 @@ from searchtrack.estimate.node_tracker import (
     update_tracker,
 )
 from searchtrack.models.roads import RoadNetwork
+
+ASSOCIATED_RADIUS_SD = 3.0
+"""With per-node ``ζ``, nodes this many noise s.d. from an associated measurement keep their
+LRT value (see :class:`ScanUpdater`)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -38,10 +43,13 @@ class ScanUpdater:
     """Route a scan per Algorithm 1, with the associator injected.
 
     Rule for the LRT (Algorithm 1 lines 15–17, read with the digest's erratum "unused
-    *measurements*", plus §3.3's negative information): the footprint gets ``m(ζ − m/2)``
-    when the scan has no position measurement or at least one went unassociated; when every
-    position measurement updated a tracker the LRT is left alone, so a tracked target does not
-    raise the LRT a second time.
+    *measurements*", plus §3.3's negative information). With one scalar ``ζ`` (the thesis) the
+    footprint gets ``m(ζ − m/2)`` when the scan has no position measurement or at least one went
+    unassociated; when every position measurement updated a tracker the LRT is left alone, so a
+    tracked target does not raise the LRT a second time. With one ``ζ`` per footprint node the
+    evidence is local, so the LRT is always updated except on the nodes within
+    ``ASSOCIATED_RADIUS_SD`` noise standard deviations of an associated measurement: that
+    evidence went to the tracker.
     """
 
     network: RoadNetwork
@@ -52,7 +60,7 @@ class ScanUpdater:
         field: LikelihoodField,
         bank: TrackerBank,
         *,
-        zeta: float,
+        zeta: float | ArrayLike,
         footprint: ArrayLike,
         sensitivity: float,
         positions_m: ArrayLike,
@@ -63,7 +71,8 @@ class ScanUpdater:
         Parameters
         ----------
         zeta
-            The scan's scalar LRT measurement ``ζ`` (standard-deviation units).
+            The scan's LRT measurement ``ζ`` (standard-deviation units): a scalar for the whole
+            footprint, or one per footprint node.
         footprint
             Node indices inside the footprint.
         sensitivity
@@ -79,8 +88,8 @@ class ScanUpdater:
                                     f"field and bank must be on the network's {n} nodes")
         xy = points("positions_m", positions_m)
         real("noise_sd_m", noise_sd_m, positive=True)  # all inputs are checked, whatever the
-        llr_increment(zeta, sensitivity)  # scan's route
         nodes = node_set("footprint", footprint, n)
+        zeta_increments(zeta, nodes.size, sensitivity)  # scan's route
         association = Association()
         if xy.shape[0] and len(bank):
             ll = position_log_likelihood(self.network, xy, noise_sd_m)
@@ -93,7 +102,18 @@ class ScanUpdater:
             for t, q in association.pairs:
                 trackers[t] = update_tracker(trackers[t], ll[q])
             bank = bank.with_trackers(tuple(trackers))
-        lrt_updated = xy.shape[0] == 0 or bool(association.unassociated(xy.shape[0]))
-        if lrt_updated:
-            field = update_likelihood_field(field, zeta, nodes, sensitivity)
+        if np.ndim(zeta) == 0:
+            lrt_updated = xy.shape[0] == 0 or bool(association.unassociated(xy.shape[0]))
+            if lrt_updated:
+                field = update_likelihood_field(field, zeta, nodes, sensitivity)
+            return ScanUpdate(field, bank, association, lrt_updated)
+        per_node = np.asarray(zeta, dtype=np.float64)
+        if association.pairs:
+            used = xy[[q for _, q in association.pairs]]
+            gap = np.linalg.norm(self.network.coords[nodes][:, None, :] - used[None, :, :],
+                                 axis=2).min(axis=1)
+            keep = gap > ASSOCIATED_RADIUS_SD * noise_sd_m
+            nodes, per_node = nodes[keep], per_node[keep]
+        field = update_likelihood_field(field, per_node, nodes, sensitivity)
+        lrt_updated = bool(nodes.size)
         return ScanUpdate(field, bank, association, lrt_updated)

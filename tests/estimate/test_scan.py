@@ -138,3 +138,25 @@ def test_closed_loop_is_deterministic_and_finds_the_target() -> None:
         np.testing.assert_array_equal(x, y)
     _, prob, born = a
     assert born >= 1 and prob[55] > 0.05
+
+
+def test_per_node_zeta_spares_only_the_associated_neighbourhood(path5: RoadNetwork) -> None:
+    """With one ζ per node, nodes near an associated fix keep their LRT; the others update."""
+    bank = TrackerBank(5).with_birth([0.0, 0.0, 0.0, 0.5, 0.5])
+    zeta = np.array([0.0, 0.0, 3.0, 3.0])
+    out = ScanUpdater(path5, PeakGate()).update(
+        LikelihoodField.neutral(5), bank, zeta=zeta, footprint=[0, 1, 2, 3], sensitivity=M,
+        positions_m=[[30.0, 0.0]], noise_sd_m=2.0)
+    assert out.association.pairs == ((0, 0),)
+    assert out.lrt_updated
+    expected = M * (zeta - M / 2)
+    np.testing.assert_allclose(out.field.llr[:3], expected[:3])
+    assert out.field.llr[3] == 0.0 and out.field.llr[4] == 0.0
+
+
+def test_per_node_zeta_shape_is_checked(path5: RoadNetwork) -> None:
+    """A per-node ζ must have one value per footprint node."""
+    with pytest.raises(InvalidInputError, match="zeta"):
+        ScanUpdater(path5, PeakGate()).update(
+            LikelihoodField.neutral(5), TrackerBank(5), zeta=[1.0, 2.0], footprint=[0, 1, 2],
+            sensitivity=M, positions_m=np.empty((0, 2)), noise_sd_m=2.0)
