@@ -1,0 +1,213 @@
+"""The trackers × measurements EMD matrix: truncation, exact values, gate pruning, bad input."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from searchtrack.errors import InvalidInputError
+from searchtrack.models import RoadNetwork, random_network
+from searchtrack.plan.emd_matrix import (
+    centroid_bound,
+    emd_matrix,
+    nearest_support_bound,
+    truncate_signature,
+)
+from searchtrack.plan.road_metric import RoadMetric
+from searchtrack.plan.transport import emd, emd_on_graph
+
+
+def line_network(lengths: list[float]) -> RoadNetwork:
+    """A straight road whose consecutive nodes are ``lengths`` apart."""
+    x = np.concatenate([[0.0], np.cumsum(lengths)])
+    n = x.size
+    edges = np.column_stack([np.arange(n - 1), np.arange(1, n)])
+    return RoadNetwork(np.column_stack([x, np.zeros(n)]), edges, np.array(lengths))
+
+
+def _rows(rng: np.random.Generator, r: int, n: int, density: float = 1.0) -> np.ndarray:
+    w = rng.random((r, n)) * (rng.random((r, n)) < density)
+    w[:, 0] += 1e-3  # never an empty row
+    return w / w.sum(axis=1, keepdims=True)
+
+
+# ----- truncation ----------------------------------------------------------------------------
+
+def test_truncation_keeps_the_smallest_heaviest_set() -> None:
+    """The kept nodes are the fewest heaviest reaching the mass, renormalised."""
+    w = np.array([0.05, 0.4, 0.0, 0.3, 0.25])
+    sig = truncate_signature(w, 0.9)
+    np.testing.assert_array_equal(sig.nodes, [1, 3, 4])
+    np.testing.assert_allclose(sig.weights, np.array([0.4, 0.3, 0.25]) / 0.95)
+    np.testing.assert_array_equal(truncate_signature(w, 0.7).nodes, [1, 3])
+    np.testing.assert_array_equal(truncate_signature(w, 1.0).nodes, [0, 1, 3, 4])
+
+
+def test_truncation_ties_go_to_the_lower_index() -> None:
+    """Equal weights: the lower node index is kept first."""
+    np.testing.assert_array_equal(truncate_signature([0.25] * 4, 0.5).nodes, [0, 1])
+
+
+@pytest.mark.parametrize("mass", [0.5, 0.9, 0.99, 0.999, 1.0])
+def test_truncation_matches_a_full_sort(mass: float) -> None:
+    """On random vectors the prefiltered sort gives the same set as sorting everything."""
+    rng = np.random.default_rng(int(mass * 1000))
+    for _ in range(20):
+        w = rng.random(300) ** 8
+        sig = truncate_signature(w, mass)
+        order = np.lexsort((np.arange(w.size), -w))
+        csum = np.cumsum(w[order])
+        k = int(np.argmax(csum >= mass * w.sum())) + 1 if mass < 1 else int((w > 0).sum())
+        np.testing.assert_array_equal(sig.nodes, np.sort(order[:k]))
+        assert sig.weights.sum() == pytest.approx(1.0)
+        assert w[sig.nodes].sum() >= mass * w.sum() * (1 - 1e-12)
+
+
+@pytest.mark.parametrize(("weights", "mass", "field"), [
+    ([0.5, 0.5], 0.0, "support_mass"),
+    ([0.5, 0.5], 1.5, "support_mass"),
+    ([0.5, 0.5], True, "support_mass"),
+    ([0.5, -0.5, 1.0], 0.9, "weights"),
+    ([0.0, 0.0], 0.9, "weights"),
+    ([[0.5, 0.5]], 0.9, "weights"),
+    ([np.nan, 1.0], 0.9, "weights"),
+])
+def test_truncation_bad_input(weights: object, mass: object, field: str) -> None:
+    """Bad weights or support mass raise naming the field."""
+    with pytest.raises(InvalidInputError) as err:
+        truncate_signature(weights, mass)  # type: ignore[arg-type]
+    assert err.value.field == field
+
+
+# ----- exact values --------------------------------------------------------------------------
+
+@pytest.mark.parametrize("method", ["transport", "graph"])
+def test_line_matches_the_cdf_formula(method: str) -> None:
+    """On a line with uneven spacing, W1 = Σ_edges |CDF_p − CDF_q| × length."""
+    rng = np.random.default_rng(7)
+    lengths = rng.uniform(5.0, 20.0, size=11).tolist()
+    net = line_network(lengths)
+    p, q = _rows(rng, 3, net.n_nodes, 0.6), _rows(rng, 2, net.n_nodes, 0.6)
+    got = emd_matrix(net, p, q, support_mass=1.0, method=method)
+    cdf_gap = np.abs(np.cumsum(p, axis=1)[:, None, :-1] - np.cumsum(q, axis=1)[None, :, :-1])
+    np.testing.assert_allclose(got, cdf_gap @ np.array(lengths), rtol=1e-9)
+
+
+@pytest.mark.parametrize("method", ["transport", "graph"])
+def test_random_network_matches_emd_on_graph(method: str) -> None:
+    """Without truncation, every entry equals emd_on_graph on the whole network."""
+    net = random_network(8, 300.0, seed=4)
+    rng = np.random.default_rng(4)
+    p, q = _rows(rng, 3, net.n_nodes, 0.3), _rows(rng, 2, net.n_nodes, 0.3)
+    got = emd_matrix(net, p, q, support_mass=1.0, method=method)
+    want = [[emd_on_graph(net.adjacency, pi, qj, backend="lp").objective for qj in q] for pi in p]
+    np.testing.assert_allclose(got, np.array(want, dtype=float), rtol=1e-7)
+
+
+def test_truncated_matrix_is_the_emd_of_the_truncated_signatures() -> None:
+    """Both methods give the EMD between truncated signatures, under Dijkstra distances."""
+    net = random_network(8, 300.0, seed=5)
+    metric = RoadMetric(net)
+    rng = np.random.default_rng(5)
+    p, q = _rows(rng, 2, net.n_nodes), _rows(rng, 2, net.n_nodes)
+    got = emd_matrix(metric, p, q, support_mass=0.9)
+    np.testing.assert_allclose(emd_matrix(metric, p, q, support_mass=0.9, method="graph"), got,
+                               rtol=1e-7)
+    for i, j in np.ndindex(2, 2):
+        a, b = truncate_signature(p[i], 0.9), truncate_signature(q[j], 0.9)
+        cost = net.shortest_paths(a.nodes)[:, b.nodes]
+        assert got[i, j] == pytest.approx(emd(a.weights, b.weights, cost).objective, rel=1e-9)
+
+
+def test_either_side_can_be_the_distance_source() -> None:
+    """EMD is symmetric, whichever side (the one with fewer support nodes) runs Dijkstra."""
+    net = random_network(8, 300.0, seed=9)
+    metric = RoadMetric(net)
+    rng = np.random.default_rng(9)
+    narrow, wide = _rows(rng, 2, net.n_nodes, 0.05), _rows(rng, 3, net.n_nodes, 0.6)
+    forward = emd_matrix(metric, narrow, wide)  # the trackers' side is the smaller
+    np.testing.assert_allclose(emd_matrix(metric, wide, narrow).T, forward, rtol=1e-9)
+    brute = [[emd(a, b, net.shortest_paths(np.arange(net.n_nodes))).objective for b in wide]
+             for a in narrow]
+    np.testing.assert_allclose(emd_matrix(metric, narrow, wide, support_mass=1.0),
+                               np.array(brute, dtype=float), rtol=1e-9)
+
+
+def test_gate_only_skips_pairs_at_or_above_it() -> None:
+    """With a gate, entries below it are unchanged and the rest are inf or ≥ the gate."""
+    net = random_network(10, 600.0, seed=6)
+    metric = RoadMetric(net)
+    rng = np.random.default_rng(6)
+    p, q = _rows(rng, 4, net.n_nodes, 0.05), _rows(rng, 3, net.n_nodes, 0.05)
+    full = emd_matrix(metric, p, q)
+    gate = float(np.median(full))
+    gated = emd_matrix(metric, p, q, gate_m=gate)
+    below = full < gate
+    assert below.any() and (~below).any()
+    np.testing.assert_array_equal(gated[below], full[below])
+    assert ((gated[~below] == full[~below]) | np.isinf(gated[~below])).all()
+
+
+def test_lower_bounds_hold() -> None:
+    """The centroid and nearest-support bounds never exceed the EMD."""
+    net = random_network(10, 600.0, seed=8)
+    metric = RoadMetric(net)
+    rng = np.random.default_rng(8)
+    for _ in range(5):
+        a = truncate_signature(_rows(rng, 1, net.n_nodes, 0.1)[0], 0.95)
+        b = truncate_signature(_rows(rng, 1, net.n_nodes, 0.1)[0], 0.95)
+        cost = metric.distances(a.nodes, b.nodes)
+        value = emd(a.weights, b.weights, cost).objective
+        assert value is not None
+        assert centroid_bound(metric, [a], [b])[0, 0] <= value + 1e-9
+        assert nearest_support_bound(cost, a.weights, b.weights) <= value + 1e-9
+
+
+def test_disconnected_supports() -> None:
+    """Mass that must cross components gives inf; matching masses per component add up."""
+    coords = np.array([[0.0, 0.0], [10.0, 0.0], [20.0, 0.0], [0.0, 50.0], [10.0, 50.0]])
+    net = RoadNetwork(coords, np.array([[0, 1], [1, 2], [3, 4]]), np.array([10.0, 10.0, 10.0]))
+    p = np.array([[0.5, 0.0, 0.0, 0.5, 0.0], [1.0, 0.0, 0.0, 0.0, 0.0]])
+    q = np.array([[0.0, 0.0, 0.5, 0.0, 0.5]])
+    for method in ("transport", "graph"):
+        got = emd_matrix(net, p, q, support_mass=1.0, method=method)
+        assert got[0, 0] == pytest.approx(0.5 * 20.0 + 0.5 * 10.0)
+        assert math.isinf(got[1, 0])
+
+
+def test_empty_sides_and_expired_time_limit() -> None:
+    """No trackers or no measurements give an empty matrix; no time left leaves inf (logged)."""
+    net = line_network([10.0] * 4)
+    one = np.eye(5)[[2]]
+    assert emd_matrix(net, np.zeros((0, 5)), one).shape == (0, 1)
+    assert emd_matrix(net, one, np.zeros((0, 5))).shape == (1, 0)
+    assert emd_matrix(net, one, np.eye(5)[[0]])[0, 0] == pytest.approx(20.0)
+    assert math.isinf(emd_matrix(net, one, np.eye(5)[[0]], time_limit_s=1e-9)[0, 0])
+
+
+@pytest.mark.parametrize(("change", "field"), [
+    ({"bank_probabilities": np.ones((2, 4))}, "bank_probabilities"),
+    ({"bank_probabilities": np.ones(5)}, "bank_probabilities"),
+    ({"bank_probabilities": -np.ones((1, 5))}, "bank_probabilities"),
+    ({"bank_probabilities": np.zeros((1, 5))}, "bank_probabilities"),
+    ({"densities": np.full((1, 5), np.inf)}, "densities"),
+    ({"densities": [["a"] * 5]}, "densities"),
+    ({"support_mass": 0.0}, "support_mass"),
+    ({"gate_m": 0.0}, "gate_m"),
+    ({"gate_m": math.nan}, "gate_m"),
+    ({"method": "simplex"}, "method"),
+    ({"time_limit_s": 0.0}, "time_limit_s"),
+    ({"network": "roads"}, "network"),
+])
+def test_bad_input(change: dict[str, object], field: str) -> None:
+    """Each bad argument raises InvalidInputError naming it."""
+    args: dict[str, object] = {"network": line_network([10.0] * 4),
+                               "bank_probabilities": np.eye(5)[[1]],
+                               "densities": np.eye(5)[[3]], **change}
+    network, bank, dens = args.pop("network"), args.pop("bank_probabilities"), \
+        args.pop("densities")
+    with pytest.raises(InvalidInputError) as err:
+        emd_matrix(network, bank, dens, **args)  # type: ignore[arg-type]
+    assert err.value.field == field
