@@ -107,7 +107,8 @@ def lrt_measurements(
     rng
         Source of randomness.
     per_node
-        One ``ζ`` per footprint node (default), or one per UAV shared by its footprint nodes,
+        One ``ζ`` per footprint node (default), ``N(m, 1)`` on the nodes within
+        ``sensor.cell_radius_m`` of a target, or one per UAV shared by its footprint nodes,
         ``N(m, 1)`` when any target is in the footprint (the thesis's Fig. 3.1).
     """
     xy = _checks.points("uav_xy_m", uav_xy_m)
@@ -116,6 +117,8 @@ def lrt_measurements(
     uav, node = network.nodes_within(xy, sensor.footprint_radius_m)
     occupied = np.zeros(network.n_nodes, dtype=bool)
     occupied[targets] = True
+    if per_node and sensor.cell_radius_m > 0.0 and targets.size:
+        occupied[network.nodes_within(network.coords[targets], sensor.cell_radius_m)[1]] = True
     present = occupied[node]
     noise: FloatArray
     if per_node:

@@ -77,6 +77,13 @@ class SensorModel:
     false_alarms_per_scan
         Mean number of false position measurements (Poisson) per footprint per time step;
         ``None`` (the default) takes ``pf``, the thesis's false alarm rate per time step.
+    cell_radius_m
+        Resolution cell of the scalar measurement when ``ζ`` is drawn per road node: a target
+        raises ``ζ`` (mean ``m``) on every footprint node within this distance of it (20 m, two
+        nodes either side at 10 m spacing). With 0 only the target's own node sees it; a lone
+        node's evidence is then averaged away by the LRT diffusion (each step it keeps about
+        70 % of its value and takes the rest from neighbours that measured ``−m²/2``), so a
+        moving target is never detected.
     """
 
     pd: float
@@ -84,6 +91,7 @@ class SensorModel:
     footprint_radius_m: float
     position_noise_m: float = 0.0
     false_alarms_per_scan: float | None = None
+    cell_radius_m: float = 20.0
 
     def __post_init__(self) -> None:
         pd = _checks.probability("pd", self.pd)
@@ -97,6 +105,7 @@ class SensorModel:
                                                           self.footprint_radius_m))
         set_(self, "position_noise_m", _checks.non_negative("position_noise_m",
                                                             self.position_noise_m))
+        set_(self, "cell_radius_m", _checks.non_negative("cell_radius_m", self.cell_radius_m))
         if self.false_alarms_per_scan is not None:
             set_(self, "false_alarms_per_scan",
                  _checks.non_negative("false_alarms_per_scan", self.false_alarms_per_scan))

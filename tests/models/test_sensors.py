@@ -224,9 +224,22 @@ def test_nodes_within_matches_brute_force(grid: RoadNetwork) -> None:
     assert np.count_nonzero(point == 2) == 0
 
 
+def test_resolution_cell_marks_nearby_nodes(grid: RoadNetwork) -> None:
+    """With a resolution cell, every footprint node within ``cell_radius_m`` of a target is
+    'present'; the footprint itself is unchanged."""
+    sensor = SensorModel(pd=0.95, pf=0.10, footprint_radius_m=60.0, cell_radius_m=20.0)
+    target = grid.nearest_nodes([[100.0, 100.0]])
+    scan = lrt_measurements(grid, [[100.0, 100.0]], target, sensor, np.random.default_rng(0))
+    near = np.linalg.norm(grid.coords[scan.node] - grid.coords[target[0]], axis=1) <= 20.0
+    np.testing.assert_array_equal(scan.target_present, near)
+    assert near.sum() == 9  # the junction and two nodes along each of its four roads
+    with pytest.raises(InvalidInputError, match="cell_radius_m"):
+        SensorModel(pd=0.95, pf=0.10, footprint_radius_m=60.0, cell_radius_m=-1.0)
+
+
 def test_lrt_measurements_statistics(grid: RoadNetwork) -> None:
     """Per node, ζ ~ N(m, 1) on target nodes and N(0, 1) on the other footprint nodes."""
-    sensor = SensorModel(pd=0.95, pf=0.10, footprint_radius_m=40.0)
+    sensor = SensorModel(pd=0.95, pf=0.10, footprint_radius_m=40.0, cell_radius_m=0.0)
     uavs = np.tile([100.0, 100.0], (1000, 1))
     targets = grid.nearest_nodes([[100.0, 100.0], [120.0, 100.0], [100.0, 70.0]])
     scan = lrt_measurements(grid, uavs, targets, sensor, np.random.default_rng(7))

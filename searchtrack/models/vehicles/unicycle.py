@@ -1,0 +1,78 @@
+"""Unicycle / Dubins car (thesis 001 §5.1, eq. 5.1) with speed and turn-rate inputs and wind.
+
+``ẋ = v cos θ + w_x``, ``ẏ = v sin θ + w_y``, ``θ̇ = ω``: states ``(x, y, θ)``, inputs
+``(v, ω)``. A Dubins car is the case ``v_min = v_max``; :func:`unicycle_from_limits` builds one
+from the potential-field model's :class:`~searchtrack.models.dubins.DubinsLimits`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from searchtrack.errors import InvalidInputError
+from searchtrack.models import _checks
+from searchtrack.models.dubins import DubinsLimits
+from searchtrack.models.vehicles.model import VehicleModel
+from searchtrack.models.vehicles.namespace import ArrayNamespace
+
+INF = math.inf
+
+
+@dataclass(frozen=True)
+class UnicycleDynamics:
+    """(5.1) with an additive wind ``p = (w_x, w_y)``."""
+
+    def __call__(self, x: Any, u: Any, p: Any, ns: ArrayNamespace) -> Any:
+        """``ẋ`` of the unicycle."""
+        th = x[2]
+        return ns.stack([u[0] * ns.cos(th) + p[0], u[0] * ns.sin(th) + p[1], u[1]])
+
+
+def unicycle(
+    *,
+    speed_min_mps: float = 5.0,
+    speed_max_mps: float = 15.0,
+    turn_rate_max_rps: float = 1.0,
+    accel_max_mps2: float = 5.0,
+    turn_accel_max_rps2: float = 4.0,
+    cruise_speed_mps: float | None = None,
+) -> VehicleModel:
+    """A unicycle with ``v ∈ [v_min, v_max]``, ``|ω| ≤ ω_max`` and input-rate limits.
+
+    Raises
+    ------
+    InvalidInputError
+        Non-positive limits, ``v_min > v_max`` or a cruise speed outside ``[v_min, v_max]``.
+    """
+    lo = _checks.non_negative("speed_min_mps", speed_min_mps)
+    hi = _checks.positive("speed_max_mps", speed_max_mps)
+    if lo > hi:
+        raise InvalidInputError("speed_min_mps", speed_min_mps, f"must not exceed {hi!r}")
+    w = _checks.positive("turn_rate_max_rps", turn_rate_max_rps)
+    cruise = 0.5 * (lo + hi) if cruise_speed_mps is None else _checks.real(
+        "cruise_speed_mps", cruise_speed_mps, low=lo, high=hi)
+    return VehicleModel(
+        name="unicycle",
+        state_names=("x_m", "y_m", "heading_rad"),
+        input_names=("speed_mps", "turn_rate_rps"),
+        dynamics=UnicycleDynamics(),
+        state_lower=(-INF, -INF, -INF),
+        state_upper=(INF, INF, INF),
+        input_lower=(lo, -w),
+        input_upper=(hi, w),
+        input_rate_max=(_checks.positive("accel_max_mps2", accel_max_mps2),
+                        _checks.positive("turn_accel_max_rps2", turn_accel_max_rps2)),
+        nominal_input=(cruise, 0.0),
+        position_indices=(0, 1),
+        angle_indices=(2,),
+    )
+
+
+def unicycle_from_limits(limits: DubinsLimits, *, accel_max_mps2: float = 5.0,
+                         turn_accel_max_rps2: float = 4.0) -> VehicleModel:
+    """The unicycle with the speed and turn-rate limits of a :class:`DubinsLimits`."""
+    return unicycle(speed_min_mps=limits.speed_min_mps, speed_max_mps=limits.speed_max_mps,
+                    turn_rate_max_rps=limits.turn_rate_max_rps, accel_max_mps2=accel_max_mps2,
+                    turn_accel_max_rps2=turn_accel_max_rps2)
