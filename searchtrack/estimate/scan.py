@@ -65,6 +65,7 @@ class ScanUpdater:
         sensitivity: float,
         positions_m: ArrayLike,
         noise_sd_m: float,
+        cell_radius_m: float = 0.0,
     ) -> ScanUpdate:
         """Assimilate one scan.
 
@@ -81,6 +82,10 @@ class ScanUpdater:
             ``(k, 2)`` measured target positions (``k = 0`` when ``ζ ≤ c``).
         noise_sd_m
             Position noise s.d. ``s`` (m).
+        cell_radius_m
+            The sensor's resolution cell (per-node ``ζ`` only): nodes within
+            ``cell_radius_m + ASSOCIATED_RADIUS_SD · s`` of an associated measurement keep their
+            LRT value, since the target's whole cell raised them.
         """
         n = self.network.n_nodes
         if field.n_nodes != n or bank.n_nodes != n:
@@ -88,6 +93,8 @@ class ScanUpdater:
                                     f"field and bank must be on the network's {n} nodes")
         xy = points("positions_m", positions_m)
         real("noise_sd_m", noise_sd_m, positive=True)  # all inputs are checked, whatever the
+        if real("cell_radius_m", cell_radius_m) < 0.0:
+            raise InvalidInputError("cell_radius_m", cell_radius_m, "must be ≥ 0 (m)")
         nodes = node_set("footprint", footprint, n)
         zeta_increments(zeta, nodes.size, sensitivity)  # scan's route
         association = Association()
@@ -112,7 +119,7 @@ class ScanUpdater:
             used = xy[[q for _, q in association.pairs]]
             gap = np.linalg.norm(self.network.coords[nodes][:, None, :] - used[None, :, :],
                                  axis=2).min(axis=1)
-            keep = gap > ASSOCIATED_RADIUS_SD * noise_sd_m
+            keep = gap > cell_radius_m + ASSOCIATED_RADIUS_SD * noise_sd_m
             nodes, per_node = nodes[keep], per_node[keep]
         field = update_likelihood_field(field, per_node, nodes, sensitivity)
         lrt_updated = bool(nodes.size)

@@ -1,0 +1,87 @@
+"""SMC-PHD prediction (paper 003, eq. 4): survival, motion and births.
+
+Survivors are moved by the motion model and their weights multiplied by ``p_s``. Newborns come
+from two sources, both labelled ``NEWBORN``:
+
+- *measurement-driven* (Ristic, Clark & Vo 2010; Ristic et al. 2012): the seeds left by the last
+  update, one per measurement ``z`` at ``h⁻¹(z)`` with mass ``ν_z``; each seed gets
+  ``birth_particles_per_measurement`` particles around it (position noise
+  ``birth_position_sigma_m``, zero-mean velocity noise ``birth_velocity_sigma_mps``) of weight
+  ``ν_z / J``. They are born at the previous scan time and moved with the survivors, so a
+  measurement seeds a birth but is never used twice to update it.
+- an optional *grid* birth intensity (paper 003's birth counts), drawn at the current time.
+
+With ``config.region`` set, particles predicted outside it are dropped (``p_s = 0`` outside the
+surveillance region: targets that leave it are gone).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from searchtrack.errors import InvalidInputError
+from searchtrack.estimate.phd.config import PHDConfig
+from searchtrack.estimate.phd.state import NEWBORN, NO_TAG, PERSISTENT, PHDState, UpdateRecord
+from searchtrack.models.particle_models import MotionModel
+
+FloatArray = NDArray[np.float64]
+
+
+def _newborn_states(positions: FloatArray, state_dim: int, config: PHDConfig,
+                    rng: np.random.Generator) -> FloatArray:
+    """``(J, d)`` states at ``positions`` with zero-mean random velocities."""
+    n, p = positions.shape
+    out = np.empty((n, state_dim))
+    out[:, :p] = positions
+    if state_dim > p:
+        out[:, p:] = config.birth_velocity_sigma_mps * rng.standard_normal((n, state_dim - p))
+    return out
+
+
+def predict(state: PHDState, motion: MotionModel, config: PHDConfig, dt_s: float,
+            rng: np.random.Generator) -> PHDState:
+    """The predicted PHD ``v_{k|k-1}`` after ``dt_s`` seconds.
+
+    Parameters
+    ----------
+    state
+        The posterior at the previous scan, with its birth seeds.
+    motion
+        Single-target motion model; its ``state_dim`` must match the particles'.
+    config
+        Survival and birth settings.
+    dt_s
+        Time since the previous scan (s).
+    rng
+        Source of every random draw.
+    """
+    d, p = state.state_dim, state.position_dim
+    j = config.birth_particles_per_measurement
+    keep = state.record.seed_masses > 0.0
+    seeds, seed_mass = state.record.seed_positions[keep], state.record.seed_masses[keep]
+    born_pos = np.repeat(seeds, j, axis=0)
+    if born_pos.shape[0]:
+        born_pos = born_pos + config.birth_position_sigma_m * rng.standard_normal(born_pos.shape)
+    born = _newborn_states(born_pos, d, config, rng)
+    moved = motion.propagate(np.vstack([state.states, born]), dt_s, rng)
+    weights = [state.weights * config.survival_probability, np.repeat(seed_mass / j, j)]
+    labels = [np.full(state.n_particles, PERSISTENT), np.full(born.shape[0], NEWBORN)]
+    tags = [state.tags, np.full(born.shape[0], NO_TAG)]
+    grid = config.birth_grid
+    if grid is not None and grid.mass > 0.0:
+        if grid.bounds.shape[0] != p:
+            raise InvalidInputError("birth_grid", grid.bounds.shape,
+                                    f"must have {p} dimensions like the particles")
+        gstates = _newborn_states(grid.sample(rng), d, config, rng)
+        moved = np.vstack([moved, gstates])
+        weights.append(np.full(grid.particles, grid.mass / grid.particles))
+        labels.append(np.full(grid.particles, NEWBORN))
+        tags.append(np.full(grid.particles, NO_TAG))
+    out = PHDState(moved, np.concatenate(weights), np.concatenate(labels).astype(np.int64),
+                   np.concatenate(tags).astype(np.int64), p, UpdateRecord.empty(d, p))
+    if config.region is None:
+        return out
+    pos = out.positions
+    inside = np.all((pos >= config.region[:, 0]) & (pos <= config.region[:, 1]), axis=1)
+    return out if bool(inside.all()) else out.select(inside)
