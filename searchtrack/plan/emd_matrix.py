@@ -49,6 +49,7 @@ from searchtrack.plan.result import Result, Status
 from searchtrack.plan.road_metric import RoadMetric, SourceDistances
 from searchtrack.plan.stop import Deadline, check_time_limit
 from searchtrack.plan.transport import emd, emd_on_graph
+from searchtrack.plan.transport.simplex import warm_up
 
 log = logging.getLogger("searchtrack.plan.emd_matrix")
 
@@ -214,6 +215,7 @@ def checked_emd_matrix(metric: RoadMetric, trackers: FloatArray, measured: Float
                        support_mass: float, gate_m: float, method: str,
                        time_limit_s: float) -> FloatArray:
     """:func:`emd_matrix` for arguments the caller has already validated."""
+    warm_up()
     deadline = Deadline(time_limit_s)
     sig_t = [_truncate(row, support_mass) for row in trackers]
     sig_q = [_truncate(row, support_mass) for row in measured]

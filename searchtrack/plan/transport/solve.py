@@ -25,6 +25,7 @@ from searchtrack.plan.transport.lp import solve_graph_lp, solve_transport_lp
 from searchtrack.plan.transport.network import solve_graph_network, solve_transport_network
 from searchtrack.plan.transport.plan import FloatArray, GraphFlow, TransportPlan
 from searchtrack.plan.transport.problem import GraphProblem, TransportProblem
+from searchtrack.plan.transport.simplex import warm_up
 
 log = logging.getLogger("searchtrack.plan.transport")
 
@@ -161,6 +162,7 @@ def emd(
         ``mass="equal"``, an unknown ``mass`` or ``backend``, a bad time limit.
     """
     check_time_limit(time_limit_s)
+    warm_up()
     chosen = EMD_BACKENDS.get(backend)
     problem = TransportProblem.build(p, q, cost, mass)
     result = chosen.solve(problem, time_limit_s=time_limit_s, seed=0)
@@ -208,6 +210,7 @@ def emd_on_graph(
         As for :func:`emd`, for ``adjacency`` instead of ``cost``.
     """
     check_time_limit(time_limit_s)
+    warm_up()
     chosen = GRAPH_EMD_BACKENDS.get(backend)
     problem = GraphProblem.build(adjacency, p, q, mass)
     result = chosen.solve(problem, time_limit_s=time_limit_s, seed=0)

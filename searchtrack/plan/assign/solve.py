@@ -1,0 +1,119 @@
+"""Solve an assignment problem by backend name; ``auto`` answers greedily, then proves or improves
+the answer with the exact branch and bound (END) within the time limit."""
+
+from __future__ import annotations
+
+import logging
+
+from searchtrack.errors import InvalidInputError
+from searchtrack.plan.assign.bnb import solve_bnb
+from searchtrack.plan.assign.brute import solve_brute_force, supports_brute_force
+from searchtrack.plan.assign.greedy import solve_greedy, solve_lazy_greedy
+from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
+from searchtrack.plan.registry import Backend, Registry
+from searchtrack.plan.result import Result, Status
+from searchtrack.plan.stop import Deadline, check_time_limit
+
+log = logging.getLogger("searchtrack.plan.assign")
+
+def _exact(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Result[Assignment]:
+    from searchtrack.plan.assign.exact import solve_exact
+
+    return solve_exact(problem, time_limit_s=time_limit_s, seed=seed, solver="scip")
+
+
+def _exact_cpsat(problem: AssignmentProblem, *, time_limit_s: float,
+                 seed: int) -> Result[Assignment]:
+    from searchtrack.plan.assign.exact import solve_exact
+
+    return solve_exact(problem, time_limit_s=time_limit_s, seed=seed, solver="cpsat")
+
+
+def _nlp(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Result[Assignment]:
+    from searchtrack.plan.assign.nlp import NLPLimits, solve_nlp
+
+    return solve_nlp(problem, NLPLimits(), time_limit_s=time_limit_s, seed=seed)
+
+
+def _end_only(problem: AssignmentProblem) -> str | None:
+    return None if problem.objective == "end" else "solves the END objective only"
+
+
+def _nlp_supports(problem: AssignmentProblem) -> str | None:
+    from searchtrack.plan.assign.nlp import nlp_supports
+
+    return nlp_supports(problem)
+
+
+def _auto(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Result[Assignment]:
+    deadline = Deadline(time_limit_s)
+    first = solve_lazy_greedy(problem, time_limit_s=time_limit_s, seed=seed)
+    if (first.status is Status.OPTIMAL or problem.objective != "end"
+            or deadline.remaining() < 1e-3):
+        return _relabel(first, deadline, f"auto: lazy_greedy answered ({first.message})")
+    second = solve_bnb(problem, time_limit_s=deadline.remaining(), seed=seed)
+    candidates = [r for r in (second, first) if r.status.has_plan]
+    if not candidates:
+        return _relabel(second, deadline, f"auto: no plan ({second.message})")
+    best = max(candidates, key=lambda r: r.objective or 0.0)
+    bounds = [r.bound for r in (first, second) if r.bound is not None]
+    bound = min(bounds) if bounds else None
+    objective = best.objective or 0.0
+    optimal = bound is not None and bound - objective <= 1e-6 * max(1.0, objective)
+    note = (f"auto: lazy_greedy {first.objective}; {second.backend} {second.status.name} "
+            f"{second.objective}; {best.backend} answered")
+    return Result(Status.OPTIMAL if optimal else best.status, objective, bound,
+                  deadline.elapsed(), best.backend, best.plan, message=note,
+                  stats={"greedy_objective": first.objective or 0.0,
+                         "greedy_s": first.runtime_s})
+
+
+def _relabel(result: Result[Assignment], deadline: Deadline,
+             message: str) -> Result[Assignment]:
+    return Result(result.status, result.objective, result.bound, deadline.elapsed(),
+                  result.backend, result.plan, message=message, stats=result.stats)
+
+
+BACKENDS: Registry[AssignmentProblem, Assignment] = Registry("assignment")
+BACKENDS.register(Backend("auto", _auto, True,
+                          "lazy greedy at once, then exact branch and bound (END) in the limit"))
+BACKENDS.register(Backend("greedy", solve_greedy, False,
+                          "003 Algorithm 1: best (UAV, action) pair first; >= 1/2 OPT"))
+BACKENDS.register(Backend("lazy_greedy", solve_lazy_greedy, False,
+                          "greedy with a priority queue of stale gains (same answer)"))
+BACKENDS.register(Backend("exact", _exact, True,
+                          "END integer program, outer approximation + cuts, SCIP",
+                          supports=_end_only))
+BACKENDS.register(Backend("exact_cpsat", _exact_cpsat, True,
+                          "the same program scaled to integers, CP-SAT", supports=_end_only))
+BACKENDS.register(Backend("exact_bnb", solve_bnb, True,
+                          "END branch and bound with submodular bounds (fastest exact)",
+                          supports=_end_only))
+BACKENDS.register(Backend("brute_force", solve_brute_force, True,
+                          "enumerate every joint action (tiny problems)",
+                          supports=supports_brute_force))
+BACKENDS.register(Backend("nlp", _nlp, False,
+                          "CasADi + Ipopt: move the greedy waypoints continuously (smooth END)",
+                          supports=_nlp_supports))
+
+
+def solve(problem: AssignmentProblem, *, backend: str = "auto", time_limit_s: float = 1.0,
+          seed: int = 0) -> Result[Assignment]:
+    """Assign one action per UAV with the named backend within ``time_limit_s`` seconds.
+
+    Raises
+    ------
+    InvalidInputError
+        Unknown backend, a backend that cannot take the problem, a bad limit or seed.
+    """
+    check_time_limit(time_limit_s)
+    if not isinstance(seed, int) or seed < 0:
+        raise InvalidInputError("seed", seed, "must be a non-negative integer")
+    chosen = BACKENDS.get(backend)
+    reason = chosen.supports(problem)
+    if reason is not None:
+        raise InvalidInputError("backend", backend, reason)
+    result = chosen.solve(problem, time_limit_s=time_limit_s, seed=seed)
+    log.info("assignment %s via %s: %s %s in %.3f s", problem.name, backend,
+             result.status.name, result.objective, result.runtime_s)
+    return result

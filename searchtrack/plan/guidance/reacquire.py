@@ -1,0 +1,152 @@
+"""Reacquiring a fading target as an orienteering problem with time windows (thesis 001, §5.5).
+
+When a paired UAV's tracker peak falls to ``ϱ`` the UAV plans one route over the tracker's most
+probable nodes and follows it with the spring ∇W (5.32). The instance follows §5.5: scores are
+the tracker's probabilities, the start is the UAV's position with zero score, every window is
+``[0, T_r]`` (time measured from now), service times are zero, travel time is Euclidean
+distance / ``S_max`` (Dubins turning ignored), and the end is open (``end=None``), which is what
+§5.5's slack end node ``E`` achieves.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from searchtrack.errors import InvalidInputError
+from searchtrack.estimate.diffusion import GraphDiffusion
+from searchtrack.models.roads import RoadNetwork
+from searchtrack.plan.optw.instance import OPTWInstance
+from searchtrack.plan.optw.solve import solve
+from searchtrack.plan.result import Result
+from searchtrack.plan.stop import check_time_limit
+
+log = logging.getLogger("searchtrack.plan.guidance.reacquire")
+
+#: Time precision of the instance: 10 ms (a UAV covers 0.36 m at 80 mph).
+TIME_DECIMALS = 2
+
+
+def _probability(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
+    p = np.asarray(value, dtype=np.float64)
+    if p.shape != (n,) or not np.all(np.isfinite(p)) or np.any(p < 0.0):
+        raise InvalidInputError(name, value, f"must be non-negative and finite, shape ({n},)")
+    return p
+
+
+def reacquire_time(
+    diffusion: GraphDiffusion,
+    probability: ArrayLike,
+    *,
+    p_min: float = 0.07,
+    max_steps: int = 2000,
+) -> float:
+    """``T_r``: seconds until the peak of ``probability`` falls below ``p_min`` under (4.2) alone.
+
+    Simulated with ``diffusion`` (the trackers' prediction operator ``e^{−αLΔt}``) from the
+    *current* tracker, not from a peak of exactly ``ϱ`` as the thesis phrases it: the tracker
+    that triggers reacquisition has just crossed ``ϱ``, so the two agree up to one step. Returns
+    0 if the peak is already below ``p_min`` and ``max_steps · Δt`` if it never falls below
+    within ``max_steps`` steps.
+    """
+    if not isinstance(diffusion, GraphDiffusion):
+        raise InvalidInputError("diffusion", diffusion, "must be a GraphDiffusion")
+    p = _probability("probability", probability, diffusion.n_nodes)
+    if not (isinstance(p_min, (int, float)) and 0.0 < p_min < 1.0):
+        raise InvalidInputError("p_min", p_min, "must be in (0, 1)")
+    if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1:
+        raise InvalidInputError("max_steps", max_steps, "must be an integer ≥ 1")
+    steps = 0
+    while p.max() >= p_min and steps < max_steps:
+        p = diffusion.propagate(p)
+        steps += 1
+    if p.max() >= p_min:
+        log.debug("peak still %.3g after %d steps; T_r capped", p.max(), max_steps)
+    return steps * diffusion.dt_s
+
+
+def candidate_nodes(
+    probability: ArrayLike, *, max_nodes: int = 60, support_mass: float = 0.95
+) -> NDArray[np.int64]:
+    """The most probable nodes, in decreasing probability, until ``support_mass`` is covered.
+
+    At most ``max_nodes`` are kept (the thesis uses every node of the tracker, which on a city
+    map is thousands: too many for a real-time solve); zero-probability nodes never are.
+    """
+    p = np.asarray(probability, dtype=np.float64)
+    if p.ndim != 1 or not np.all(np.isfinite(p)) or np.any(p < 0.0):
+        raise InvalidInputError("probability", probability, "must be non-negative and finite")
+    if isinstance(max_nodes, bool) or not isinstance(max_nodes, int) or max_nodes < 1:
+        raise InvalidInputError("max_nodes", max_nodes, "must be an integer ≥ 1")
+    if not (isinstance(support_mass, (int, float)) and 0.0 < support_mass <= 1.0):
+        raise InvalidInputError("support_mass", support_mass, "must be in (0, 1]")
+    k = min(max_nodes, int(np.count_nonzero(p)))
+    if k == 0:
+        return np.empty(0, dtype=np.int64)
+    top = np.argpartition(-p, k - 1)[:k] if k < p.size else np.arange(p.size)
+    top = top[np.lexsort((top, -p[top]))]  # decreasing probability, lower index first on ties
+    cum = np.cumsum(p[top]) / p.sum()
+    keep = int(np.searchsorted(cum, support_mass * (1.0 - 1e-12))) + 1
+    return np.asarray(top[:keep], dtype=np.int64)
+
+
+def reacquisition_instance(
+    network: RoadNetwork,
+    probability: ArrayLike,
+    uav_xy_m: ArrayLike,
+    speed_mps: float,
+    horizon_s: float,
+    *,
+    max_nodes: int = 60,
+    support_mass: float = 0.95,
+) -> tuple[OPTWInstance, NDArray[np.int64]]:
+    """The OPTW (5.17)–(5.26) adapted to reacquisition, and the road node of each vertex.
+
+    Vertex 0 is the UAV's position (score 0); vertices ``1..k`` are the
+    :func:`candidate_nodes`, scored by their probability. Windows are ``[0, horizon_s]``
+    (``horizon_s`` = ``T_r``), service times 0, travel times Euclidean / ``speed_mps`` (ceiled
+    to :data:`TIME_DECIMALS` decimals), open end. ``node_ids[0]`` is −1 (the UAV).
+    """
+    p = _probability("probability", probability, network.n_nodes)
+    xy = np.asarray(uav_xy_m, dtype=np.float64)
+    if xy.shape != (2,) or not np.all(np.isfinite(xy)):
+        raise InvalidInputError("uav_xy_m", uav_xy_m, "must be one finite point (x, y) (m)")
+    if not (isinstance(speed_mps, (int, float)) and math.isfinite(speed_mps) and speed_mps > 0):
+        raise InvalidInputError("speed_mps", speed_mps, "must be positive and finite")
+    if not (isinstance(horizon_s, (int, float)) and math.isfinite(horizon_s) and horizon_s >= 0):
+        raise InvalidInputError("horizon_s", horizon_s, "must be finite and ≥ 0 (s)")
+    nodes = candidate_nodes(p, max_nodes=max_nodes, support_mass=support_mass)
+    coords = np.vstack([xy[None, :], network.coords[nodes]])
+    n = coords.shape[0]
+    profit = np.concatenate([[0.0], p[nodes]])
+    inst = OPTWInstance.from_coordinates(
+        coords, profit, np.zeros(n), np.zeros(n), np.full(n, float(horizon_s)),
+        decimals=TIME_DECIMALS, rounding="ceil", speed=float(speed_mps), start=0, end=None,
+        tmax=float(horizon_s), name="reacquire",
+    )
+    return inst, np.concatenate([[-1], nodes]).astype(np.int64)
+
+
+def plan_reacquisition(
+    instance: OPTWInstance,
+    node_ids: NDArray[np.int64],
+    *,
+    backend: str = "auto",
+    time_limit_s: float = 0.03,
+    seed: int = 0,
+) -> tuple[tuple[int, ...], Result[tuple[tuple[int, ...], ...]]]:
+    """Solve the reacquisition OPTW; the route as road node ids (start excluded) and the result.
+
+    An instance with no candidate node, or a result without a plan, gives an empty route.
+    """
+    check_time_limit(time_limit_s)
+    if node_ids.shape != (instance.n,):
+        raise InvalidInputError("node_ids", node_ids, f"must have {instance.n} entries")
+    result = solve(instance, backend=backend, time_limit_s=time_limit_s, seed=seed)
+    if result.plan is None or not result.plan:
+        return (), result
+    route = tuple(int(node_ids[v]) for v in result.plan[0] if v != instance.start)
+    return route, result

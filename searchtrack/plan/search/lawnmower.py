@@ -1,0 +1,82 @@
+"""Lawnmower (boustrophedon) coverage baselines: 2-D at a fixed altitude and 3-D in layers.
+
+Paper 003 flies a fixed-altitude lawnmower with the robots spaced evenly along it; paper 004
+stacks 2-D boustrophedon layers 48 m apart with 48 m line spacing (digest 004 §2.9, A21: start
+corner and ordering are not given; here lines run along x, start at the low corner, and the
+path is sampled every ``step_m`` metres so it can be flown one waypoint per step).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+
+from searchtrack.errors import InvalidInputError
+from searchtrack.plan.assign.problem import FloatArray
+
+
+def _positive(name: str, value: float) -> None:
+    if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
+        raise InvalidInputError(name, value, "must be finite and > 0")
+
+
+def _box(bounds: FloatArray, dims: int) -> FloatArray:
+    b = np.asarray(bounds, dtype=np.float64)
+    if b.shape != (dims, 2) or not np.all(np.isfinite(b)) or np.any(b[:, 1] <= b[:, 0]):
+        raise InvalidInputError("bounds", bounds, f"must be ({dims}, 2) with lo < hi")
+    return b
+
+
+def _levels(lo: float, hi: float, spacing: float) -> FloatArray:
+    """Track positions ``spacing`` apart, half a spacing in from each edge, covering [lo, hi]."""
+    n = max(1, math.ceil((hi - lo) / spacing))
+    return lo + (np.arange(n) + 0.5) * (hi - lo) / n
+
+
+def _sample(corners: FloatArray, step_m: float) -> FloatArray:
+    """Points every ``step_m`` along the polyline ``corners`` (each corner included)."""
+    out = [corners[:1]]
+    for a, b in itertools.pairwise(corners):
+        length = float(np.linalg.norm(b - a))
+        n = max(1, math.ceil(length / step_m - 1e-9))
+        t = np.arange(1, n + 1)[:, None] / n
+        out.append(a + t * (b - a))
+    return np.concatenate(out)
+
+
+def lawnmower_2d(bounds: FloatArray, spacing_m: float, altitude_m: float,
+                 step_m: float) -> FloatArray:
+    """``(K, 3)`` waypoints of a boustrophedon over ``bounds`` ``[[x0, x1], [y0, y1]]``: lines
+    along x at ``spacing_m`` apart (every point of the box within ``spacing_m / 2`` of a line),
+    at ``altitude_m``, sampled every ``step_m`` (at most) along the path."""
+    b = _box(bounds, 2)
+    for name, v in (("spacing_m", spacing_m), ("step_m", step_m)):
+        _positive(name, v)
+    if not math.isfinite(altitude_m):
+        raise InvalidInputError("altitude_m", altitude_m, "must be finite")
+    corners = []
+    for i, y in enumerate(_levels(b[1, 0], b[1, 1], spacing_m)):
+        xs = (b[0, 0], b[0, 1]) if i % 2 == 0 else (b[0, 1], b[0, 0])
+        corners += [(xs[0], y), (xs[1], y)]
+    path = _sample(np.array(corners), step_m)
+    return np.concatenate([path, np.full((len(path), 1), float(altitude_m))], axis=1)
+
+
+def lawnmower_3d(bounds: FloatArray, spacing_m: float, layer_spacing_m: float,
+                 step_m: float) -> FloatArray:
+    """``(K, 3)`` waypoints of stacked 2-D boustrophedons (004's 3-D lawnmower): layers
+    ``layer_spacing_m`` apart in z, alternately reversed so consecutive layers join at a corner,
+    with vertical transitions sampled like the rest of the path."""
+    b = _box(bounds, 3)
+    _positive("layer_spacing_m", layer_spacing_m)
+    layers = []
+    for k, z in enumerate(_levels(b[2, 0], b[2, 1], layer_spacing_m)):
+        layer = lawnmower_2d(b[:2], spacing_m, float(z), step_m)
+        layers.append(layer if k % 2 == 0 else layer[::-1])
+    corners = [layers[0]]
+    for prev, nxt in itertools.pairwise(layers):
+        link = _sample(np.stack([prev[-1], nxt[0]]), step_m)[1:-1]
+        corners += [link, nxt]
+    return np.concatenate(corners)

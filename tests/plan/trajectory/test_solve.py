@@ -1,0 +1,65 @@
+"""The trajectory registry and ``auto``: who answers, and the fallbacks when NMPC cannot."""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from searchtrack.errors import InvalidInputError
+from searchtrack.models.vehicles import VehicleModel, unicycle
+from searchtrack.plan.result import Result, Sense, Status
+from searchtrack.plan.trajectory import BACKENDS, ControlPlan, TrackingProblem, solve
+
+solve_module = importlib.import_module("searchtrack.plan.trajectory.solve")
+
+
+def test_registry_lists_the_controllers() -> None:
+    """The registry offers auto, nmpc, ltv_mpc and closed_form."""
+    assert BACKENDS.names() == ["auto", "nmpc", "ltv_mpc", "closed_form"]
+
+
+def test_auto_answers_with_nmpc_given_time(course: TrackingProblem) -> None:
+    """With a generous budget auto's answer comes from NMPC and no fallback fires."""
+    result = solve(course, backend="auto", time_limit_s=5.0)
+    assert result.backend == "nmpc" and result.plan is not None
+    assert result.stats["fallbacks"] == 0.0
+
+
+def test_auto_falls_back_when_ipopt_gets_too_little_time(course: TrackingProblem) -> None:
+    """A 1 ms budget on a cold start: NMPC overruns, auto answers with the QP or closed form."""
+    solve(course, backend="nmpc", time_limit_s=1e-3)  # build the 1 ms solver outside the test
+    result = solve(course, backend="auto", time_limit_s=1e-3)
+    assert result.backend in ("ltv_mpc", "closed_form")
+    assert result.plan is not None and result.status.has_plan
+    assert "nmpc failed" in result.message and result.stats["fallbacks"] >= 1.0
+
+
+def test_auto_reaches_the_closed_form_when_the_qp_fails(
+        course: TrackingProblem, monkeypatch: pytest.MonkeyPatch) -> None:
+    """If NMPC and the QP both fail, the closed form answers and the message says so."""
+    def failing(problem: TrackingProblem, *, time_limit_s: float) -> Result[ControlPlan]:
+        return Result(Status.NO_SOLUTION, None, None, 0.0, "x", None, Sense.MINIMIZE, "forced")
+
+    monkeypatch.setattr(solve_module, "solve_nmpc", failing)
+    monkeypatch.setattr(solve_module, "solve_ltv_mpc", failing)
+    result = solve(course, backend="auto", time_limit_s=0.05)
+    assert result.backend == "closed_form" and result.plan is not None
+    assert "nmpc failed" in result.message and "ltv_mpc failed" in result.message
+    assert result.stats["fallbacks"] == 2.0
+
+
+def test_closed_form_needs_a_known_model(course: TrackingProblem) -> None:
+    """A model without a closed-form law is refused by auto and closed_form."""
+    base = unicycle()
+    other = VehicleModel("glider", base.state_names, base.input_names, base.dynamics,
+                         base.state_lower, base.state_upper, base.input_lower, base.input_upper,
+                         base.input_rate_max, base.nominal_input, base.position_indices)
+    problem = replace(course, model=other)
+    for name in ("auto", "closed_form"):
+        with pytest.raises(InvalidInputError, match="closed-form"):
+            solve(problem, backend=name)
+    assert solve(problem, backend="ltv_mpc", time_limit_s=5.0).plan is not None
+    assert np.isfinite(problem.state).all()
