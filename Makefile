@@ -13,6 +13,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 demo: $(STAMP)
+	$(BIN)/searchtrack mission run searchtrack/data/scenarios/demo.toml --out out/demo
 	$(BIN)/searchtrack optw solve searchtrack/data/optw/c101.txt --backend auto --time-limit 20
 	$(BIN)/searchtrack optw solve searchtrack/data/optw/r101.txt --backend auto --time-limit 20 --vehicles 2
 

@@ -12,13 +12,16 @@ from pathlib import Path
 from typing import Any
 
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
+from searchtrack import cli_mission
 from searchtrack.errors import SearchtrackError
 from searchtrack.plan.optw import OPTWInstance, Routes, read_optw
 from searchtrack.plan.optw.solve import BACKENDS, solve
 from searchtrack.plan.result import Result, Status
+from searchtrack.sim.track_job import add_track_parser
 
 
 def result_json(inst: OPTWInstance, result: Result[Routes]) -> dict[str, Any]:
@@ -176,6 +179,8 @@ def build_parser() -> argparse.ArgumentParser:
     p_bench.add_argument("--optima", metavar="CSV", help="known optima (default: optima.csv "
                          "in DIR or its parents)")
     p_bench.set_defaults(run=_cmd_bench)
+    cli_mission.add_parser(sub)
+    add_track_parser(sub)
     return parser
 
 
@@ -189,7 +194,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         code: int = args.run(args, console)
     except (SearchtrackError, ValueError) as exc:
-        err.print(f"[bold red]error:[/] {exc}")
+        err.print("[bold red]error:[/]", escape(str(exc)), soft_wrap=True)
         return 2
     return code
 

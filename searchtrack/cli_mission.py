@@ -1,0 +1,93 @@
+"""``searchtrack mission run``: fly a scenario, print a summary, write JSON and PNG figures."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import time
+from pathlib import Path
+
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from searchtrack.sim.figures import plot_map, plot_moc
+from searchtrack.sim.mission import Mission
+from searchtrack.sim.record import PHASES, MissionLog
+from searchtrack.sim.scenario_file import load_scenario
+
+
+def _pct(x: float | None) -> str:
+    return "-" if x is None else f"{100 * x:.1f} %"
+
+
+def summary_table(log: MissionLog, wall_s: float) -> Table:
+    """The end-of-mission summary."""
+    sc, s = log.scenario, log.score
+    table = Table(title=f"{sc.name}: {sc.guidance.strategy} on {sc.map.describe()} "
+                  f"({log.network.n_nodes} nodes), {sc.uav_count} UAVs, {sc.target_count} "
+                  f"targets", show_header=False)
+    rows = [
+        ("simulated", f"{log.time_s[-1]:.1f} s in {s.steps} steps ({wall_s:.1f} s wall)"),
+        ("targets detected", f"{s.detected} / {s.targets}"),
+        ("time to detect all", "-" if s.time_to_detect_all_s is None
+         else f"{s.time_to_detect_all_s:.1f} s"),
+        ("MOC mean / final", f"{_pct(s.moc_mean)} / {_pct(s.moc_final)}"),
+        ("PVT (NVT, NST)", f"{_pct(s.pvt)} ({s.nvt}, {s.nst})"),
+        ("PVA (NVA, NFA)", f"{_pct(s.pva)} ({s.nva}, {s.nfa})"),
+        ("trackers born", str(len(log.births))),
+    ]
+    if s.steps:
+        step = log.step_ms
+        rows.append(("step ms median / p95",
+                     f"{float(sorted(step)[len(step) // 2]):.1f} / "
+                     f"{float(sorted(step)[int(0.95 * (len(step) - 1))]):.1f}"))
+        means = log.phase_ms.mean(axis=0)
+        rows.append(("phase ms (mean)", ", ".join(f"{p} {m:.1f}" for p, m in
+                                                  zip(PHASES, means, strict=True))))
+    for key, value in rows:
+        table.add_row(key, value)
+    return table
+
+
+def run_mission(args: argparse.Namespace, console: Console) -> int:
+    """Handler of ``searchtrack mission run``."""
+    scenario = load_scenario(Path(args.scenario))
+    if args.seed is not None:
+        scenario = dataclasses.replace(scenario, seed=args.seed)
+    if args.duration is not None:
+        scenario = dataclasses.replace(scenario, duration_s=args.duration)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    with console.status(f"building {scenario.map.describe()}"):
+        mission = Mission(scenario)
+    started = time.perf_counter()
+    with Progress(TextColumn("{task.description}"), BarColumn(),
+                  TextColumn("{task.completed}/{task.total} steps"), TimeElapsedColumn(),
+                  console=console, transient=True) as bar:
+        task = bar.add_task(f"flying {scenario.name}", total=scenario.n_steps)
+        log = mission.run(lambda done, _total: bar.update(task, completed=done))
+    wall = time.perf_counter() - started
+    console.print(summary_table(log, wall))
+    record = log.to_json()
+    record["summary"]["wall_s"] = round(wall, 3)
+    (out / "mission.json").write_text(json.dumps(record) + "\n", encoding="utf-8")
+    written = [out / "mission.json", plot_map(log, out / "map.png"),
+               plot_moc(log, out / "moc.png")]
+    console.print("wrote " + ", ".join(str(p) for p in written))
+    return 0
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Register ``mission run`` on the top-level subparsers."""
+    mission = sub.add_parser("mission", help="closed-loop road search-and-track missions")
+    msub = mission.add_subparsers(dest="command", required=True)
+    p_run = msub.add_parser("run", help="fly a TOML scenario; write JSON and PNG figures")
+    p_run.add_argument("scenario", help="scenario TOML file")
+    p_run.add_argument("--out", default="mission-output", metavar="DIR",
+                       help="output directory (default: mission-output)")
+    p_run.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
+    p_run.add_argument("--duration", type=float, default=None, metavar="S",
+                       help="override the scenario's duration (s)")
+    p_run.set_defaults(run=run_mission)

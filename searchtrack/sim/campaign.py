@@ -1,0 +1,55 @@
+"""Monte Carlo campaigns: one scenario flown over many seeds, the map and operators built once."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import stats
+
+from searchtrack.sim.mission import Mission, World
+from searchtrack.sim.record import MissionLog
+from searchtrack.sim.scenario import Scenario
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """Mean of ``n`` samples with its standard deviation and 95 % t-interval half-width."""
+
+    n: int
+    mean: float
+    std: float
+    half_width: float
+
+    def __str__(self) -> str:
+        if self.n == 0:
+            return "-"
+        return f"{self.mean:.3g} ± {self.half_width:.2g}"
+
+
+def estimate(values: Sequence[float]) -> Estimate:
+    """Mean, s.d. and 95 % half-width of the finite ``values`` (NaN and None dropped)."""
+    x = np.array([v for v in values if v is not None and math.isfinite(v)], dtype=float)
+    if x.size == 0:
+        return Estimate(0, math.nan, math.nan, math.nan)
+    if x.size == 1:
+        return Estimate(1, float(x[0]), 0.0, math.inf)
+    sd = float(x.std(ddof=1))
+    half = float(stats.t.ppf(0.975, x.size - 1) * sd / math.sqrt(x.size))
+    return Estimate(int(x.size), float(x.mean()), sd, half)
+
+
+def fly_seeds(base: Scenario, seeds: Sequence[int], world: World | None = None,
+              progress: Callable[[int], None] | None = None) -> list[MissionLog]:
+    """Fly ``base`` once per seed, sharing one :class:`World` (which must match ``base``'s map,
+    ``α`` and ``Δt`` when given)."""
+    shared = world if world is not None else World.build(base)
+    logs = []
+    for i, seed in enumerate(seeds):
+        logs.append(Mission(dataclasses.replace(base, seed=int(seed)), shared).run())
+        if progress is not None:
+            progress(i + 1)
+    return logs

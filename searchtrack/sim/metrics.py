@@ -1,0 +1,107 @@
+"""Truth-based scores of a road search-and-track mission (thesis 001 §6.2, after Gorji et al.).
+
+Definitions (the thesis names the metrics but not what makes a track or association valid):
+
+- Trackers are matched one-to-one to true targets by a gated minimum-distance assignment between
+  tracker peak nodes and target positions: a pair counts only when the distance is below
+  ``valid_distance_m``, and the matching minimises ``Σ (distance − valid_distance_m)`` over the
+  pairs taken. A matched tracker is *valid* (NVT), an unmatched one *spurious* (NST).
+- An association (tracker, measurement) is *valid* (NVA) when the measurement came from the target
+  the tracker was matched to at the start of the step, otherwise *false* (NFA), false alarms
+  included.
+- MOC = NVT / number of targets; PVT = NVT / (NVT + NST) (6.8); PVA = NVA / (NVA + NFA) (6.9).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import linear_sum_assignment
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+UNMATCHED = -1
+
+
+def match_trackers(peaks_xy: FloatArray, targets_xy: FloatArray,
+                   valid_distance_m: float) -> IntArray:
+    """For each tracker peak, the index of its matched target or ``UNMATCHED`` (−1)."""
+    k = peaks_xy.shape[0]
+    match = np.full(k, UNMATCHED, dtype=np.int64)
+    if k == 0 or targets_xy.shape[0] == 0:
+        return match
+    dist = np.linalg.norm(peaks_xy[:, None, :] - targets_xy[None, :, :], axis=2)
+    rows, cols = linear_sum_assignment(np.minimum(dist - valid_distance_m, 0.0))
+    ok = dist[rows, cols] < valid_distance_m
+    match[rows[ok]] = cols[ok]
+    return match
+
+
+@dataclass(frozen=True)
+class StepScore:
+    """Counts at one time step."""
+
+    trackers: int
+    valid_trackers: int
+    valid_associations: int
+    false_associations: int
+
+    @property
+    def spurious_trackers(self) -> int:
+        """NST."""
+        return self.trackers - self.valid_trackers
+
+
+def ratio(num: float, den: float) -> float | None:
+    """``num / den``, ``None`` when ``den`` is 0."""
+    return num / den if den > 0 else None
+
+
+@dataclass(frozen=True)
+class MissionScore:
+    """Scores summed over a mission.
+
+    Attributes
+    ----------
+    moc_mean, moc_final
+        Measure of completeness averaged over steps and at the last step.
+    pvt, pva
+        (6.8) and (6.9) over all steps (``None`` when no tracker / association occurred).
+    time_to_detect_all_s
+        First time every target had been detected (``None`` if some never were).
+    detected
+        Number of targets ever detected.
+    """
+
+    steps: int
+    targets: int
+    nvt: int
+    nst: int
+    nva: int
+    nfa: int
+    moc_mean: float
+    moc_final: float
+    pvt: float | None
+    pva: float | None
+    time_to_detect_all_s: float | None
+    detected: int
+
+
+def score(steps: list[StepScore], targets: int, first_detection_s: FloatArray) -> MissionScore:
+    """Sum per-step counts into a :class:`MissionScore` (``first_detection_s`` is NaN for a
+    target never detected)."""
+    nvt = sum(s.valid_trackers for s in steps)
+    nst = sum(s.spurious_trackers for s in steps)
+    nva = sum(s.valid_associations for s in steps)
+    nfa = sum(s.false_associations for s in steps)
+    moc = np.array([s.valid_trackers / targets for s in steps]) if steps else np.zeros(1)
+    detected = int(np.count_nonzero(np.isfinite(first_detection_s)))
+    all_time = float(np.max(first_detection_s)) if detected == targets else None
+    return MissionScore(
+        steps=len(steps), targets=targets, nvt=nvt, nst=nst, nva=nva, nfa=nfa,
+        moc_mean=float(moc.mean()), moc_final=float(moc[-1]),
+        pvt=ratio(nvt, nvt + nst), pva=ratio(nva, nva + nfa),
+        time_to_detect_all_s=all_time, detected=detected,
+    )

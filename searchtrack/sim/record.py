@@ -1,0 +1,183 @@
+"""What a mission leaves behind: paths, per-step scores and timings, births, the final beliefs."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from searchtrack.estimate import LikelihoodField, TrackerBank
+from searchtrack.models import RoadNetwork
+from searchtrack.sim.metrics import MissionScore, StepScore, score
+from searchtrack.sim.scenario import Scenario
+
+FloatArray = NDArray[np.float64]
+PHASES = ("truth", "sense", "update", "initiate", "guide", "predict")
+"""Timed phases of a step; the filter-and-plan step is every phase but ``truth`` and
+``sense`` (the simulated world)."""
+
+
+class StepGuidance(Protocol):
+    """The part of a guidance answer the log keeps."""
+
+    @property
+    def mode(self) -> tuple[str, ...]: ...
+
+    @property
+    def plan_ms(self) -> float: ...
+
+
+@dataclass
+class StepTimes:
+    """Seconds spent in each phase of one step."""
+
+    truth: float = 0.0
+    sense: float = 0.0
+    update: float = 0.0
+    initiate: float = 0.0
+    guide: float = 0.0
+    predict: float = 0.0
+
+    def as_ms(self) -> list[float]:
+        """Milliseconds per phase, in :data:`PHASES` order."""
+        return [1e3 * getattr(self, p) for p in PHASES]
+
+
+@dataclass(frozen=True, eq=False)
+class Birth:
+    """A tracker instantiated by the LRT: when, which track, which true target (−1: none)."""
+
+    time_s: float
+    track_id: int
+    target: int
+    distance_m: float
+
+
+@dataclass(frozen=True, eq=False)
+class MissionLog:
+    """Everything one mission recorded (arrays indexed by step; paths include the start)."""
+
+    scenario: Scenario
+    network: RoadNetwork
+    time_s: FloatArray
+    uav_xy_m: FloatArray
+    target_xy_m: FloatArray
+    steps: tuple[StepScore, ...]
+    modes: tuple[tuple[str, ...], ...]
+    plan_ms: FloatArray
+    phase_ms: FloatArray
+    births: tuple[Birth, ...]
+    first_detection_s: FloatArray
+    final_llr: FloatArray
+    final_trackers: FloatArray
+    score: MissionScore
+
+    @property
+    def moc(self) -> FloatArray:
+        """MOC at each step."""
+        return np.array([s.valid_trackers / self.score.targets for s in self.steps])
+
+    @property
+    def step_ms(self) -> FloatArray:
+        """Filter-and-plan milliseconds per step (update, initiate, guide, predict)."""
+        return np.asarray(self.phase_ms[:, 2:].sum(axis=1), dtype=np.float64)
+
+    def to_json(self) -> dict[str, Any]:
+        """A JSON-ready dictionary (numbers rounded to what the data justify)."""
+        sc = self.scenario
+        s = self.score
+        return {
+            "scenario": {
+                "name": sc.name, "map": sc.map.describe(), "mode": sc.mode,
+                "strategy": sc.guidance.strategy, "uavs": sc.uav_count,
+                "targets": sc.target_count, "altitude_m": sc.altitude_m,
+                "sensor": {"pd": sc.sensor.pd, "pf": sc.sensor.pf,
+                           "footprint_radius_m": sc.sensor.footprint_radius_m,
+                           "position_noise_m": sc.sensor.position_noise_m},
+                "associator": sc.filter.associator, "duration_s": sc.duration_s,
+                "dt_s": sc.dt_s, "seed": sc.seed, "valid_distance_m": sc.valid_distance_m,
+            },
+            "network": {"nodes": self.network.n_nodes, "edges": self.network.n_edges,
+                        "intersections": self.network.n_intersections},
+            "summary": {
+                "steps": s.steps, "moc_mean": s.moc_mean, "moc_final": s.moc_final,
+                "pvt": s.pvt, "pva": s.pva, "nvt": s.nvt, "nst": s.nst, "nva": s.nva,
+                "nfa": s.nfa, "detected": s.detected,
+                "time_to_detect_all_s": s.time_to_detect_all_s,
+                "step_ms_median": float(np.median(self.step_ms)) if self.steps else None,
+                "step_ms_p95": float(np.percentile(self.step_ms, 95)) if self.steps else None,
+                "phase_ms_mean": dict(zip(PHASES, np.round(self.phase_ms.mean(axis=0), 3)
+                                          .tolist(), strict=True)) if self.steps else {},
+            },
+            "first_detection_s": [None if math.isnan(v) else v
+                                  for v in self.first_detection_s.tolist()],
+            "births": [{"time_s": round(b.time_s, 3), "track_id": b.track_id,
+                        "target": b.target, "distance_m": round(b.distance_m, 1)}
+                       for b in self.births],
+            "time_s": np.round(self.time_s, 3).tolist(),
+            "moc": np.round(self.moc, 4).tolist(),
+            "trackers": [st.trackers for st in self.steps],
+            "valid_trackers": [st.valid_trackers for st in self.steps],
+            "valid_associations": [st.valid_associations for st in self.steps],
+            "false_associations": [st.false_associations for st in self.steps],
+            "modes": [list(m) for m in self.modes],
+            "plan_ms": np.round(self.plan_ms, 3).tolist(),
+            "step_ms": np.round(self.step_ms, 3).tolist(),
+            "uav_xy_m": np.round(self.uav_xy_m, 1).tolist(),
+            "target_xy_m": np.round(self.target_xy_m, 1).tolist(),
+        }
+
+
+@dataclass(eq=False)
+class Recorder:
+    """Collects a mission step by step; :meth:`finish` freezes it into a :class:`MissionLog`."""
+
+    scenario: Scenario
+    network: RoadNetwork
+    uav_start: FloatArray
+    target_start: FloatArray
+    _time: list[float] = field(default_factory=list)
+    _uav: list[FloatArray] = field(default_factory=list)
+    _target: list[FloatArray] = field(default_factory=list)
+    _steps: list[StepScore] = field(default_factory=list)
+    _modes: list[tuple[str, ...]] = field(default_factory=list)
+    _plan: list[float] = field(default_factory=list)
+    _phases: list[list[float]] = field(default_factory=list)
+    _births: list[Birth] = field(default_factory=list)
+
+    def add(self, time_s: float, uav_xy: FloatArray, target_xy: FloatArray, step: StepScore,
+            guidance: StepGuidance, times: StepTimes) -> None:
+        """Record one step."""
+        self._time.append(time_s)
+        self._uav.append(np.array(uav_xy))
+        self._target.append(np.array(target_xy))
+        self._steps.append(step)
+        self._modes.append(tuple(guidance.mode))
+        self._plan.append(float(guidance.plan_ms))
+        self._phases.append(times.as_ms())
+
+    def birth(self, time_s: float, track_id: int, target: int, distance_m: float) -> None:
+        """Record a tracker birth."""
+        self._births.append(Birth(time_s, track_id, target, distance_m))
+
+    def finish(self, field_: LikelihoodField, bank: TrackerBank,
+               first_detection_s: FloatArray) -> MissionLog:
+        """The frozen log."""
+        n = self.network.n_nodes
+        final = bank.probabilities().sum(axis=0) if len(bank) else np.zeros(n)
+        return MissionLog(
+            scenario=self.scenario, network=self.network,
+            time_s=np.array(self._time),
+            uav_xy_m=np.stack([self.uav_start, *self._uav]),
+            target_xy_m=np.stack([self.target_start, *self._target]),
+            steps=tuple(self._steps), modes=tuple(self._modes),
+            plan_ms=np.array(self._plan),
+            phase_ms=np.array(self._phases).reshape(-1, len(PHASES)),
+            births=tuple(self._births),
+            first_detection_s=np.array(first_detection_s),
+            final_llr=np.array(field_.llr), final_trackers=final,
+            score=score(self._steps, self.scenario.target_count, first_detection_s),
+        )

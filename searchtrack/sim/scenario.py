@@ -1,0 +1,254 @@
+"""A road search-and-track mission (thesis 001, Ch. 6) as a frozen, validated scenario.
+
+A scenario fixes the map, the UAVs and their sensor, the targets, the filter, the guidance
+strategy, the duration and the seed; :func:`load_scenario` reads one from a TOML file (see
+``searchtrack/data/scenarios/demo.toml`` for every key with its default).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from typing import Literal
+
+from searchtrack.errors import InvalidInputError
+from searchtrack.models import (
+    CourierModel,
+    DubinsLimits,
+    RoadNetwork,
+    SensorModel,
+    grid_network,
+    random_network,
+    read_osm,
+)
+from searchtrack.plan.guidance import STRATEGIES
+from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
+
+Mode = Literal["track", "detect"]
+MODES: tuple[Mode, ...] = ("track", "detect")
+ASSOCIATORS = ("greedy", "optimal")
+STARTS = ("random", "center", "edge")
+BUNDLED_MAPS = ("aguascalientes", "West-Oakland")
+
+
+def bundled_map(name: str) -> Path:
+    """Path of an OpenStreetMap extract shipped with searchtrack (© OpenStreetMap contributors,
+    ODbL)."""
+    if name not in BUNDLED_MAPS:
+        raise InvalidInputError("osm", name, f"bundled maps are {list(BUNDLED_MAPS)}")
+    return Path(str(resources.files("searchtrack") / "data" / "osm" / f"{name}.osm.bz2"))
+
+
+def _positive(name: str, value: float) -> None:
+    if not (math.isfinite(value) and value > 0.0):
+        raise InvalidInputError(name, value, "must be finite and > 0")
+
+
+@dataclass(frozen=True)
+class MapSpec:
+    """Which road network: an OSM file, or a synthetic grid or random network.
+
+    Parameters
+    ----------
+    kind
+        ``"osm"``, ``"grid"`` or ``"random"``.
+    osm_path
+        The ``.osm``/``.osm.bz2`` file (``kind="osm"``).
+    spacing_m
+        Node spacing after resampling (10 m in the thesis).
+    rows, cols, block_m
+        Grid size and block length (``kind="grid"``).
+    junctions, extent_m, map_seed
+        Random planar network (``kind="random"``).
+    """
+
+    kind: Literal["osm", "grid", "random"] = "osm"
+    osm_path: Path | None = None
+    spacing_m: float = 10.0
+    rows: int = 10
+    cols: int = 10
+    block_m: float = 100.0
+    junctions: int = 200
+    extent_m: float = 2000.0
+    map_seed: int = 0
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("osm", "grid", "random"):
+            raise InvalidInputError("kind", self.kind, "must be 'osm', 'grid' or 'random'")
+        if self.kind == "osm" and self.osm_path is None:
+            raise InvalidInputError("osm_path", None, "an OSM map needs a file")
+        for name in ("spacing_m", "block_m", "extent_m"):
+            _positive(name, getattr(self, name))
+        for name in ("rows", "cols", "junctions"):
+            if getattr(self, name) < 2:
+                raise InvalidInputError(name, getattr(self, name), "must be ≥ 2")
+
+    def build(self) -> RoadNetwork:
+        """The road network (largest connected component, resampled)."""
+        if self.kind == "grid":
+            return grid_network(self.rows, self.cols, self.block_m, self.spacing_m)
+        if self.kind == "random":
+            return random_network(self.junctions, self.extent_m, self.spacing_m,
+                                  seed=self.map_seed)
+        assert self.osm_path is not None
+        return read_osm(self.osm_path, self.spacing_m)
+
+    def describe(self) -> str:
+        """A short label."""
+        if self.kind == "osm":
+            assert self.osm_path is not None
+            return self.osm_path.name
+        if self.kind == "grid":
+            return f"grid {self.rows}x{self.cols} @ {self.block_m:g} m"
+        return f"random {self.junctions} junctions, {self.extent_m:g} m"
+
+
+@dataclass(frozen=True)
+class FilterSpec:
+    """The graph LRT and node trackers (Tables 6.2 and 6.4).
+
+    Parameters
+    ----------
+    alpha
+        Target diffusivity ``α`` (on the unweighted Laplacian: hops²/s).
+    decay_c
+        LRT decay term ``C``.
+    phi_max
+        Detection threshold ``φ_max``.
+    p_min
+        Tracker dissolution threshold ``P_min``.
+    gate_m
+        EMD gate ``ℰ`` (m of road distance).
+    associator
+        ``"greedy"`` (Algorithm 1) or ``"optimal"`` (gated assignment).
+    birth_weighting
+        ``"llr"`` or ``"likelihood_ratio"`` (see :class:`~searchtrack.estimate.LRTInitiator`).
+    """
+
+    alpha: float = 0.447
+    decay_c: float = 50.0
+    phi_max: float = 10.0
+    p_min: float = 0.07
+    gate_m: float = 300.0
+    associator: str = "greedy"
+    birth_weighting: Literal["llr", "likelihood_ratio"] = "llr"
+
+    def __post_init__(self) -> None:
+        for name in ("alpha", "decay_c", "phi_max", "gate_m"):
+            _positive(name, getattr(self, name))
+        if not 0.0 < self.p_min < 1.0:
+            raise InvalidInputError("p_min", self.p_min, "must be in (0, 1)")
+        if self.associator not in ASSOCIATORS:
+            raise InvalidInputError("associator", self.associator,
+                                    f"must be one of {list(ASSOCIATORS)}")
+        if self.birth_weighting not in ("llr", "likelihood_ratio"):
+            raise InvalidInputError("birth_weighting", self.birth_weighting,
+                                    "must be 'llr' or 'likelihood_ratio'")
+
+
+@dataclass(frozen=True)
+class GuidanceSpec:
+    """How the UAVs fly (thesis Ch. 5).
+
+    Parameters
+    ----------
+    strategy
+        ``"search"``, ``"loiter"``, ``"search_and_loiter"`` or ``"search_and_reacquire"``.
+    spring_k, loiter_k
+        Spring constants of ∇Q and of ∇L/∇W; ``None`` keeps the planner's defaults.
+    revisit_threshold
+        ``ϱ``: an assigned UAV searches while its tracker's peak exceeds it (0.3).
+    optw_backend, optw_budget_s
+        Solver and per-solve time budget of the reacquisition OPTW.
+    """
+
+    strategy: str = "search_and_loiter"
+    spring_k: float | None = None
+    loiter_k: float | None = None
+    revisit_threshold: float = 0.3
+    optw_backend: str = "auto"
+    optw_budget_s: float = 0.03
+
+    def __post_init__(self) -> None:
+        if self.strategy not in STRATEGIES:
+            raise InvalidInputError("strategy", self.strategy,
+                                    f"must be one of {list(STRATEGIES)}")
+        if self.optw_backend not in OPTW_BACKENDS.names():
+            raise InvalidInputError("optw_backend", self.optw_backend,
+                                    f"must be one of {OPTW_BACKENDS.names()}")
+        for name in ("spring_k", "loiter_k"):
+            value = getattr(self, name)
+            if value is not None:
+                _positive(name, value)
+        if not 0.0 < self.revisit_threshold < 1.0:
+            raise InvalidInputError("revisit_threshold", self.revisit_threshold,
+                                    "must be in (0, 1)")
+        _positive("optw_budget_s", self.optw_budget_s)
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """One mission: who flies where, against what, for how long, with which seed.
+
+    Parameters
+    ----------
+    mode
+        ``"track"`` (search and track, §6.2) or ``"detect"`` (§6.1: a target becomes invisible
+        once detected, trackers are not kept, the run ends when every target is detected).
+    uav_count, uav_start, limits
+        Number of UAVs, where they start (``"random"`` road nodes, the map ``"center"``, or an
+        ``"edge"`` of the map's bounding box), and their Dubins limits.
+    sensor, altitude_m
+        The sensor (``altitude_m`` is recorded when it came from the altitude model).
+    target_count, courier
+        Number of targets and how they drive.
+    valid_distance_m
+        A tracker is *valid* when its peak node is within this distance of a true target it is
+        matched to (one-to-one, minimum total distance); an association is valid when the
+        measurement came from the tracker's matched target.
+    """
+
+    name: str
+    map: MapSpec
+    uav_count: int = 3
+    target_count: int = 4
+    sensor: SensorModel = field(default_factory=lambda: SensorModel.at_altitude(457.2))
+    altitude_m: float | None = 457.2
+    limits: DubinsLimits = field(default_factory=DubinsLimits)
+    uav_start: str = "random"
+    courier: CourierModel = field(default_factory=CourierModel)
+    filter: FilterSpec = field(default_factory=FilterSpec)
+    guidance: GuidanceSpec = field(default_factory=GuidanceSpec)
+    mode: Mode = "track"
+    duration_s: float = 60.0
+    dt_s: float = 0.3
+    seed: int = 0
+    valid_distance_m: float = 100.0
+
+    def __post_init__(self) -> None:
+        if not self.name:
+            raise InvalidInputError("name", self.name, "must not be empty")
+        if self.uav_count < 1:
+            raise InvalidInputError("uav_count", self.uav_count, "must be ≥ 1")
+        if self.target_count < 1:
+            raise InvalidInputError("target_count", self.target_count, "must be ≥ 1")
+        if self.mode not in MODES:
+            raise InvalidInputError("mode", self.mode, f"must be one of {list(MODES)}")
+        if self.uav_start not in STARTS:
+            raise InvalidInputError("uav_start", self.uav_start, f"must be one of {list(STARTS)}")
+        for name in ("duration_s", "dt_s", "valid_distance_m"):
+            _positive(name, getattr(self, name))
+        if self.dt_s > self.duration_s:
+            raise InvalidInputError("dt_s", self.dt_s, f"exceeds duration_s={self.duration_s}")
+        if self.sensor.position_noise_m <= 0.0:
+            raise InvalidInputError("sensor.position_noise_m", self.sensor.position_noise_m,
+                                    "the trackers need a positive position noise")
+        if self.seed < 0:
+            raise InvalidInputError("seed", self.seed, "must be ≥ 0")
+
+    @property
+    def n_steps(self) -> int:
+        """Number of time steps ``⌈duration / Δt⌉``."""
+        return math.ceil(self.duration_s / self.dt_s - 1e-9)

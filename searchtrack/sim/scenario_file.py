@@ -1,0 +1,194 @@
+"""Read a :class:`~searchtrack.sim.scenario.Scenario` from TOML; errors name file and key."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from pathlib import Path
+
+from searchtrack.errors import InvalidInputError, ParseError
+from searchtrack.models import CourierModel, DubinsLimits, SensorModel
+from searchtrack.models.sensors import AltitudeModel
+from searchtrack.sim.scenario import (
+    ASSOCIATORS,
+    BUNDLED_MAPS,
+    MODES,
+    OPTW_BACKENDS,
+    STARTS,
+    STRATEGIES,
+    FilterSpec,
+    GuidanceSpec,
+    MapSpec,
+    Scenario,
+    bundled_map,
+)
+from searchtrack.sim.toml_fields import Table
+
+MPS_PER_MPH = 0.44704
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """The scenario in TOML file ``path``.
+
+    Raises
+    ------
+    ParseError
+        Naming the file and the dotted key: missing file, bad TOML, a missing, misspelt,
+        mistyped or out-of-range field.
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ParseError(p, None, None, f"cannot read scenario: {exc.strerror or exc}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ParseError(p, None, None, f"not valid TOML: {exc}") from None
+    top = Table(data, p)
+    section = ""
+    try:
+        section = "map"
+        map_spec = _map(top.table("map", required=True), p.parent)
+        section = "uavs"
+        uavs = top.table("uavs")
+        uav_count = uavs.integer("count", 3, minimum=1)
+        uav_start = uavs.string("start", "random", choices=STARTS)
+        limits = _limits(uavs)
+        section = "sensor"
+        sensor, altitude = _sensor(top.table("sensor"))
+        section = "targets"
+        targets = top.table("targets")
+        target_count = targets.integer("count", 4, minimum=1)
+        courier = _courier(targets)
+        section = "filter"
+        filt = _filter(top.table("filter"))
+        section = "guidance"
+        guidance = _guidance(top.table("guidance"))
+        section = ""
+        scenario = Scenario(
+            name=top.string("name", p.stem),
+            map=map_spec,
+            uav_count=uav_count,
+            target_count=target_count,
+            sensor=sensor,
+            altitude_m=altitude,
+            limits=limits,
+            uav_start=uav_start,
+            courier=courier,
+            filter=filt,
+            guidance=guidance,
+            mode=top.string("mode", "track", choices=MODES),  # type: ignore[arg-type]
+            duration_s=top.number("duration_s", 60.0),
+            dt_s=top.number("dt_s", 0.3),
+            seed=top.integer("seed", 0),
+            valid_distance_m=top.number("valid_distance_m", 100.0),
+        )
+        top.done()
+    except InvalidInputError as exc:
+        key = f"{section}.{exc.field}" if section else exc.field
+        raise ParseError(p, None, key, f"{exc.value!r}: {exc.reason}") from None
+    return scenario
+
+
+def _map(t: Table, base: Path) -> MapSpec:
+    spacing = t.number("spacing_m", 10.0)
+    kinds = [k for k in ("osm", "grid", "random") if t.has(k)]
+    if len(kinds) != 1:
+        raise t.fail("osm", "give exactly one of 'osm', 'grid' or 'random'")
+    kind = kinds[0]
+    if kind == "osm":
+        name = t.string("osm")
+        path = bundled_map(name) if name in BUNDLED_MAPS else (base / name)
+        if not path.is_file():
+            raise t.fail("osm", f"no such file {str(path)!r} (bundled maps: {list(BUNDLED_MAPS)})")
+        t.done()
+        return MapSpec("osm", path, spacing)
+    sub = t.table(kind)
+    if kind == "grid":
+        spec = MapSpec("grid", None, spacing, rows=sub.integer("rows", minimum=2),
+                       cols=sub.integer("cols", minimum=2), block_m=sub.number("block_m", 100.0))
+    else:
+        spec = MapSpec("random", None, spacing, junctions=sub.integer("junctions", minimum=2),
+                       extent_m=sub.number("extent_m", 2000.0), map_seed=sub.integer("seed", 0))
+    sub.done()
+    t.done()
+    return spec
+
+
+def _limits(t: Table) -> DubinsLimits:
+    speed = t.number("speed_mps", 80.0 * MPS_PER_MPH)
+    limits = DubinsLimits(
+        speed_max_mps=speed,
+        speed_min_mps=t.number("min_speed_mps", speed),
+        turn_rate_max_rps=math.radians(t.number("turn_rate_deg_s", 70.0)),
+    )
+    t.done()
+    return limits
+
+
+def _sensor(t: Table) -> tuple[SensorModel, float | None]:
+    altitude = t.optional_number("altitude_m")
+    fa = t.optional_number("false_alarms_per_scan")
+    cell = t.number("cell_radius_m", 20.0, minimum=0.0)
+    if altitude is not None:
+        for name in ("pd", "pf", "footprint_radius_m", "position_noise_m"):
+            if t.has(name):
+                raise t.fail(name, "give either altitude_m or the sensor's parameters, not both")
+        t.done()
+        sensor = AltitudeModel().sensor(altitude, fa)
+    elif not t.has("pd"):
+        t.done()
+        altitude = 457.2
+        sensor = AltitudeModel().sensor(altitude, fa)
+    else:
+        sensor = SensorModel(
+            pd=t.number("pd"),
+            pf=t.number("pf"),
+            footprint_radius_m=t.number("footprint_radius_m"),
+            position_noise_m=t.number("position_noise_m"),
+            false_alarms_per_scan=fa,
+        )
+        t.done()
+    return dataclasses.replace(sensor, cell_radius_m=cell), altitude
+
+
+def _courier(t: Table) -> CourierModel:
+    model = CourierModel(
+        max_speed_mps=t.number("max_speed_mps", 50.0 * MPS_PER_MPH),
+        min_speed_fraction=t.number("min_speed_fraction", 0.5),
+        mean_drive_s=t.number("mean_drive_s", 60.0),
+        dwell_min_s=t.number("dwell_min_s", 5.0),
+        dwell_max_s=t.number("dwell_max_s", 30.0),
+    )
+    t.done()
+    return model
+
+
+def _filter(t: Table) -> FilterSpec:
+    spec = FilterSpec(
+        alpha=t.number("alpha", 0.447),
+        decay_c=t.number("decay_c", 50.0),
+        phi_max=t.number("phi_max", 10.0),
+        p_min=t.number("p_min", 0.07),
+        gate_m=t.number("gate_m", 300.0),
+        associator=t.string("associator", "greedy", choices=ASSOCIATORS),
+        birth_weighting=t.string("birth_weighting", "llr",  # type: ignore[arg-type]
+                                 choices=("llr", "likelihood_ratio")),
+    )
+    t.done()
+    return spec
+
+
+def _guidance(t: Table) -> GuidanceSpec:
+    spec = GuidanceSpec(
+        strategy=t.string("strategy", "search_and_loiter", choices=tuple(STRATEGIES)),
+        spring_k=t.optional_number("spring_k"),
+        loiter_k=t.optional_number("loiter_k"),
+        revisit_threshold=t.number("revisit_threshold", 0.3),
+        optw_backend=t.string("optw_backend", "auto", choices=tuple(OPTW_BACKENDS.names())),
+        optw_budget_s=t.number("optw_budget_s", 0.03),
+    )
+    t.done()
+    return spec

@@ -1,0 +1,64 @@
+"""Closed-loop flights: constraint satisfaction, fallbacks counted, determinism, plots, errors."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from searchtrack.errors import InvalidInputError
+from searchtrack.models.vehicles import unicycle
+from searchtrack.plan.trajectory import Obstacles, waypoint_path
+from searchtrack.sim.flight import FlightConfig, fly, plot_flight
+
+REF = waypoint_path([[0, 0], [80, 0], [80, 60]], 10.0)
+OBS = Obstacles(centers_m=[[25, 1], [50, -2], [80, 30]], radii_m=[4.0, 3.0, 4.0])
+
+
+def test_nmpc_flight_keeps_clear_and_within_bounds() -> None:
+    """NMPC flies the course with no obstacle penetration and inputs inside box and rate limits."""
+    model = unicycle()
+    log = fly(model, [0, -3, 0], REF, OBS, FlightConfig(backend="nmpc", time_limit_s=1.0),
+              rng=np.random.default_rng(0))
+    assert log.collisions == 0 and log.min_clearance_m > 0.0
+    assert np.all(log.inputs >= np.asarray(model.input_lower) - 1e-6)
+    assert np.all(log.inputs <= np.asarray(model.input_upper) + 1e-6)
+    rates = np.abs(np.diff(log.inputs, axis=0)) / 0.1
+    assert np.all(rates <= np.asarray(model.input_rate_max) + 1e-3)
+    assert log.count("nmpc") == len(log.controllers)
+    assert log.rms_error_m < 5.0
+
+
+def test_auto_flight_with_wind_and_noise_counts_controllers() -> None:
+    """Under wind and noise auto flies without collision; every step names its controller."""
+    log = fly(unicycle(), [0, -3, 0], REF, OBS,
+              FlightConfig(backend="auto", time_limit_s=0.5, wind_mps=(1.0, -0.5),
+                           process_noise=(0.05, 0.05, 0.01)), rng=np.random.default_rng(1))
+    assert log.collisions == 0
+    assert set(log.controllers) <= {"nmpc", "ltv_mpc", "closed_form"}
+    assert log.states.shape == (len(log.controllers) + 1, 3)
+
+
+def test_flights_are_deterministic_for_a_seed(tmp_path: Path) -> None:
+    """Two closed-form flights with the same seed and noise agree; the plot is a PNG file."""
+    cfg = FlightConfig(backend="closed_form", process_noise=(0.1, 0.1, 0.01), duration_s=5.0)
+    a = fly(unicycle(), [0, -3, 0], REF, OBS, cfg, rng=np.random.default_rng(7))
+    b = fly(unicycle(), [0, -3, 0], REF, OBS, cfg, rng=np.random.default_rng(7))
+    np.testing.assert_array_equal(a.states, b.states)
+    out = plot_flight(a, tmp_path / "flight.png", OBS)
+    assert out.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_bad_flight_inputs_are_rejected() -> None:
+    """A start inside an obstacle, a wrong wind size or negative noise raise InvalidInputError."""
+    with pytest.raises(InvalidInputError, match="inside obstacle"):
+        fly(unicycle(), [25, 1, 0], REF, OBS, rng=np.random.default_rng(0))
+    with pytest.raises(InvalidInputError, match="wind_mps"):
+        fly(unicycle(), [0, 0, 0], REF, OBS, FlightConfig(wind_mps=(1.0, 2.0, 3.0)),
+            rng=np.random.default_rng(0))
+    with pytest.raises(InvalidInputError, match="process_noise"):
+        fly(unicycle(), [0, 0, 0], REF, OBS, FlightConfig(process_noise=(-1.0, 0.0, 0.0)),
+            rng=np.random.default_rng(0))
+    with pytest.raises(InvalidInputError, match="horizon"):
+        FlightConfig(horizon=0)
