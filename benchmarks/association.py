@@ -42,8 +42,9 @@ from searchtrack.models import RoadNetwork, read_osm
 from searchtrack.plan.association import GreedyEMDAssociator, OptimalEMDAssociator
 from searchtrack.plan.emd_matrix import emd_matrix, truncate_signature
 from searchtrack.plan.road_metric import RoadMetric
+from searchtrack.sim.scenario import bundled_map
 
-OSM = "/work/shared/data/osm/aguascalientes.osm.bz2"
+OSM = str(bundled_map("aguascalientes"))
 STEPS = (10, 50, 200)
 NOISE_M = (5.0, 10.0, 20.0)
 ALPHA, DT_S = 0.447, 0.3

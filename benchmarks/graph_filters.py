@@ -16,7 +16,6 @@ import statistics
 import time
 from collections.abc import Callable
 from contextlib import AbstractContextManager, nullcontext
-from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
@@ -35,8 +34,9 @@ from searchtrack.estimate import (
 )
 from searchtrack.estimate.diffusion import Method
 from searchtrack.models import RoadNetwork, grid_network, read_osm
+from searchtrack.sim.scenario import bundled_map
 
-OSM = Path(__file__).resolve().parents[2] / "shared" / "data" / "osm" / "aguascalientes.osm.bz2"
+OSM = bundled_map("aguascalientes")
 ALPHA, DT_S, DECAY_C, M, RHO_M, S_M = 0.447, 0.3, 50.0, 2.9264, 120.0, 5.0
 
 

@@ -37,8 +37,9 @@ from searchtrack.plan.guidance import (
     reacquisition_instance,
 )
 from searchtrack.plan.optw.solve import solve, warm_up
+from searchtrack.sim.scenario import bundled_map
 
-OSM = "/work/shared/data/osm/aguascalientes.osm.bz2"
+OSM = str(bundled_map("aguascalientes"))
 STEPS = (2, 8, 20, 60)
 ALPHA, DT_S = 0.447, 0.3
 

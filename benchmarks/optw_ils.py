@@ -14,7 +14,7 @@ from pathlib import Path
 from searchtrack.plan.optw import read_optw, validate
 from searchtrack.plan.optw.ils import solve_ils, warm_up
 
-BENCH = Path("/work/shared/benchmarks/optw")
+BENCH = Path(__file__).resolve().parents[2] / "shared" / "benchmarks" / "optw"
 
 
 def optima(root: Path) -> list[tuple[Path, float]]:

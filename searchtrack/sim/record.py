@@ -15,7 +15,7 @@ from searchtrack.sim.metrics import MissionScore, StepScore, score
 from searchtrack.sim.scenario import Scenario
 
 FloatArray = NDArray[np.float64]
-PHASES = ("truth", "sense", "update", "initiate", "guide", "predict")
+PHASES = ("truth", "sense", "associate", "update", "initiate", "guide", "predict")
 """Timed phases of a step; the filter-and-plan step is every phase but ``truth`` and
 ``sense`` (the simulated world)."""
 
@@ -36,6 +36,7 @@ class StepTimes:
 
     truth: float = 0.0
     sense: float = 0.0
+    associate: float = 0.0
     update: float = 0.0
     initiate: float = 0.0
     guide: float = 0.0

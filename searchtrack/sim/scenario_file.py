@@ -10,13 +10,13 @@ from pathlib import Path
 from searchtrack.errors import InvalidInputError, ParseError
 from searchtrack.models import CourierModel, DubinsLimits, SensorModel
 from searchtrack.models.sensors import AltitudeModel
+from searchtrack.plan.guidance import STRATEGIES
+from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
 from searchtrack.sim.scenario import (
     ASSOCIATORS,
     BUNDLED_MAPS,
     MODES,
-    OPTW_BACKENDS,
     STARTS,
-    STRATEGIES,
     FilterSpec,
     GuidanceSpec,
     MapSpec,

@@ -23,7 +23,7 @@ from searchtrack.models import (
 )
 
 TINY = Path(__file__).parents[1] / "data" / "osm" / "tiny.osm"
-SHARED = Path(__file__).parents[3] / "shared" / "data" / "osm"
+BUNDLED = Path(__file__).parents[2] / "searchtrack" / "data" / "osm"  # copies of ../shared
 
 # 0.001° of longitude and 0.0009° of latitude at 45°N on WGS84 (geodesy tables: 78 847 m and
 # 111 133 m per degree).
@@ -112,11 +112,10 @@ def test_bz2_and_plain_files_agree(tmp_path: Path) -> None:
 # ----- the real extracts ------------------------------------------------------------------------
 
 
-@pytest.mark.skipif(not SHARED.is_dir(), reason="shared OSM extracts not present")
 @pytest.mark.parametrize("name", sorted(REAL_MAPS))
 def test_real_maps_load(name: str, record_property: Callable[[str, object], None]) -> None:
     """Both shared OSM extracts load into one connected network of the expected size."""
-    net = read_osm(SHARED / name)
+    net = read_osm(BUNDLED / name)
     nodes, edges, length, intersections = REAL_MAPS[name]
     record_property("summary", repr(net))
     assert net.is_connected
@@ -128,12 +127,11 @@ def test_real_maps_load(name: str, record_property: Callable[[str, object], None
     assert net.projection.max_scale_error(net.coords) < 2e-4
 
 
-@pytest.mark.skipif(not SHARED.is_dir(), reason="shared OSM extracts not present")
 @pytest.mark.parametrize("spacing", [5.0, 10.0, 25.0])
 @pytest.mark.parametrize("name", sorted(REAL_MAPS))
 def test_spacing_is_honoured(name: str, spacing: float) -> None:
     """No edge is longer than the spacing, and nearly all are between half of it and all of it."""
-    net = read_osm(SHARED / name, spacing)
+    net = read_osm(BUNDLED / name, spacing)
     lengths = net.lengths_m
     assert lengths.max() <= spacing * (1 + 1e-9)
     # a road of length ℓ ≥ h is cut in ⌈ℓ/h⌉ equal pieces of more than h/2; shorter ones stay whole
@@ -141,11 +139,10 @@ def test_spacing_is_honoured(name: str, spacing: float) -> None:
     assert np.mean(lengths > 0.5 * spacing) > 0.97
 
 
-@pytest.mark.skipif(not SHARED.is_dir(), reason="shared OSM extracts not present")
 def test_coarser_spacing_gives_fewer_nodes_same_length() -> None:
     """Resampling changes the node count roughly as 1/spacing but keeps the total road length."""
-    fine = read_osm(SHARED / "aguascalientes.osm.bz2", 5.0)
-    coarse = read_osm(SHARED / "aguascalientes.osm.bz2", 20.0)
+    fine = read_osm(BUNDLED / "aguascalientes.osm.bz2", 5.0)
+    coarse = read_osm(BUNDLED / "aguascalientes.osm.bz2", 20.0)
     assert fine.total_length_m == pytest.approx(coarse.total_length_m, rel=1e-9)
     assert 2.5 < fine.n_nodes / coarse.n_nodes < 4.0
 

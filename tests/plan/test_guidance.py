@@ -60,6 +60,19 @@ def test_reacquire_time_matches_direct_simulation() -> None:
     assert reacquire_time(diff, p0, p_min=0.07, max_steps=3) == pytest.approx(0.9)
 
 
+def test_reacquire_time_local_support_matches_full_propagation() -> None:
+    """The cached operator's support-only propagation gives the same T_r as full steps."""
+    net = grid_network(6, 6, 100.0, 10.0)
+    p0 = np.zeros(net.n_nodes)
+    p0[[40, 41, 90]] = [0.5, 0.3, 0.2]
+    cached = GraphDiffusion.on_network(net, 0.447, 0.3)
+    full = GraphDiffusion.on_network(net, 0.447, 0.3, method="expm_multiply")
+    assert cached.operator is not None and full.operator is None
+    for p_min in (0.3, 0.07, 0.02):
+        assert reacquire_time(cached, p0, p_min=p_min) == pytest.approx(
+            reacquire_time(full, p0, p_min=p_min))
+
+
 def test_reacquisition_instance_layout() -> None:
     """Start = UAV with zero score, open end, windows [0, T_r], scores = probabilities."""
     net = grid_network(3, 3, 100.0, 20.0)

@@ -30,6 +30,9 @@ log = logging.getLogger("searchtrack.plan.guidance.reacquire")
 TIME_DECIMALS = 2
 
 
+_SUPPORT_TOL = 1e-12  # relative mass below which reacquire_time drops a node from the support
+
+
 def _probability(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
     p = np.asarray(value, dtype=np.float64)
     if p.shape != (n,) or not np.all(np.isfinite(p)) or np.any(p < 0.0):
@@ -60,11 +63,28 @@ def reacquire_time(
     if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1:
         raise InvalidInputError("max_steps", max_steps, "must be an integer ≥ 1")
     steps = 0
-    while p.max() >= p_min and steps < max_steps:
-        p = diffusion.propagate(p)
-        steps += 1
-    if p.max() >= p_min:
-        log.debug("peak still %.3g after %d steps; T_r capped", p.max(), max_steps)
+    op = diffusion.operator
+    if op is None:
+        while p.max() >= p_min and steps < max_steps:
+            p = diffusion.propagate(p)
+            steps += 1
+        peak = float(p.max())
+    else:
+        # The tracker is local: propagate its support only. e^{−αLΔt} is symmetric (L is), so
+        # the columns the support needs are its rows, a cheap CSR slice; values below
+        # _SUPPORT_TOL of the mass are dropped (they cannot hold the peak).
+        floor = _SUPPORT_TOL * float(p.sum())
+        idx = np.flatnonzero(p > floor)
+        vals = p[idx]
+        scale = diffusion.decay_factor
+        while vals.size and vals.max() >= p_min and steps < max_steps:
+            full = np.asarray(op[idx].T @ vals, dtype=np.float64) * scale
+            idx = np.flatnonzero(full > floor)
+            vals = full[idx]
+            steps += 1
+        peak = float(vals.max()) if vals.size else 0.0
+    if peak >= p_min:
+        log.debug("peak still %.3g after %d steps; T_r capped", peak, max_steps)
     return steps * diffusion.dt_s
 
 

@@ -21,7 +21,6 @@ by its time limit may return a different route on a slower machine).
 from __future__ import annotations
 
 import logging
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Protocol
@@ -40,6 +39,7 @@ from searchtrack.plan.guidance.reacquire import (
     reacquisition_instance,
 )
 from searchtrack.plan.guidance.view import Guidance, GuidanceView, StrategyConfig
+from searchtrack.plan.stop import Deadline
 
 log = logging.getLogger("searchtrack.plan.guidance.strategies")
 
@@ -182,8 +182,10 @@ class SearchAndReacquire(SearchAndLoiter):
         """Forget every route."""
         self._routes.clear()
 
-    def _plan(self, view: GuidanceView, uav: int, tracker: int,
-              rng: np.random.Generator) -> _Route:
+    def _plan(self, view: GuidanceView, uav: int, tracker: int, rng: np.random.Generator,
+              budget: Deadline, waiting: int) -> _Route:
+        """Plan ``uav``'s route; the OPTW gets an equal share of what is left of the step's
+        ``budget`` among the ``waiting`` plans still to make (this one included)."""
         cfg = self.config
         probability = view.bank[tracker].probability
         horizon = reacquire_time(self.diffusion, probability, p_min=cfg.p_min,
@@ -193,7 +195,8 @@ class SearchAndReacquire(SearchAndLoiter):
             max_nodes=cfg.max_route_nodes, support_mass=cfg.support_mass)
         seed = int(rng.integers(0, 2**31 - 1))
         nodes, result = plan_reacquisition(inst, node_ids, backend=cfg.optw_backend,
-                                           time_limit_s=cfg.optw_budget_s, seed=seed)
+                                           time_limit_s=max(1e-3, budget.remaining() / waiting),
+                                           seed=seed)
         log.debug("uav %d, track %d: T_r=%.1f s, %d candidates, %s route of %d nodes (%.3g)",
                   uav, view.bank[tracker].track_id, horizon, inst.n - 1, result.status.name,
                   len(nodes), result.objective or 0.0)
@@ -210,18 +213,22 @@ class SearchAndReacquire(SearchAndLoiter):
         fading = {pairing.track_id[j]: j for j, m in enumerate(modes) if m == "loiter"}
         for track in [t for t in self._routes if t not in fading]:
             del self._routes[track]  # reacquired, unpaired or dissolved
-        plan_s = 0.0
         rho = self.config.sensor_range_m
+        stale: list[tuple[int, int]] = []
         for track, j in fading.items():
             route = self._routes.get(track)
             if route is not None and route.uav == j:
                 _serve(route, view, rho)
             if route is None or route.uav != j or route.served.all():
-                started = time.perf_counter()
-                route = self._plan(view, j, pairing.tracker[j], rng)
-                plan_s += time.perf_counter() - started
-                _serve(route, view, rho)
-                self._routes[track] = route
+                stale.append((track, j))
+        budget = Deadline(self.config.optw_budget_s)  # one budget per step, shared
+        for k, (track, j) in enumerate(stale):
+            route = self._plan(view, j, pairing.tracker[j], rng, budget, len(stale) - k)
+            _serve(route, view, rho)
+            self._routes[track] = route
+        plan_s = budget.elapsed() if stale else 0.0
+        for track, j in fading.items():
+            route = self._routes[track]
             left = route.remaining()
             if left:
                 modes[j] = "reacquire"

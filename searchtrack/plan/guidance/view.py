@@ -50,7 +50,9 @@ class StrategyConfig:
     speed_mps
         ``S_max`` (80 mph), the OPTW travel speed.
     optw_backend, optw_budget_s
-        Backend and per-solve time limit of the reacquisition OPTW.
+        Backend of the reacquisition OPTW, and the planning budget of one step: the UAVs that
+        re-plan in the same step share it (T_r simulation and instance building included, each
+        OPTW solve gets an equal share of what is left, at least 1 ms).
     max_route_nodes, support_mass
         Candidate truncation of the OPTW (see
         :func:`~searchtrack.plan.guidance.reacquire.candidate_nodes`).

@@ -46,8 +46,9 @@ def _mip(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes
 
 
 def heuristic_share(time_limit_s: float) -> float:
-    """Seconds ``auto`` gives the heuristic before the exact solver: 10 % of the limit, ≤ 1 s."""
-    return min(1.0, max(0.02, 0.1 * time_limit_s))
+    """Seconds ``auto`` gives the heuristic before the exact solver: 10 % of the limit (at least
+    20 ms, but never more than half the limit), ≤ 1 s."""
+    return min(1.0, 0.5 * time_limit_s, max(0.02, 0.1 * time_limit_s))
 
 
 def _auto(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:

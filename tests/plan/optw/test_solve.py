@@ -9,7 +9,7 @@ import pytest
 
 from searchtrack.errors import InvalidInputError
 from searchtrack.plan.optw import OPTWInstance, Routes, read_optw, validate
-from searchtrack.plan.optw.solve import BACKENDS, checked, solve
+from searchtrack.plan.optw.solve import BACKENDS, checked, heuristic_share, solve
 from searchtrack.plan.result import Result, Status
 from tests.plan.optw.catalogue import brute_force
 
@@ -60,6 +60,15 @@ def test_auto_says_who_answered() -> None:
     res = solve(inst, backend="auto", time_limit_s=30.0)
     assert res.status is Status.OPTIMAL and res.objective == 320
     assert res.backend in {"ils", "labelling"} and res.message.startswith("auto:")
+
+
+@pytest.mark.parametrize("limit_s", [0.002, 0.01, 0.03])
+def test_auto_heuristic_share_leaves_time_for_the_exact_solver(limit_s: float) -> None:
+    """auto's heuristic share never exceeds half of a short limit, so the ILS alone cannot
+    overrun it (a 10 ms limit used to give the ILS 20 ms)."""
+    assert heuristic_share(limit_s) <= 0.5 * limit_s
+    assert heuristic_share(100.0) == pytest.approx(1.0)
+    assert heuristic_share(1.0) == pytest.approx(0.1)
 
 
 def test_checked_turns_a_bad_plan_into_error() -> None:
