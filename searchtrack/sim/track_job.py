@@ -23,6 +23,7 @@ import dataclasses
 import json
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -118,6 +119,10 @@ def _motion(r: _Reader, spec: dict[str, Any]) -> MotionModel:
     return Static()
 
 
+_TOP_KEYS = ("area", "dt", "sensor", "motion", "birth_weight", "scans")
+_SENSOR_KEYS = ("pd", "sigma", "clutter_rate")
+
+
 def read_scans(path: str | Path) -> TrackJob:
     """Read and validate a SCANS.json file.
 
@@ -148,6 +153,10 @@ def read_scans(path: str | Path) -> TrackJob:
     clutter = r.number(r.get(sensor, "clutter_rate", "sensor."), "sensor.clutter_rate", low=0.0)
     motion = _motion(r, r.obj(r.get(top, "motion"), "motion"))
     birth = r.number(top.get("birth_weight", 0.25), "birth_weight", low=0.0)
+    for where, obj, known in (("", top, _TOP_KEYS), ("sensor.", sensor, _SENSOR_KEYS)):
+        unknown = sorted(set(obj) - set(known))
+        if unknown:
+            raise r.fail(where + unknown[0], f"unknown key; expected one of {list(known)}")
     scans_raw = r.get(top, "scans")
     if not isinstance(scans_raw, list):
         raise r.fail("scans", "must be a list of scans (lists of x, y detections)")
@@ -210,14 +219,17 @@ def run_track_file(scans_path: str | Path, out_path: str | Path, particles: int 
     return TrackSummary(n, ms, mean_est, counts[-1] if counts else 0.0, out)
 
 
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be ≥ 1: {text!r}")
-    return value
+def _int_at_least(low: int) -> Callable[[str], int]:
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"must be ≥ {low}: {text!r}")
+        return value
+
+    return parse
 
 
 def track_command(args: argparse.Namespace, console: Console) -> int:
@@ -234,8 +246,8 @@ def add_track_parser(subparsers: Any) -> None:
     p = subparsers.add_parser("track", help="SMC-PHD filter on recorded 2-D detections",
                               description=__doc__.split("\n\n")[0] if __doc__ else None)
     p.add_argument("scans", metavar="SCANS.json")
-    p.add_argument("--particles", type=_positive_int, default=None, metavar="N",
+    p.add_argument("--particles", type=_int_at_least(1), default=None, metavar="N",
                    help="cap on the number of particles (default 10000)")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=_int_at_least(0), default=0)
     p.add_argument("--out", required=True, metavar="EST.json")
     p.set_defaults(run=track_command)

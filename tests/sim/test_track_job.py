@@ -107,6 +107,8 @@ def _mutate(path: str, value: object) -> dict[str, Any]:
     ("scans.1", [[1.0, 2.0, 3.0]], "scans[1][0]"),
     ("scans.1", [[1.0, "x"]], "scans[1][0][1]"),
     ("scans.1", [[1.0, float("nan")]], "scans[1][0][1]"),
+    ("birth_wieght", 0.5, "birth_wieght"),
+    ("sensor.clutter", 3.0, "sensor.clutter"),
 ])
 def test_malformed_files_name_the_field(tmp_path: Path, path: str, value: object,
                                         field: str) -> None:
@@ -129,3 +131,7 @@ def test_cli_reports_bad_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]
     assert "line 1" in capsys.readouterr().err
     assert main(["track", str(tmp_path / "missing.json"), "--out",
                  str(tmp_path / "e.json")]) == 2
+    for flag, value in (("--seed", "-1"), ("--particles", "0")):
+        with pytest.raises(SystemExit):
+            main(["track", str(bad), "--out", str(tmp_path / "e.json"), flag, value])
+        assert flag.lstrip("-") in capsys.readouterr().err
