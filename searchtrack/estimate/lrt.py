@@ -150,14 +150,23 @@ class LRTInitiator:
     weighting
         ``"llr"`` (the thesis read literally: probabilities ∝ ``φ`` on the component) or
         ``"likelihood_ratio"`` (∝ ``exp φ``, which peaks more sharply; digest ambiguity 5).
+    merge_radius_m
+        A component whose peak node lies within this distance of an existing tracker's peak is
+        suppressed without a birth: its evidence is the tracked target's (the thesis has no such
+        rule; 0, the default, births every component).
     """
 
     network: RoadNetwork
     threshold: float = 10.0
     weighting: BirthWeighting = "llr"
+    merge_radius_m: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "threshold", real("threshold", self.threshold, positive=True))
+        radius = real("merge_radius_m", self.merge_radius_m)
+        if radius < 0.0:
+            raise InvalidInputError("merge_radius_m", self.merge_radius_m, "must be ≥ 0 (m)")
+        object.__setattr__(self, "merge_radius_m", radius)
         if self.weighting not in ("llr", "likelihood_ratio"):
             raise InvalidInputError("weighting", self.weighting,
                                     "must be 'llr' or 'likelihood_ratio'")
@@ -179,8 +188,15 @@ class LRTInitiator:
         phi = field.llr[hot]
         peaks = [float(phi[labels == c].max()) for c in range(count)]
         llr = np.array(field.llr, copy=True)
+        tracked = self.network.coords[[t.peak_node() for t in bank]]
         for c in sorted(range(count), key=lambda c: (-peaks[c], c)):
             nodes = hot[labels == c]
+            llr[nodes] = 0.0
+            peak_xy = self.network.coords[nodes[np.argmax(field.llr[nodes])]]
+            if tracked.size and np.min(np.hypot(*(tracked - peak_xy).T)) <= self.merge_radius_m:
+                log.debug("detection within %g m of a tracker's peak: suppressed, no birth",
+                          self.merge_radius_m)
+                continue
             weight = field.llr[nodes]
             if self.weighting == "likelihood_ratio":
                 weight = np.exp(weight - weight.max())
@@ -189,6 +205,5 @@ class LRTInitiator:
             log.info("detection: %d nodes with φ ≥ %g, peak φ=%.3g at node %d", nodes.size,
                      self.threshold, peaks[c], int(nodes[np.argmax(weight)]))
             bank = bank.with_birth(prob)
-            llr[nodes] = 0.0
         return LikelihoodField(llr), bank
 

@@ -176,6 +176,7 @@ def _filter(t: Table) -> FilterSpec:
         associator=t.string("associator", "greedy", choices=ASSOCIATORS),
         birth_weighting=t.string("birth_weighting", "llr",  # type: ignore[arg-type]
                                  choices=("llr", "likelihood_ratio")),
+        merge_radius_m=t.number("merge_radius_m", 100.0, minimum=0.0),
     )
     t.done()
     return spec

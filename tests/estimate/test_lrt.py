@@ -83,6 +83,22 @@ def test_birth_weighted_by_likelihood_ratio(path5: RoadNetwork) -> None:
     np.testing.assert_allclose(bank[0].probability, [0, e / (1 + e), 1 / (1 + e), 0, 0])
 
 
+def test_detection_near_a_live_tracker_is_suppressed_without_birth(path5: RoadNetwork) -> None:
+    """With merge_radius_m, a component peaking within it of a tracker's peak is zeroed but
+    births nothing; components farther away still birth."""
+    field = LikelihoodField(np.array([0.0, 11.0, 12.0, 3.0, 10.5]))
+    bank = TrackerBank(5).with_birth([0.0, 0.0, 0.0, 0.1, 0.9])  # peak at node 4 (x = 40 m)
+    new_field, out = LRTInitiator(path5, merge_radius_m=5.0).initiate(field, bank)
+    assert [t.track_id for t in out] == [0, 1]
+    np.testing.assert_allclose(out[1].probability, [0, 11 / 23, 12 / 23, 0, 0], atol=1e-15)
+    np.testing.assert_array_equal(new_field.llr, [0.0, 0.0, 0.0, 3.0, 0.0])
+    new_field, out = LRTInitiator(path5, merge_radius_m=20.0).initiate(field, bank)
+    assert len(out) == 1
+    np.testing.assert_array_equal(new_field.llr, [0.0, 0.0, 0.0, 3.0, 0.0])
+    with pytest.raises(InvalidInputError, match="merge_radius_m"):
+        LRTInitiator(path5, merge_radius_m=-1.0)
+
+
 def test_no_detection_below_threshold(path5: RoadNetwork) -> None:
     """Below φ_max the field and the bank come back unchanged."""
     field = LikelihoodField(np.array([0.0, 9.99, 5.0, 3.0, -2.0]))

@@ -73,6 +73,7 @@ def test_grid_scenario_defaults(tmp_path: Path) -> None:
         (GRID + "[guidance]\noptw_backend = 'gurobi'\n", "guidance.optw_backend"),
         (GRID + "[guidance]\nspring_k = -2.0\n", "guidance.spring_k"),
         (GRID + "[sensor]\ncell_radius_m = -1.0\n", "sensor.cell_radius_m"),
+        (GRID + "[filter]\nmerge_radius_m = -5.0\n", "filter.merge_radius_m"),
     ],
 )
 def test_bad_fields_are_named(tmp_path: Path, text: str, key: str) -> None:
