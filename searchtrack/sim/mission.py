@@ -47,7 +47,7 @@ from searchtrack.models.measurements import FALSE_ALARM
 from searchtrack.plan.association import GreedyEMDAssociator, OptimalEMDAssociator
 from searchtrack.sim.guidance_setup import make_strategy, view
 from searchtrack.sim.metrics import StepScore, match_trackers
-from searchtrack.sim.record import MissionLog, Recorder, StepTimes
+from searchtrack.sim.record import MissionLog, PairRecord, Recorder, StepTimes
 from searchtrack.sim.scenario import Scenario
 
 log = logging.getLogger("searchtrack.sim.mission")
@@ -170,6 +170,7 @@ class Mission:
             peaks = net.coords[[t.peak_node() for t in bank]] if len(bank) else np.empty((0, 2))
             match = match_trackers(peaks, truth_xy, sc.valid_distance_m)
             n_valid_assoc = n_false_assoc = 0
+            pairs: list[PairRecord] = []
             tic = time.perf_counter()
             for j in range(sc.uav_count):
                 mine = lrt_scan.uav == j
@@ -184,6 +185,7 @@ class Mission:
                 field, bank = out.field, out.bank
                 for tr, q in out.association.pairs:
                     truth = pos_target[rows[q]]
+                    pairs.append((j, bank[tr].track_id, int(truth)))
                     if tr < match.size and truth != FALSE_ALARM and match[tr] == truth:
                         n_valid_assoc += 1
                     else:
@@ -217,7 +219,7 @@ class Mission:
                 first_detection[fresh] = t_now
             valid = int(np.count_nonzero(now_match >= 0))
             step = StepScore(len(bank), valid, n_valid_assoc, n_false_assoc)
-            record.add(t_now, uavs.xy_m, truth_xy, step, guidance, times)
+            record.add(t_now, uavs.xy_m, truth_xy, step, guidance, times, bank, pairs)
             if progress is not None:
                 progress(k + 1, sc.n_steps)
             if sc.mode == "detect" and detected.all():

@@ -57,6 +57,13 @@ class Birth:
     distance_m: float
 
 
+TrackRecord = tuple[int, int, float]
+"""A live tracker at the end of a step: ``(track_id, peak node, peak probability)``."""
+
+PairRecord = tuple[int, int, int]
+"""An association of a step: ``(uav, track_id, true target)``; target −1 for a false alarm."""
+
+
 @dataclass(frozen=True, eq=False)
 class MissionLog:
     """Everything one mission recorded (arrays indexed by step; paths include the start)."""
@@ -71,6 +78,8 @@ class MissionLog:
     plan_ms: FloatArray
     phase_ms: FloatArray
     births: tuple[Birth, ...]
+    tracks: tuple[tuple[TrackRecord, ...], ...]
+    associations: tuple[tuple[PairRecord, ...], ...]
     first_detection_s: FloatArray
     final_llr: FloatArray
     final_trackers: FloatArray
@@ -125,6 +134,8 @@ class MissionLog:
             "valid_associations": [st.valid_associations for st in self.steps],
             "false_associations": [st.false_associations for st in self.steps],
             "modes": [list(m) for m in self.modes],
+            "tracks": [[[t, n, round(p, 4)] for t, n, p in step] for step in self.tracks],
+            "associations": [[list(a) for a in step] for step in self.associations],
             "plan_ms": np.round(self.plan_ms, 3).tolist(),
             "step_ms": np.round(self.step_ms, 3).tolist(),
             "uav_xy_m": np.round(self.uav_xy_m, 1).tolist(),
@@ -148,10 +159,17 @@ class Recorder:
     _plan: list[float] = field(default_factory=list)
     _phases: list[list[float]] = field(default_factory=list)
     _births: list[Birth] = field(default_factory=list)
+    _tracks: list[tuple[TrackRecord, ...]] = field(default_factory=list)
+    _pairs: list[tuple[PairRecord, ...]] = field(default_factory=list)
 
     def add(self, time_s: float, uav_xy: FloatArray, target_xy: FloatArray, step: StepScore,
-            guidance: StepGuidance, times: StepTimes) -> None:
-        """Record one step."""
+            guidance: StepGuidance, times: StepTimes, bank: TrackerBank,
+            pairs: list[PairRecord]) -> None:
+        """Record one step: its truth, score, guidance and timings, the live trackers' peaks
+        and the step's associations."""
+        self._tracks.append(tuple((t.track_id, t.peak_node(), float(t.peak_probability))
+                                  for t in bank))
+        self._pairs.append(tuple(pairs))
         self._time.append(time_s)
         self._uav.append(np.array(uav_xy))
         self._target.append(np.array(target_xy))
@@ -178,6 +196,7 @@ class Recorder:
             plan_ms=np.array(self._plan),
             phase_ms=np.array(self._phases).reshape(-1, len(PHASES)),
             births=tuple(self._births),
+            tracks=tuple(self._tracks), associations=tuple(self._pairs),
             first_detection_s=np.array(first_detection_s),
             final_llr=np.array(field_.llr), final_trackers=final,
             score=score(self._steps, self.scenario.target_count, first_detection_s),

@@ -52,6 +52,11 @@ def test_tracking_strategies_find_targets(world: World, strategy: str) -> None:
     assert log.score.pvt is not None and log.score.pvt > 0.5
     assert len(log.time_s) == log.scenario.n_steps
     assert log.uav_xy_m.shape == (log.scenario.n_steps + 1, 2, 2)
+    assert [len(t) for t in log.tracks] == [st.trackers for st in log.steps]
+    assert sum(len(a) for a in log.associations) == log.score.nva + log.score.nfa
+    live = {tid for step in log.tracks for tid, _, _ in step}
+    assert {tid for step in log.associations for _, tid, _ in step} <= live | {
+        b.track_id for b in log.births}
 
 
 def test_detect_mode_stops_when_all_found(world: World) -> None:
@@ -74,6 +79,7 @@ def test_cli_writes_json_and_figures(tmp_path: Path) -> None:
     record = json.loads((out / "mission.json").read_text(encoding="utf-8"))
     assert record["scenario"]["name"] == "cli"
     assert len(record["moc"]) == 20
+    assert len(record["tracks"]) == len(record["associations"]) == 20
     assert record["summary"]["steps"] == 20
     for png in ("map.png", "moc.png"):
         assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
