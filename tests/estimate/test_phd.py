@@ -28,6 +28,7 @@ from searchtrack.estimate.phd import (
     step,
     update,
 )
+from searchtrack.models.birth_grids import BirthSurvivalGrid
 from searchtrack.models.motion import ConstantVelocity, Static
 from searchtrack.models.position_sensor import PositionSensor
 from searchtrack.sim.phd_scenario import standard_scenario
@@ -135,6 +136,29 @@ def test_grid_birth_and_survival() -> None:
     born = pred.positions[pred.labels == NEWBORN]
     assert born.shape == (40, 2)
     assert np.all((born[:, 0] < 500) & (born[:, 1] > 500))  # only cell (0, 1) has weight
+
+
+def test_survival_map_from_counts_scales_each_particle() -> None:
+    """A count grid's survival replaces p_s particle by particle (0 outside its area), and
+    BirthGrid.from_counts turns its birth counts into a birth intensity of mass rate · Δt."""
+    xy = np.array([[50.0, 50.0], [60.0, 50.0], [70.0, 50.0], [80.0, 50.0]])
+    counts = BirthSurvivalGrid.from_tracks(xy, np.zeros(4, dtype=int), np.arange(4.0),
+                                           [[0.0, 200.0], [0.0, 100.0]], 100.0, 1.0,
+                                           survival_prior=1.0, death_prior=1.0)
+    inside, outside = _cloud((50, 50), 10, 1.0, spread=1.0), _cloud((500, 500), 10, 1.0, 1.0)
+    cfg = PHDConfig(survival_map=counts, birth_mass=0.0)
+    pred = predict(_state(inside, outside), ConstantVelocity(0.5), cfg, 1.0,
+                   np.random.default_rng(0))
+    ps = float(counts.survival_grid[0, 0])
+    assert ps == pytest.approx(4 / 5)  # 3 survivals + 1 prior over 3 + 1 + 0 + 1
+    assert pred.expected_count() == pytest.approx(ps)
+    grid = BirthGrid.from_counts(counts, dt_s=2.0, particles=50)
+    assert grid.mass == pytest.approx(2.0 * counts.birth_rate_per_s)
+    np.testing.assert_array_equal(grid.cell_weights, counts.birth_counts)
+    with pytest.raises(InvalidInputError, match="survival_map"):
+        PHDConfig(survival_map=0.9)  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="grid"):
+        BirthGrid.from_counts("counts", 1.0, 10)  # type: ignore[arg-type]
 
 
 def test_region_drops_particles_outside() -> None:

@@ -9,7 +9,7 @@ for one scan. :func:`entropy_per_target` is paper 003's eq. 15; :func:`mark_foun
 
 from __future__ import annotations
 
-from searchtrack.estimate.phd.config import EXTRACTIONS, BirthGrid, PHDConfig
+from searchtrack.estimate.phd.config import EXTRACTIONS, BirthGrid, PHDConfig, SurvivalMap
 from searchtrack.estimate.phd.entropy import entropy_per_target
 from searchtrack.estimate.phd.extract import (
     Clusters,
@@ -37,6 +37,7 @@ __all__ = [
     "PHDConfig",
     "PHDState",
     "SensorScan",
+    "SurvivalMap",
     "entropy_per_target",
     "extract",
     "extract_attribution",

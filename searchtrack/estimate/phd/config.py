@@ -3,15 +3,25 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from searchtrack.errors import InvalidInputError
 from searchtrack.models import _checks
+from searchtrack.models.birth_grids import BirthSurvivalGrid
 
 FloatArray = NDArray[np.float64]
 EXTRACTIONS = ("attribution", "kmeans")
+
+
+@runtime_checkable
+class SurvivalMap(Protocol):
+    """State-dependent survival (paper 003's survival grid): the probability that a target at
+    each of ``positions`` survives ``dt_s`` seconds."""
+
+    def survival(self, positions: FloatArray, dt_s: float | None = None) -> FloatArray: ...
 
 
 @dataclass(frozen=True)
@@ -54,6 +64,16 @@ class BirthGrid:
         object.__setattr__(self, "particles", _checks.count("particles", self.particles, 1))
 
     @classmethod
+    def from_counts(cls, grid: BirthSurvivalGrid, dt_s: float, particles: int) -> BirthGrid:
+        """The birth intensity of paper 003's count grid for scans ``dt_s`` apart: cells
+        weighted by their birth counts, mass ``rate · Δt``."""
+        if not isinstance(grid, BirthSurvivalGrid):
+            raise InvalidInputError("grid", grid, "must be a BirthSurvivalGrid")
+        lo = grid.bounds[:, 0]
+        bounds = np.column_stack([lo, lo + grid.cell_m * np.asarray(grid.shape)])
+        return cls(bounds, grid.birth_counts, grid.birth_mass(dt_s), particles)
+
+    @classmethod
     def uniform(cls, bounds: ArrayLike, mass: float, particles: int) -> BirthGrid:
         """A uniform birth intensity over ``bounds``."""
         b = np.asarray(bounds, dtype=np.float64)
@@ -79,6 +99,10 @@ class PHDConfig:
     ----------
     survival_probability
         ``p_s`` per scan, in ``(0, 1]``.
+    survival_map
+        Optional state-dependent survival (e.g. a
+        :class:`~searchtrack.models.birth_grids.BirthSurvivalGrid`); when given it replaces
+        ``survival_probability``, evaluated at each particle's position before the move.
     birth_mass
         Expected number of targets born per scan from measurements; shared by the measurements of
         the last update in proportion to how little the existing PHD explains them (``1 − ρ_z``).
@@ -116,6 +140,7 @@ class PHDConfig:
     """
 
     survival_probability: float = 0.99
+    survival_map: SurvivalMap | None = None
     birth_mass: float = 0.25
     birth_particles_per_measurement: int = 60
     birth_position_sigma_m: float = 10.0
@@ -136,6 +161,9 @@ class PHDConfig:
         c = _checks
         object.__setattr__(self, "survival_probability", c.real(
             "survival_probability", self.survival_probability, low=0.0, high=1.0, low_open=True))
+        if self.survival_map is not None and not isinstance(self.survival_map, SurvivalMap):
+            raise InvalidInputError("survival_map", self.survival_map,
+                                    "must have a survival(positions, dt_s) method, or be None")
         object.__setattr__(self, "birth_mass", c.non_negative("birth_mass", self.birth_mass))
         object.__setattr__(self, "birth_particles_per_measurement", c.count(
             "birth_particles_per_measurement", self.birth_particles_per_measurement, 1))

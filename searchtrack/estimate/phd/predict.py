@@ -65,7 +65,9 @@ def predict(state: PHDState, motion: MotionModel, config: PHDConfig, dt_s: float
         born_pos = born_pos + config.birth_position_sigma_m * rng.standard_normal(born_pos.shape)
     born = _newborn_states(born_pos, d, config, rng)
     moved = motion.propagate(np.vstack([state.states, born]), dt_s, rng)
-    weights = [state.weights * config.survival_probability, np.repeat(seed_mass / j, j)]
+    survival = (config.survival_probability if config.survival_map is None else
+                np.asarray(config.survival_map.survival(state.positions, dt_s), dtype=np.float64))
+    weights = [state.weights * survival, np.repeat(seed_mass / j, j)]
     labels = [np.full(state.n_particles, PERSISTENT), np.full(born.shape[0], NEWBORN)]
     tags = [state.tags, np.full(born.shape[0], NO_TAG)]
     grid = config.birth_grid
