@@ -17,6 +17,7 @@ from searchtrack.models.vehicles import (
     unicycle,
     unicycle_from_limits,
 )
+from searchtrack.models.vehicles.uav7 import Uav7Dynamics
 from searchtrack.models.vehicles.unicycle import UnicycleDynamics
 from searchtrack.plan.trajectory.symbolic import dynamics_jacobians, step_function, step_jacobians
 
@@ -115,6 +116,20 @@ def test_uav7_errata_make_the_decoupling_matrix_invertible_at_level_flight() -> 
     assert np.linalg.det(jac) == pytest.approx(-15.0**2, rel=1e-6)
     level = model.f(x, model.nominal_input)
     np.testing.assert_allclose(level[3:], 0.0, atol=1e-12)  # nominal input holds level cruise
+
+
+def test_uav7_default_lift_follows_the_mass() -> None:
+    """The default lift is the weight m g for any mass, so a unit turn command at level flight
+    gives the same β̇ = g u_β / (V_a cos γ) whatever the mass; an explicit lift_n is kept."""
+    x = np.array([0.0, 0.0, -20.0, 15.0, 0.3, 0.0, 0.0])
+    u = np.array([0.0, 1.0, 1.0, 0.0])
+    for mass in (2.0, 10.0, 25.0):
+        dyn = Uav7Dynamics(mass_kg=mass)
+        assert dyn.lift == pytest.approx(mass * dyn.gravity_mps2)
+        assert uav7(dynamics=dyn).f(x, u)[4] == pytest.approx(dyn.gravity_mps2 / 15.0)
+    assert Uav7Dynamics(lift_n=0.7).lift == 0.7
+    with pytest.raises(InvalidInputError, match="lift_n"):
+        uav7(dynamics=Uav7Dynamics(lift_n=-1.0))
 
 
 def test_from_limits_copies_the_potential_field_limits() -> None:

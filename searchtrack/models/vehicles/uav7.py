@@ -40,12 +40,18 @@ GRAVITY_MPS2 = 9.81
 
 @dataclass(frozen=True)
 class Uav7Dynamics:
-    """Eq. (12) with the errata fixed; ``p = (w_n, w_e, w_d)`` (m/s)."""
+    """Eq. (12) with the errata fixed; ``p = (w_n, w_e, w_d)`` (m/s). ``lift_n=None`` (the
+    default) is the weight ``mass_kg · gravity_mps2``, whatever the mass."""
 
     mass_kg: float = 10.0
     gravity_mps2: float = GRAVITY_MPS2
     drag_n: float = 0.9
-    lift_n: float = 10.0 * GRAVITY_MPS2
+    lift_n: float | None = None
+
+    @property
+    def lift(self) -> float:
+        """The lift ``L`` (N): ``lift_n``, or the weight ``m g`` when it is ``None``."""
+        return self.mass_kg * self.gravity_mps2 if self.lift_n is None else self.lift_n
 
     def __call__(self, x: Any, u: Any, p: Any, ns: ArrayNamespace) -> Any:
         """``ẋ`` of the 7-state UAV."""
@@ -57,7 +63,7 @@ class Uav7Dynamics:
             va * ns.sin(beta) * cg + p[1],
             -va * sg + p[2],
             -self.drag_n / m - g * sg + u[0] / m,
-            self.lift_n / (m * va * cg) * u[1],
+            self.lift / (m * va * cg) * u[1],
             g / va * (ns.cos(phi) * u[2] - cg),
             u[3],
         ])
@@ -89,7 +95,8 @@ def uav7(
     """
     dyn = Uav7Dynamics() if dynamics is None else dynamics
     for name in ("mass_kg", "gravity_mps2", "lift_n"):
-        _checks.positive(name, getattr(dyn, name))
+        if getattr(dyn, name) is not None:
+            _checks.positive(name, getattr(dyn, name))
     _checks.non_negative("drag_n", dyn.drag_n)
     va_lo = _checks.positive("airspeed_min_mps", airspeed_min_mps)
     va_hi = _checks.real("airspeed_max_mps", airspeed_max_mps, low=va_lo)

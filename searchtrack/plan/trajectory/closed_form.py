@@ -126,7 +126,7 @@ def _backstepping(problem: TrackingProblem, x: FloatArray, t: float, gains: Clos
     s_y = np.array([[cb * cg, -va * sb * cg, -va * cb * sg],
                     [sb * cg, va * cb * cg, -va * sb * sg],
                     [-sg, 0.0, -va * cg]])
-    delta = np.diag([1.0 / m, dyn.lift_n / (m * va * cg), g * math.cos(phi) / va])
+    delta = np.diag([1.0 / m, dyn.lift / (m * va * cg), g * math.cos(phi) / va])
     f = np.array([-dyn.drag_n / m - g * sg, 0.0, -g / va * cg])
     qdot = va * np.array([cb * cg, sb * cg, -sg]) + problem.wind
     r_now, r_next = problem.reference.positions([t, t + problem.dt_s])

@@ -261,6 +261,7 @@ def solve_ltv_mpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
     xbar, ubar = initial_guess(problem)
     q = _linear_cost(problem)
     native, objective, z, slack = "unsolved", 0.0, None, 0.0
+    solved_native, done = native, 0
     nxs, nus = m.nx * (n + 1), m.nu * n
     for _ in range(max(1, rounds)):
         a, b, c = _linearise(problem, xbar, ubar)
@@ -273,7 +274,8 @@ def solve_ltv_mpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
         res = ws.solver.solve(raise_error=False)
         native = str(res.info.status).lower()
         if _STATUS.get(native, Status.ERROR) not in (Status.OPTIMAL, Status.FEASIBLE):
-            break
+            break  # a later round that fails keeps the earlier round's plan
+        solved_native, done = native, done + 1
         z = np.asarray(res.x, dtype=float)
         objective = float(res.info.obj_val)
         xbar = z[:m.nx * (n + 1)].reshape(n + 1, m.nx).copy()
@@ -282,20 +284,23 @@ def solve_ltv_mpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
         slack = float(np.max(z[nxs + nus:], initial=0.0))
         if deadline.expired():
             break
-    status = _STATUS.get(native, Status.ERROR)
     runtime = deadline.elapsed()
-    if z is None or not status.has_plan:
+    if z is None:
+        status = _STATUS.get(native, Status.ERROR)
         return Result(status if status is not Status.OPTIMAL else Status.NO_SOLUTION, None, None,
                       runtime, "ltv_mpc", None, Sense.MINIMIZE, f"ltv_mpc (osqp): {native}")
-    info = {"qp_rounds": float(rounds), "max_slack_m": slack}
+    # the QP's optimum is the linearised problem's, not the nonlinear tracking problem's
+    status = Status.FEASIBLE
+    info = {"qp_rounds": float(done), "max_slack_m": slack}
     if slack > problem.safety_margin_m:
         return Result(Status.NO_SOLUTION, None, None, runtime, "ltv_mpc", None, Sense.MINIMIZE,
                       f"ltv_mpc (osqp): {native} but the plan enters an obstacle by "
                       f"{slack - problem.safety_margin_m:.2f} m", info)
     plan = ControlPlan(inputs=ubar, states=xbar, dt_s=problem.dt_s, controller="ltv_mpc")
     note = f"; obstacle margin relaxed by {slack:.3f} m" if slack > 1e-3 else ""
+    later = f"; round {done + 1}: {native}" if native != solved_native else ""
     return Result(status, objective, None, runtime, "ltv_mpc", plan, Sense.MINIMIZE,
-                  f"ltv_mpc (osqp): {native}{note}", info)
+                  f"ltv_mpc (osqp): {solved_native} after {done} round(s){later}{note}", info)
 
 
 def _layout_of(problem: TrackingProblem) -> _Layout:

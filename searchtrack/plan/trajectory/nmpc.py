@@ -13,7 +13,9 @@ wind and obstacles as parameters, and warm-started from the shifted previous pla
 from __future__ import annotations
 
 import logging
+import math
 import time
+from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Any
 
@@ -115,19 +117,30 @@ def _cost_and_constraints(model: VehicleModel, n: int, m_obs: int, weights: Trac
     return cost, ca.vertcat(*g)
 
 
-_CACHE: dict[tuple[Any, ...], NmpcSolver] = {}
+_CACHE: OrderedDict[tuple[Any, ...], NmpcSolver] = OrderedDict()
+_CACHE_SIZE = 32  # built solvers kept (least recently used dropped first)
+_LADDER = 1.25  # Ipopt wall-time limits are rounded down to 1 ms · 1.25^k
+
+
+def wall_time_limit(budget_s: float) -> float:
+    """Ipopt's ``max_wall_time`` for a budget: the largest ``1 ms · 1.25^k`` not above it (at
+    least 1 ms). Rounding down keeps Ipopt inside the budget; the ladder keeps the number of
+    distinct solvers small when callers pass a different budget every step."""
+    k = math.floor(math.log(max(budget_s, 1e-3) / 1e-3, _LADDER) + 1e-9)
+    return float(1e-3 * _LADDER**k)
 
 
 def build(model: VehicleModel, horizon: int, n_obstacles: int, dt_s: float,
           weights: TrackingWeights, options: NmpcOptions, budget_s: float) -> NmpcSolver:
     """The NLP for this problem shape (cached: the same arguments return the same solver).
 
-    ``budget_s`` becomes Ipopt's ``max_wall_time``; it is quantised to 1 ms in the cache key.
+    ``budget_s`` becomes Ipopt's ``max_wall_time``, rounded down by :func:`wall_time_limit`.
     """
-    budget = max(1e-3, round(budget_s, 3))
+    budget = wall_time_limit(budget_s)
     key = (model, horizon, n_obstacles, round(dt_s, 9), weights, options, budget)
     cached = _CACHE.get(key)
     if cached is not None:
+        _CACHE.move_to_end(key)
         return cached
     started = time.perf_counter()
     dim = len(model.position_indices)
@@ -139,6 +152,8 @@ def build(model: VehicleModel, horizon: int, n_obstacles: int, dt_s: float,
     solver = ca.nlpsol("nmpc", options.solver, nlp, _nlp_options(options, budget))
     built = NmpcSolver(solver, model, horizon, n_obstacles, int(g.shape[0]), options)
     _CACHE[key] = built
+    while len(_CACHE) > _CACHE_SIZE:
+        _CACHE.popitem(last=False)
     log.info("built %s NMPC (N=%d, %d obstacles, %s) in %.2f s", model.name, horizon,
              n_obstacles, options.solver, time.perf_counter() - started)
     return built
@@ -188,6 +203,15 @@ def _shifted_multipliers(lam: tuple[FloatArray, FloatArray], nlp: NmpcSolver
     return (np.concatenate([lx_new, _shift(lu)]), _shift(lam_g.reshape(n, -1)))
 
 
+def prepare(problem: TrackingProblem, time_limit_s: float,
+            options: NmpcOptions | None = None) -> NmpcSolver:
+    """Build (or fetch) the solver :func:`solve_nmpc` will use for ``problem`` and this limit,
+    so that a caller can keep the one-off build out of its own clock."""
+    opts = options or problem.nmpc_options or NmpcOptions()
+    return build(problem.model, problem.horizon, problem.obstacles.k, problem.dt_s,
+                 problem.weights, opts, min(check_time_limit(time_limit_s), 3600.0))
+
+
 def solve_nmpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
                options: NmpcOptions | None = None) -> Result[ControlPlan]:
     """Solve the NMPC problem within ``time_limit_s`` (Ipopt's wall-time limit; a solve that
@@ -197,8 +221,7 @@ def solve_nmpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
     budget = check_time_limit(time_limit_s)
     opts = options or problem.nmpc_options or NmpcOptions()
     m, n = problem.model, problem.horizon
-    nlp = build(m, n, problem.obstacles.k, problem.dt_s, problem.weights, opts,
-                min(budget, 3600.0))
+    nlp = prepare(problem, budget, opts)
     started = time.perf_counter()
     x_guess, u_guess = initial_guess(problem)
     b = _bounds(problem, nlp)

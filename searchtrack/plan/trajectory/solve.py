@@ -16,7 +16,7 @@ from searchtrack.plan.result import Result
 from searchtrack.plan.stop import Deadline, check_time_limit
 from searchtrack.plan.trajectory.closed_form import MODELS, solve_closed_form
 from searchtrack.plan.trajectory.ltv_mpc import solve_ltv_mpc
-from searchtrack.plan.trajectory.nmpc import solve_nmpc
+from searchtrack.plan.trajectory.nmpc import prepare, solve_nmpc
 from searchtrack.plan.trajectory.problem import ControlPlan, TrackingProblem
 
 log = logging.getLogger("searchtrack.plan.trajectory")
@@ -38,9 +38,11 @@ def _closed(problem: TrackingProblem, *, time_limit_s: float, seed: int) -> Resu
 
 
 def _auto(problem: TrackingProblem, *, time_limit_s: float, seed: int) -> Result[ControlPlan]:
+    nmpc_s = max(1e-3, NMPC_SHARE * time_limit_s)
+    prepare(problem, nmpc_s)  # a new shape's one-off build stays outside the clock
     deadline = Deadline(time_limit_s)
     notes: list[str] = []
-    first = solve_nmpc(problem, time_limit_s=max(1e-3, NMPC_SHARE * time_limit_s))
+    first = solve_nmpc(problem, time_limit_s=nmpc_s)
     if first.status.has_plan:
         return _relabel(first, deadline, "auto: nmpc answered", 0)
     notes.append(f"nmpc failed ({first.message})")
@@ -48,6 +50,10 @@ def _auto(problem: TrackingProblem, *, time_limit_s: float, seed: int) -> Result
     if second.status.has_plan:
         return _relabel(second, deadline, "auto: " + "; ".join(notes) + "; ltv_mpc answered", 1)
     notes.append(f"ltv_mpc failed ({second.message})")
+    if _closed_form_models(problem) is not None:
+        log.warning("trajectory auto: no controller answered: %s", "; ".join(notes))
+        return _relabel(second, deadline, "auto: " + "; ".join(notes)
+                        + f"; no closed-form law for model {problem.model.name!r}", 1)
     third = solve_closed_form(problem)
     log.info("trajectory auto fell back to the closed form: %s", "; ".join(notes))
     return _relabel(third, deadline, "auto: " + "; ".join(notes) + "; closed_form answered", 2)
@@ -68,8 +74,8 @@ def _closed_form_models(problem: TrackingProblem) -> str | None:
 
 BACKENDS: Registry[TrackingProblem, ControlPlan] = Registry("trajectory")
 BACKENDS.register(Backend("auto", _auto, False,
-                          "NMPC, falling back to the LTV-MPC QP, then to the closed form",
-                          supports=_closed_form_models))
+                          "NMPC, falling back to the LTV-MPC QP, then to the closed form "
+                          "(for models that have one)"))
 BACKENDS.register(Backend("nmpc", _nmpc, False, "multiple-shooting NMPC, CasADi + Ipopt"))
 BACKENDS.register(Backend("ltv_mpc", _ltv, False, "linear time-varying MPC QP with OSQP"))
 BACKENDS.register(Backend("closed_form", _closed, False,

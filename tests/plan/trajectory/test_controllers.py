@@ -65,7 +65,9 @@ def test_nmpc_tracks_a_straight_line_without_obstacles(course: TrackingProblem) 
 def test_ltv_mpc_plan_respects_bounds_and_halfspaces(course: TrackingProblem) -> None:
     """The QP plan meets input and rate bounds and its positions keep the obstacle margin."""
     result = solve_ltv_mpc(course, time_limit_s=5.0)
-    assert result.status is Status.OPTIMAL and result.plan is not None
+    # FEASIBLE: the QP is solved to optimality, but only for the linearised problem
+    assert result.status is Status.FEASIBLE and result.plan is not None
+    assert result.stats["qp_rounds"] == 3.0 and "after 3 round(s)" in result.message
     _check_limits(course, result.plan)
     assert _clearance(course, result.plan) >= course.safety_margin_m - 1e-3
 

@@ -51,15 +51,47 @@ def test_auto_reaches_the_closed_form_when_the_qp_fails(
     assert result.stats["fallbacks"] == 2.0
 
 
-def test_closed_form_needs_a_known_model(course: TrackingProblem) -> None:
-    """A model without a closed-form law is refused by auto and closed_form."""
+def _glider(course: TrackingProblem) -> TrackingProblem:
     base = unicycle()
     other = VehicleModel("glider", base.state_names, base.input_names, base.dynamics,
                          base.state_lower, base.state_upper, base.input_lower, base.input_upper,
                          base.input_rate_max, base.nominal_input, base.position_indices)
-    problem = replace(course, model=other)
-    for name in ("auto", "closed_form"):
-        with pytest.raises(InvalidInputError, match="closed-form"):
-            solve(problem, backend=name)
+    return replace(course, model=other)
+
+
+def test_closed_form_needs_a_known_model(course: TrackingProblem) -> None:
+    """A model without a closed-form law is refused by closed_form; auto still flies it with
+    NMPC or the QP."""
+    problem = _glider(course)
+    with pytest.raises(InvalidInputError, match="closed-form"):
+        solve(problem, backend="closed_form")
     assert solve(problem, backend="ltv_mpc", time_limit_s=5.0).plan is not None
+    result = solve(problem, backend="auto", time_limit_s=5.0)
+    assert result.backend == "nmpc" and result.plan is not None
     assert np.isfinite(problem.state).all()
+
+
+def test_auto_without_a_closed_form_reports_the_failure(
+        course: TrackingProblem, monkeypatch: pytest.MonkeyPatch) -> None:
+    """When NMPC and the QP fail on a model with no closed form, auto returns no plan and says
+    why instead of raising."""
+    def failing(problem: TrackingProblem, *, time_limit_s: float) -> Result[ControlPlan]:
+        return Result(Status.NO_SOLUTION, None, None, 0.0, "x", None, Sense.MINIMIZE, "forced")
+
+    monkeypatch.setattr(solve_module, "solve_nmpc", failing)
+    monkeypatch.setattr(solve_module, "solve_ltv_mpc", failing)
+    result = solve(_glider(course), backend="auto", time_limit_s=0.05)
+    assert result.plan is None and not result.status.has_plan
+    assert "no closed-form law" in result.message
+
+
+def test_ipopt_wall_time_ladder() -> None:
+    """Budgets round down to 1 ms · 1.25^k: never above the budget, at most 20 % below, and
+    a handful of distinct solvers for many different budgets."""
+    from searchtrack.plan.trajectory.nmpc import wall_time_limit
+
+    budgets = np.linspace(0.001, 0.1, 500)
+    limits = np.array([wall_time_limit(b) for b in budgets])
+    assert np.all(limits <= budgets + 1e-12) and np.all(limits >= budgets / 1.25 - 1e-12)
+    assert len(set(limits.round(12))) <= 21
+    assert wall_time_limit(1e-5) == pytest.approx(1e-3)
