@@ -4,7 +4,8 @@ One candidate action per UAV, chosen to maximise a monotone submodular objective
 expected number of detections (END) or binary mutual information. Backends: greedy and lazy
 greedy (½-approximation), exact END by branch and bound or by an integer program (SCIP, CP-SAT),
 brute force, and a CasADi NLP that moves the waypoints continuously; :func:`solve` picks one by
-name (``BACKENDS.names()``).
+name (``BACKENDS.names()``); ``auto`` answers greedily, then proves the answer with the branch and
+bound (END) or by enumeration (mutual information, small problems) within the time limit.
 """
 
 from __future__ import annotations

@@ -1,5 +1,7 @@
 """Solve an assignment problem by backend name; ``auto`` answers greedily, then proves or improves
-the answer with the exact branch and bound (END) within the time limit."""
+the answer within the time limit with an exact solver: the branch and bound for END (faster than
+the integer programs, ``benchmarks/assign.py``), enumeration for mutual information when the
+joint action space is small enough."""
 
 from __future__ import annotations
 
@@ -48,10 +50,11 @@ def _nlp_supports(problem: AssignmentProblem) -> str | None:
 def _auto(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Result[Assignment]:
     deadline = Deadline(time_limit_s)
     first = solve_lazy_greedy(problem, time_limit_s=time_limit_s, seed=seed)
-    if (first.status is Status.OPTIMAL or problem.objective != "end"
-            or deadline.remaining() < 1e-3):
+    exact = (solve_bnb if problem.objective == "end"
+             else solve_brute_force if supports_brute_force(problem) is None else None)
+    if first.status is Status.OPTIMAL or exact is None or deadline.remaining() < 1e-3:
         return _relabel(first, deadline, f"auto: lazy_greedy answered ({first.message})")
-    second = solve_bnb(problem, time_limit_s=deadline.remaining(), seed=seed)
+    second = exact(problem, time_limit_s=deadline.remaining(), seed=seed)
     candidates = [r for r in (second, first) if r.status.has_plan]
     if not candidates:
         return _relabel(second, deadline, f"auto: no plan ({second.message})")
@@ -76,7 +79,8 @@ def _relabel(result: Result[Assignment], deadline: Deadline,
 
 BACKENDS: Registry[AssignmentProblem, Assignment] = Registry("assignment")
 BACKENDS.register(Backend("auto", _auto, True,
-                          "lazy greedy at once, then exact branch and bound (END) in the limit"))
+                          "lazy greedy at once, then exact in the limit: branch and bound (END), "
+                          "enumeration (MI, small problems)"))
 BACKENDS.register(Backend("greedy", solve_greedy, False,
                           "003 Algorithm 1: best (UAV, action) pair first; >= 1/2 OPT"))
 BACKENDS.register(Backend("lazy_greedy", solve_lazy_greedy, False,

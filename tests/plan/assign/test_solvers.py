@@ -93,6 +93,18 @@ def test_auto_reports_who_answered_and_is_optimal_on_small_end() -> None:
     assert "answered" in res.message
 
 
+def test_auto_proves_small_mi_by_enumeration() -> None:
+    """For mutual information auto enumerates a small joint action space after greedy and
+    returns its optimum."""
+    p = random_problem(np.random.default_rng(5), robots=3, actions=4, steps=1, particles=50,
+                       objective="mi")
+    res = solve(p, backend="auto", time_limit_s=10.0)
+    best = solve_brute_force(p)
+    assert res.status is Status.OPTIMAL
+    assert res.objective == pytest.approx(best.objective)
+    assert "brute_force" in res.message
+
+
 def test_deterministic() -> None:
     """The same problem gives the same plans from every deterministic backend."""
     for backend in ("greedy", "lazy_greedy", "exact", "exact_bnb", "brute_force"):
