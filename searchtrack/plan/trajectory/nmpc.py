@@ -12,8 +12,10 @@ wind and obstacles as parameters, and warm-started from the shifted previous pla
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
+import tempfile
 import time
 from collections import OrderedDict
 from dataclasses import dataclass
@@ -149,7 +151,10 @@ def build(model: VehicleModel, horizon: int, n_obstacles: int, dt_s: float,
     par = ca.MX.sym("P", model.nu + dim * horizon + dim + 5 * n_obstacles)
     cost, g = _cost_and_constraints(model, horizon, n_obstacles, weights, dt_s, w_x, w_u, par)
     nlp = {"x": ca.vertcat(ca.vec(w_x), ca.vec(w_u)), "f": cost, "g": g, "p": par}
-    solver = ca.nlpsol("nmpc", options.solver, nlp, _nlp_options(options, budget))
+    # CasADi's JIT writes its C source and objects to the working directory: build in the
+    # system temp directory instead (the loaded solver does not need them afterwards)
+    with contextlib.chdir(tempfile.gettempdir()) if options.jit else contextlib.nullcontext():
+        solver = ca.nlpsol("nmpc", options.solver, nlp, _nlp_options(options, budget))
     built = NmpcSolver(solver, model, horizon, n_obstacles, int(g.shape[0]), options)
     _CACHE[key] = built
     while len(_CACHE) > _CACHE_SIZE:
