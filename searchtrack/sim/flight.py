@@ -244,12 +244,16 @@ def _pyplot() -> Any:
 
 def plot_flight(flight: FlightLog, path: str | Path, obstacles: Obstacles | None = None,
                 *, title: str = "") -> Path:
-    """Top view of the flown path beside the reference (obstacles as circles), saved as a PNG."""
+    """Top view of the flown path beside the reference (obstacles as circles), saved as a PNG;
+    a 3-D flight gets a second panel, altitude against time (``−down`` for the NED ``uav7``)."""
     plt = _pyplot()
     out = Path(path)
-    fig, ax = plt.subplots(figsize=(6, 6))
+    pos = flight.states[:, list(flight.model.position_indices)]
+    three_d = pos.shape[1] == 3
+    fig, axes = plt.subplots(1, 2 if three_d else 1, figsize=(11 if three_d else 6, 6),
+                             squeeze=False)
+    ax = axes[0, 0]
     try:
-        pos = flight.states[:, list(flight.model.position_indices)]
         ax.plot(flight.reference_m[:, 0], flight.reference_m[:, 1], "k--", lw=1, label="reference")
         ax.plot(pos[:, 0], pos[:, 1], "b-", lw=1.5, label="flown")
         if obstacles is not None:
@@ -260,6 +264,16 @@ def plot_flight(flight: FlightLog, path: str | Path, obstacles: Obstacles | None
         ax.set_ylabel("y (m)")
         ax.set_title(title or f"{flight.model.name}: rms {flight.rms_error_m:.2f} m")
         ax.legend(loc="best")
+        if three_d:
+            up = -1.0 if flight.model.name == "uav7" else 1.0
+            side = axes[0, 1]
+            side.plot(flight.times_s, up * flight.reference_m[:, 2], "k--", lw=1,
+                      label="reference")
+            side.plot(flight.times_s, up * pos[:, 2], "b-", lw=1.5, label="flown")
+            side.set_xlabel("time (s)")
+            side.set_ylabel("altitude (m)")
+            side.legend(loc="best")
+        fig.tight_layout()
         fig.savefig(out, dpi=100)
     finally:
         plt.close(fig)

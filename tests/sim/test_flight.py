@@ -8,12 +8,13 @@ import numpy as np
 import pytest
 
 from searchtrack.errors import InvalidInputError
-from searchtrack.models.vehicles import unicycle
+from searchtrack.models.vehicles import VehicleModel, uav7, unicycle
 from searchtrack.plan.trajectory import Obstacles, waypoint_path
-from searchtrack.sim.flight import FlightConfig, fly, plot_flight
+from searchtrack.sim.flight import FlightConfig, FlightLog, fly, plot_flight
 
 REF = waypoint_path([[0, 0], [80, 0], [80, 60]], 10.0)
-OBS = Obstacles(centers_m=[[25, 1], [50, -2], [80, 30]], radii_m=[4.0, 3.0, 4.0])
+OBS = Obstacles(centers_m=np.array([[25, 1], [50, -2], [80, 30]], dtype=float),
+                radii_m=np.array([4.0, 3.0, 4.0]))
 
 
 def test_nmpc_flight_keeps_clear_and_within_bounds() -> None:
@@ -62,3 +63,45 @@ def test_bad_flight_inputs_are_rejected() -> None:
             rng=np.random.default_rng(0))
     with pytest.raises(InvalidInputError, match="horizon"):
         FlightConfig(horizon=0)
+
+
+def assert_within_limits(log: FlightLog, model: VehicleModel, dt_s: float = 0.1) -> None:
+    """Inputs inside the box, input rates inside their limits, no obstacle entered."""
+    lo, hi = np.asarray(model.input_lower), np.asarray(model.input_upper)
+    assert np.all(log.inputs >= lo - 1e-6) and np.all(log.inputs <= hi + 1e-6)
+    applied = np.vstack([model.nominal_input, log.inputs])
+    rates = np.abs(np.diff(applied, axis=0)) / dt_s
+    assert np.all(rates <= np.asarray(model.input_rate_max) * (1 + 1e-6) + 1e-6)
+    assert log.collisions == 0 and np.all(log.clearance_m >= 0.0)
+
+
+@pytest.mark.parametrize("backend", ["ltv_mpc", "closed_form"])
+def test_fallback_controllers_respect_limits_in_closed_loop(backend: str) -> None:
+    """The OSQP QP and the closed-form law keep box and rate limits and stay out of obstacles
+    along a whole flight with wind."""
+    model = unicycle()
+    log = fly(model, [0, -3, 0], REF, OBS,
+              FlightConfig(backend=backend, time_limit_s=0.5, wind_mps=(0.5, -0.5)),
+              rng=np.random.default_rng(0))
+    assert_within_limits(log, model)
+    assert log.count(backend) == len(log.controllers)
+    assert log.rms_error_m < 20.0  # the pursuit law swerves wide around the cylinders
+
+
+def test_uav7_nmpc_in_3d_respects_input_and_state_limits() -> None:
+    """The 7-state UAV under NMPC climbs a 3-D course past a sphere and a cylinder with wind:
+    inputs, input rates and airspeed / flight-path / roll boxes hold, clearance stays ≥ 0."""
+    model = uav7()
+    ref = waypoint_path([[0, 0, -20], [100, 0, -30], [100, 100, -30]], 15.0)
+    obs = Obstacles(centers_m=np.array([[40, 2, -24], [100, 45, 0]], dtype=float),
+                    radii_m=np.array([4.0, 5.0]),
+                    cylinder=np.array([False, True]))
+    start = [0.0, -5.0, -20.0, 15.0, 0.0, 0.0, 0.0]
+    log = fly(model, start, ref, obs,
+              FlightConfig(backend="nmpc", time_limit_s=1.0, wind_mps=(2.0, 0.0, 0.0),
+                           duration_s=ref.duration_s), rng=np.random.default_rng(0))
+    assert_within_limits(log, model)
+    lo, hi = np.asarray(model.state_lower), np.asarray(model.state_upper)
+    assert np.all(log.states >= lo - 1e-4) and np.all(log.states <= hi + 1e-4)
+    assert log.min_clearance_m < 5.0  # the obstacles were in play
+    assert log.rms_error_m < 5.0

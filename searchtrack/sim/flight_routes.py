@@ -1,0 +1,392 @@
+"""Planner routes flown by the trajectory controllers (issue 5, "connect them to the planners").
+
+* Road map (thesis 001): an OPTW route (a sequence of :class:`RoadNetwork` node indices, e.g.
+  from :func:`plan_optw_route`) or a potential-field trajectory (the ``xy`` path a road mission
+  recorded) becomes a constant-speed reference (:func:`waypoint_path`) flown by a Dubins unicycle
+  (``v_min = v_max``, :func:`unicycle_from_limits`) with :func:`~searchtrack.sim.flight.fly`.
+* Paper 004 experiment E7: the receding-horizon exploration planner (τ = 1, 12 m lattice moves,
+  no filter: a target counts as found at its first detection, as in the idealised benchmark)
+  produces 3-D search waypoints; the 7-state UAV flies them in NED with wind ``(3, 0, 0)`` m/s
+  past three spheres, by default with the closed-form backstepping law (eq. 13, obstacle term
+  eqs. 14–15 with ``d_l = 6`` m, ``k_obs = 5``: the :class:`ClosedFormGains` defaults).
+
+The 004 planner ignores obstacles (digest §1.1), and their placement in E7 is not given: here
+each sphere sits beside the planned path, its surface ``obstacle_standoff_m`` from the nearest
+path segment, so the avoidance term acts without a waypoint lying inside an obstacle.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import logging
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from searchtrack.errors import InvalidInputError
+from searchtrack.models import _checks
+from searchtrack.models.dubins import DubinsLimits
+from searchtrack.models.range_sensor import RangeBearingElevationSensor
+from searchtrack.models.roads import RoadNetwork
+from searchtrack.models.vehicles import VehicleModel, uav7, unicycle_from_limits
+from searchtrack.plan.assign.exploration import ExplorationBonus
+from searchtrack.plan.guidance.reacquire import plan_reacquisition, reacquisition_instance
+from searchtrack.plan.search.receding import RecedingConfig, plan_search_step
+from searchtrack.plan.trajectory import Obstacles, SampledPath, waypoint_path
+from searchtrack.sim.flight import FlightConfig, FlightLog, fly
+
+log = logging.getLogger("searchtrack.sim.flight_routes")
+
+FloatArray = NDArray[np.float64]
+
+
+# ----- road map: OPTW and potential-field routes ------------------------------------------------
+
+def route_waypoints(network: RoadNetwork, route_nodes: ArrayLike, *,
+                    along_roads: bool = False) -> FloatArray:
+    """``(k, 2)`` positions (m) of the route's nodes; with ``along_roads`` the shortest road
+    path joins consecutive nodes (else the straight legs the OPTW's Euclidean times assume).
+
+    Raises
+    ------
+    InvalidInputError
+        An empty route, non-integer entries (NaN included) or an index outside the network.
+    """
+    nodes = np.asarray(route_nodes)
+    if nodes.ndim != 1 or nodes.size == 0:
+        raise InvalidInputError("route_nodes", route_nodes,
+                                "must be a non-empty 1-D sequence of node indices")
+    if nodes.dtype.kind not in "iu":
+        raise InvalidInputError("route_nodes", route_nodes, "node indices must be integers")
+    if nodes.min() < 0 or nodes.max() >= network.n_nodes:
+        raise InvalidInputError("route_nodes", route_nodes,
+                                f"node indices must be in [0, {network.n_nodes})")
+    idx = nodes.astype(np.int64)
+    if along_roads and idx.size > 1:
+        legs = [idx[:1]]
+        for a, b in itertools.pairwise(idx):
+            path, _ = network.shortest_path(int(a), int(b))
+            if path.size == 0:
+                raise InvalidInputError("route_nodes", route_nodes,
+                                        f"nodes {a} and {b} are not connected by road")
+            legs.append(path[1:])
+        idx = np.concatenate(legs)
+    return np.asarray(network.coords[idx], dtype=np.float64)
+
+
+def path_waypoints(xy_m: ArrayLike, *, min_spacing_m: float = 5.0) -> FloatArray:
+    """A recorded ``(n, 2)`` path thinned so consecutive waypoints are ``min_spacing_m`` apart
+    (the last point always kept); :class:`InvalidInputError` unless a finite ``(n ≥ 2, 2)``
+    array that moves.
+    """
+    pts = _checks.finite_array("xy_m", xy_m, (None, 2))
+    spacing = _checks.positive("min_spacing_m", min_spacing_m)
+    if pts.shape[0] < 2:
+        raise InvalidInputError("xy_m", xy_m, "needs at least 2 points")
+    keep = [0]
+    for i in range(1, pts.shape[0]):
+        if np.linalg.norm(pts[i] - pts[keep[-1]]) >= spacing:
+            keep.append(i)
+    if np.linalg.norm(pts[-1] - pts[keep[-1]]) > 1e-9:
+        keep.append(pts.shape[0] - 1)
+    if len(keep) < 2:
+        raise InvalidInputError("xy_m", xy_m, f"moves less than min_spacing_m={spacing:g}")
+    return np.asarray(pts[keep], dtype=np.float64)
+
+
+def dubins_model(limits: DubinsLimits) -> VehicleModel:
+    """The constant-speed Dubins unicycle (``v_min = v_max = S_max``) of ``limits``."""
+    fixed = DubinsLimits(limits.speed_max_mps, limits.speed_max_mps, limits.turn_rate_max_rps)
+    return unicycle_from_limits(fixed)
+
+
+def fly_dubins(waypoints_m: ArrayLike, *, limits: DubinsLimits | None = None,
+               obstacles: Obstacles | None = None, config: FlightConfig | None = None,
+               rng: np.random.Generator) -> FlightLog:
+    """Fly the polyline ``waypoints_m`` ``(k ≥ 2, 2)`` at ``S_max`` with the Dubins unicycle,
+    starting on the first waypoint heading along the first leg, until the reference ends
+    (unless ``config.duration_s`` says otherwise)."""
+    lim = DubinsLimits() if limits is None else limits
+    pts = _checks.finite_array("waypoints_m", waypoints_m, (None, 2))
+    reference = waypoint_path(pts, lim.speed_max_mps)
+    if reference.positions_m.shape[0] < 2:
+        raise InvalidInputError("waypoints_m", waypoints_m, "needs two distinct waypoints")
+    lead = reference.positions_m[1] - reference.positions_m[0]
+    start = np.array([*reference.positions_m[0], math.atan2(lead[1], lead[0])])
+    return fly(dubins_model(lim), start, reference, obstacles, _until_end(config, reference),
+               rng=rng)
+
+
+def _until_end(config: FlightConfig | None, reference: SampledPath) -> FlightConfig:
+    """``config`` flying until the reference ends (a vehicle with a minimum speed cannot hold
+    the end point, so the 2 s hold of :func:`fly` would only measure its overshoot)."""
+    cfg = FlightConfig() if config is None else config
+    if cfg.duration_s is not None:
+        return cfg
+    return dataclasses.replace(cfg, duration_s=reference.duration_s)
+
+
+def fly_optw_route(network: RoadNetwork, route_nodes: ArrayLike, *,
+                   limits: DubinsLimits | None = None, obstacles: Obstacles | None = None,
+                   config: FlightConfig | None = None, along_roads: bool = False,
+                   rng: np.random.Generator) -> FlightLog:
+    """Fly an OPTW route (road node indices, start node first) with the Dubins unicycle."""
+    pts = route_waypoints(network, route_nodes, along_roads=along_roads)
+    if pts.shape[0] < 2:
+        raise InvalidInputError("route_nodes", route_nodes, "needs at least 2 nodes to fly")
+    return fly_dubins(pts, limits=limits, obstacles=obstacles, config=config, rng=rng)
+
+
+def fly_xy_path(xy_m: ArrayLike, *, limits: DubinsLimits | None = None,
+                obstacles: Obstacles | None = None, config: FlightConfig | None = None,
+                min_spacing_m: float = 5.0, rng: np.random.Generator) -> FlightLog:
+    """Fly a recorded ``(n, 2)`` path (e.g. a potential-field UAV track of a road mission)."""
+    pts = path_waypoints(xy_m, min_spacing_m=min_spacing_m)
+    return fly_dubins(pts, limits=limits, obstacles=obstacles, config=config, rng=rng)
+
+
+def plan_optw_route(network: RoadNetwork, scores: ArrayLike, start_node: int, *,
+                    speed_mps: float, horizon_s: float, max_nodes: int = 30,
+                    backend: str = "auto", time_limit_s: float = 0.5, seed: int = 0
+                    ) -> tuple[int, ...]:
+    """An OPTW route over the best-scored nodes, as thesis 001 §5.5 builds it for reacquisition
+    (:func:`reacquisition_instance`): node ids, ``start_node`` first."""
+    n = _checks.count("start_node", start_node)
+    if n >= network.n_nodes:
+        raise InvalidInputError("start_node", start_node, f"must be < {network.n_nodes}")
+    instance, ids = reacquisition_instance(network, scores, network.coords[n], speed_mps,
+                                           horizon_s, max_nodes=max_nodes)
+    route, _ = plan_reacquisition(instance, ids, backend=backend, time_limit_s=time_limit_s,
+                                  seed=seed)
+    return (n, *(v for v in route if v != n))
+
+
+def road_obstacles(network: RoadNetwork, count: int, *, radius_m: float, clearance_m: float,
+                   rng: np.random.Generator, keep_clear_xy_m: ArrayLike | None = None,
+                   keep_clear_m: float = 0.0, max_tries: int = 10_000) -> Obstacles:
+    """``count`` vertical cylinders (buildings) inside the map's bounding box, each at least
+    ``clearance_m`` from every road node and from each other, and their surfaces at least
+    ``keep_clear_m`` from the ``(p, 2)`` points ``keep_clear_xy_m`` (e.g. a UAV's start).
+
+    Raises
+    ------
+    InvalidInputError
+        Bad sizes, or fewer than ``count`` places found within ``max_tries`` draws.
+    """
+    k = _checks.count("count", count)
+    radius = _checks.positive("radius_m", radius_m)
+    clear = _checks.non_negative("clearance_m", clearance_m)
+    gen = _checks.generator("rng", rng)
+    keep = np.zeros((0, 2)) if keep_clear_xy_m is None else _checks.finite_array(
+        "keep_clear_xy_m", np.reshape(keep_clear_xy_m, (-1, 2)), (None, 2))
+    far = _checks.non_negative("keep_clear_m", keep_clear_m)
+    lo, hi = network.coords.min(axis=0), network.coords.max(axis=0)
+    centres: list[FloatArray] = []
+    for _ in range(_checks.count("max_tries", max_tries, least=1)):
+        if len(centres) == k:
+            break
+        c = gen.uniform(lo, hi)
+        road = float(np.min(np.linalg.norm(network.coords - c, axis=1)))
+        apart = all(np.linalg.norm(c - o) >= 2.0 * radius + clear for o in centres)
+        away = keep.shape[0] == 0 or np.min(np.linalg.norm(keep - c, axis=1)) >= radius + far
+        if road >= radius + clear and apart and away:
+            centres.append(c)
+    if len(centres) < k:
+        raise InvalidInputError("count", count, f"only {len(centres)} cylinders of radius "
+                                f"{radius:g} m fit {clear:g} m clear of the roads")
+    return Obstacles(centers_m=np.reshape(centres, (k, 2)), radii_m=np.full(k, radius))
+
+
+# ----- paper 004, experiment E7 -------------------------------------------------------------
+
+@dataclasses.dataclass(frozen=True)
+class E7Setup:
+    """Experiment E7 of paper 004 (§5, digest §3.1) as flown here.
+
+    Parameters
+    ----------
+    steps
+        Planner steps (200 in E7); each is one 12 m lattice move.
+    targets
+        Static targets, uniform in the box (E7's manual placement is not given).
+    box_m
+        The cube ``[lo, hi]³`` searched (planner frame, ``z`` up; flown in NED, down = −z).
+    speed_mps
+        Ground speed of the reference along horizontal legs.
+    max_slope
+        Largest climb or descent gradient of the reference (:func:`fixed_wing_path`).
+    wind_mps
+        True wind (NED), known to the controller.
+    obstacle_radius_m, obstacle_standoff_m
+        Sphere radius and the gap between its surface and the nearest planned leg.
+    resolution_m
+        Spacing of the exploration-bonus grid ι.
+    """
+
+    steps: int = 200
+    targets: int = 12
+    box_m: tuple[float, float] = (-20.0, 260.0)
+    speed_mps: float = 15.0
+    max_slope: float = 0.25
+    wind_mps: tuple[float, float, float] = (3.0, 0.0, 0.0)
+    obstacle_radius_m: float = 5.0
+    obstacle_standoff_m: float = 3.0
+    resolution_m: float = 10.0
+
+    def __post_init__(self) -> None:
+        _checks.count("steps", self.steps, least=1)
+        _checks.count("targets", self.targets, least=1)
+        lo, hi = (_checks.real("box_m", v) for v in self.box_m)
+        if not lo < 0.0 < hi:
+            raise InvalidInputError("box_m", self.box_m, "must contain the start 0 (lo < 0 < hi)")
+        for name in ("speed_mps", "max_slope", "obstacle_radius_m", "resolution_m"):
+            _checks.positive(name, getattr(self, name))
+        _checks.non_negative("obstacle_standoff_m", self.obstacle_standoff_m)
+        _checks.finite_array("wind_mps", self.wind_mps, (3,))
+
+
+@dataclasses.dataclass(frozen=True)
+class E7Flight:
+    """One E7 run: the flight, the planner's NED waypoints, the flown reference, the
+    obstacles, and the search outcome."""
+
+    flight: FlightLog
+    waypoints_m: FloatArray
+    reference: SampledPath
+    obstacles: Obstacles
+    targets_found: int
+    all_found_step: int | None
+
+
+SENSOR_004 = RangeBearingElevationSensor(gain=0.98, fov_m=25.0, sigma=1.0)
+
+
+def e7_waypoints(setup: E7Setup, rng: np.random.Generator) -> tuple[FloatArray, int, int | None]:
+    """Run the exploration planner for ``setup.steps`` steps (filter-free, targets found at
+    first detection); the ``(steps + 1, 3)`` planner-frame waypoints from the origin, the
+    number of targets found and the step all were found (``None`` if not)."""
+    gen = _checks.generator("rng", rng)
+    box = np.array([setup.box_m] * 3, dtype=np.float64)
+    targets = gen.uniform(box[:, 0], box[:, 1], size=(setup.targets, 3))
+    found = np.zeros(setup.targets, dtype=bool)
+    bonus = ExplorationBonus(box, setup.resolution_m)
+    config = RecedingConfig(step_m=12.0, horizon=1, refinement="none")
+    position = np.zeros(3)
+    path, all_found = [position], None
+    for k in range(setup.steps):
+        found |= gen.random(setup.targets) < SENSOR_004.detection_probability(position, targets)
+        if all_found is None and found.all():
+            all_found = k
+        bonus.update(SENSOR_004, position)
+        position = plan_search_step(position, box, bonus, SENSOR_004, config).waypoint
+        path.append(position)
+    return np.asarray(path, dtype=np.float64), int(found.sum()), all_found
+
+
+def fixed_wing_path(waypoints_m: ArrayLike, speed_mps: float, max_slope: float,
+                    *, sample_m: float = 2.0) -> SampledPath:
+    """A reference a fixed wing can fly through ``(k, 3)`` waypoints: the horizontal polyline
+    at ``speed_mps`` (consecutive waypoints with one ``xy`` merged), its height chasing each
+    leg's height with ``|dz/ds| ≤ max_slope`` along the horizontal arc ``s``.
+
+    A lattice planner's vertical moves (004: ±12 m in ``z``) cannot be flown on the spot by an
+    aircraft with a minimum airspeed; here they become climbs spread over the following legs
+    (a trailing vertical move is not reached). :class:`InvalidInputError` for bad sizes or
+    waypoints that never move horizontally.
+    """
+    pts = _checks.finite_array("waypoints_m", waypoints_m, (None, 3))
+    speed = _checks.positive("speed_mps", speed_mps)
+    slope = _checks.positive("max_slope", max_slope)
+    step = _checks.positive("sample_m", sample_m)
+    xy, z = pts[:, :2], pts[:, 2]
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
+    moves = np.flatnonzero(np.diff(arc) > 1e-9)
+    if moves.size == 0:
+        raise InvalidInputError("waypoints_m", waypoints_m, "never moves horizontally")
+    s = np.concatenate([np.arange(0.0, arc[-1], step), [arc[-1]]])
+    leg = np.clip(np.searchsorted(arc[moves + 1], s, side="left"), 0, moves.size - 1)
+    i = moves[leg]
+    frac = np.clip((s - arc[i]) / (arc[i + 1] - arc[i]), 0.0, 1.0)
+    target = z[i] + frac * (z[i + 1] - z[i])
+    height = np.empty_like(s)
+    height[0] = z[0]
+    for n in range(1, s.size):
+        room = slope * (s[n] - s[n - 1])
+        height[n] = height[n - 1] + np.clip(target[n] - height[n - 1], -room, room)
+    knots = np.r_[moves, moves[-1] + 1]
+    flat = np.column_stack([np.interp(s, arc[knots], xy[knots, 0]),
+                            np.interp(s, arc[knots], xy[knots, 1]), height])
+    return SampledPath(times_s=s / speed, positions_m=flat)
+
+
+def _segment_distance(points: FloatArray, path: FloatArray) -> FloatArray:
+    """``(n,)`` distance from each point to the polyline ``path`` ``(k, d)``."""
+    if path.shape[0] == 1:
+        return np.asarray(np.linalg.norm(points - path[0], axis=1))
+    a, b = path[:-1], path[1:]
+    ab = b - a
+    sq = np.maximum(np.sum(ab**2, axis=1), 1e-12)
+    t = np.clip(np.einsum("nkd,kd->nk", points[:, None, :] - a[None], ab) / sq, 0.0, 1.0)
+    near = a[None] + t[..., None] * ab[None]
+    return np.asarray(np.linalg.norm(points[:, None, :] - near, axis=2).min(axis=1))
+
+
+def route_deviation_m(flight: FlightLog, waypoints_m: ArrayLike) -> FloatArray:
+    """``(T + 1,)`` distance from each flown position to the polyline ``waypoints_m`` (the
+    cross-track error, blind to lagging behind the timed reference)."""
+    pos = flight.states[:, list(flight.model.position_indices)]
+    path = _checks.finite_array("waypoints_m", waypoints_m, (None, pos.shape[1]))
+    return _segment_distance(pos, path)
+
+
+def e7_obstacles(waypoints_m: FloatArray, setup: E7Setup, count: int = 3) -> Obstacles:
+    """``count`` spheres spread along the (densely sampled) NED path, each centre offset
+    sideways (horizontally, across the local leg) so that its surface is
+    ``obstacle_standoff_m`` from the nearest leg; :class:`InvalidInputError` if there is no room.
+    """
+    path = _checks.finite_array("waypoints_m", waypoints_m, (None, 3))
+    r, gap = setup.obstacle_radius_m, setup.obstacle_standoff_m
+    n = path.shape[0]
+    centres: list[FloatArray] = []
+    for j in range(1, count + 1):
+        for i in [*range(j * n // (count + 1), n - 1), *range(j * n // (count + 1) - 1, 0, -1)]:
+            lead = path[i + 1, :2] - path[i - 1, :2] if i > 0 else path[1, :2] - path[0, :2]
+            if np.linalg.norm(lead) < 1e-9:
+                continue
+            side = np.array([-lead[1], lead[0]]) / np.linalg.norm(lead)
+            options = [path[i] + np.array([*(s * (r + gap) * side), 0.0]) for s in (1.0, -1.0)]
+            ok = [c for c in options if _segment_distance(c[None], path)[0] >= r + gap - 1e-6
+                  and all(np.linalg.norm(c - o) > 2.0 * r + gap for o in centres)]
+            if ok:
+                centres.append(ok[0])
+                break
+    if len(centres) < count:
+        raise InvalidInputError("waypoints_m", waypoints_m.shape,
+                                f"no room for {count} obstacles beside the path")
+    return Obstacles(centers_m=np.asarray(centres), radii_m=np.full(count, r),
+                     cylinder=np.zeros(count, dtype=bool))
+
+
+def fly_e7(seed: int, *, setup: E7Setup | None = None, config: FlightConfig | None = None
+           ) -> E7Flight:
+    """Plan E7's search waypoints with seed ``seed`` and fly them with the 7-state UAV.
+
+    ``config`` defaults to the closed-form controller with the setup's wind (its ``wind_mps``
+    is replaced by the setup's). The UAV starts at the origin at 15 m/s, heading π/4, level
+    (digest §3.1).
+    """
+    s = E7Setup() if setup is None else setup
+    gen = np.random.default_rng(_checks.count("seed", seed))
+    planned, found, all_found = e7_waypoints(s, gen)
+    ned = planned * np.array([1.0, 1.0, -1.0])
+    reference = fixed_wing_path(ned, s.speed_mps, s.max_slope)
+    obstacles = e7_obstacles(reference.positions_m, s)
+    cfg = FlightConfig(backend="closed_form") if config is None else config
+    cfg = dataclasses.replace(_until_end(cfg, reference), wind_mps=s.wind_mps)
+    start = np.array([0.0, 0.0, 0.0, 15.0, math.pi / 4.0, 0.0, 0.0])
+    flight = fly(uav7(), start, reference, obstacles, cfg, rng=gen)
+    log.info("E7 seed %d: %d/%d targets found, %d waypoints, min clearance %.2f m", seed, found,
+             s.targets, ned.shape[0], flight.min_clearance_m)
+    return E7Flight(flight, ned, reference, obstacles, found, all_found)
