@@ -41,7 +41,8 @@ class ClosedFormGains:
     ``backstepping`` are ``(K_g1, K_g2, K_g3)`` of eq. (13) (the paper uses 9, 9, 9, which
     saturates every input of a realistic UAV); ``avoid_distance_m`` is ``d_l`` and ``avoid_gain``
     ``k_obs`` of eqs. (14)–(15) (paper: 6 m, 5); ``repulsion_gain`` scales the pursuit laws'
-    obstacle push.
+    obstacle push; ``guard_time_s`` is how fast the 7-state law's state-box guard brings the
+    airspeed and flight-path angle back inside their bounds.
     """
 
     lookahead_s: float = 1.0
@@ -54,10 +55,11 @@ class ClosedFormGains:
     avoid_gain: float = 5.0
     repulsion_gain: float = 2.5
     obstacle_turn: Literal["bearing", "printed"] = "bearing"
+    guard_time_s: float = 1.0
 
     def __post_init__(self) -> None:
         for name in ("lookahead_s", "heading_gain", "speed_gain", "pitch_gain", "roll_gain",
-                     "avoid_distance_m", "repulsion_gain"):
+                     "avoid_distance_m", "repulsion_gain", "guard_time_s"):
             _checks.positive(name, getattr(self, name))
         _checks.non_negative("avoid_gain", self.avoid_gain)
         if len(self.backstepping) != 3:
@@ -115,6 +117,22 @@ def _pursuit(problem: TrackingProblem, x: FloatArray, t: float, gains: ClosedFor
     return np.array([speed, turn, gains.pitch_gain * (pitch_target - x[4])])
 
 
+def _guarded_rates(problem: TrackingProblem, rates: FloatArray, va: float, gamma: float,
+                   gains: ClosedFormGains) -> FloatArray:
+    """``(V̇_a, β̇, γ̇)`` demands limited by the state box and the turn authority."""
+    m = problem.model
+    lo, hi = np.asarray(m.state_lower), np.asarray(m.state_upper)
+    tau = gains.guard_time_s
+    out = np.array(rates, dtype=np.float64)
+    out[0] = np.clip(out[0], (lo[3] - va) / tau, (hi[3] - va) / tau)
+    out[2] = np.clip(out[2], (lo[5] - gamma) / tau, (hi[5] - gamma) / tau)
+    dyn = m.dynamics
+    assert isinstance(dyn, Uav7Dynamics)
+    turn_max = dyn.lift / (dyn.mass_kg * va * math.cos(gamma)) * float(m.input_upper[1])
+    out[1] = np.clip(out[1], -turn_max, turn_max)
+    return out
+
+
 def _backstepping(problem: TrackingProblem, x: FloatArray, t: float, gains: ClosedFormGains
                   ) -> FloatArray:
     """Eq. (13) with (14)–(15) for the 7-state UAV (NED)."""
@@ -133,7 +151,11 @@ def _backstepping(problem: TrackingProblem, x: FloatArray, t: float, gains: Clos
     rdot = (r_next - r_now) / problem.dt_s
     k1, k2, k3 = gains.backstepping
     accel = -(k1 + k2 + k3) * (qdot - rdot) - (1.0 + k1 * k2 * k3) * (q - r_now)
-    u3 = np.linalg.solve(s_y @ delta, accel - s_y @ f)
+    # (13) solves S_y (δ̄ u + f) = a: δ̄ u + f are the rates of (V_a, β, γ) that the law wants.
+    # The state-box guard (ours; the paper has none) limits those rates so that V_a and γ head
+    # back inside their bounds within guard_time_s and the turn rate stays within the lift the
+    # aircraft has; without it a reversal of the reference makes the law loop the aircraft.
+    rates = np.linalg.solve(s_y, accel)
     obs = problem.obstacles
     if obs.k:
         clear = obs.distance_m(q[None, :])[0]
@@ -143,7 +165,13 @@ def _backstepping(problem: TrackingProblem, x: FloatArray, t: float, gains: Clos
             if gains.obstacle_turn == "bearing":
                 rel = obs.centers_m[j, :2] - q[:2]
                 side = 1.0 if _wrap(math.atan2(rel[1], rel[0]) - beta) >= 0.0 else -1.0
-            u3[1] -= gains.avoid_gain * side  # eq. (15)
+            push = np.zeros(3)
+            push[1] = -gains.avoid_gain * side  # eq. (15): −k_obs on the turn input u_β
+            if not obs.is_cylinder[j]:
+                # a sphere is also cleared vertically (ours): climb if above its centre (NED)
+                push[2] = gains.avoid_gain * (1.0 if q[2] <= obs.centers_m[j, 2] else -1.0)
+            rates = rates + np.diag(delta) * push
+    u3 = (_guarded_rates(problem, rates, va, gamma, gains) - f) / np.diag(delta)
     return np.array([u3[0], u3[1], u3[2], -gains.roll_gain * phi])
 
 

@@ -8,6 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from searchtrack.errors import InvalidInputError
 from searchtrack.models.vehicles import fixed_wing, uav7
 from searchtrack.plan.result import Status
 from searchtrack.plan.trajectory import (
@@ -113,10 +114,40 @@ def _uav7_problem(**kw: object) -> TrackingProblem:
                            **kw)  # type: ignore[arg-type]
 
 
+def test_state_box_guard_keeps_the_uav7_inside_its_limits() -> None:
+    """Behind a climbing, turning reference, the guarded law keeps airspeed and flight-path
+    angle within the box on the true (unclipped) model; without the guard (a guard time too
+    short to bind) the printed law leaves it."""
+    model = uav7()
+    ref = waypoint_path([[0, 0, -20], [40, 0, -20], [40, 40, -40], [0, 0, -20]], 15.0)
+    problem = TrackingProblem(model, np.array([-60.0, -40.0, -10.0, 15.0, 0.0, 0.0, 0.0]), ref,
+                              horizon=20, dt_s=0.1)
+    lo, hi = np.asarray(model.state_lower), np.asarray(model.state_upper)
+
+    def worst(gains: ClosedFormGains) -> tuple[float, float, float]:
+        x, u = problem.state, np.asarray(model.nominal_input)
+        rollout = [x]
+        for k in range(150):
+            u = control_law(problem, x, k * problem.dt_s, u, gains)
+            x = model.step(x, u, problem.dt_s, problem.wind)
+            rollout.append(x)
+        states = np.array(rollout)
+        return (float(states[:, 3].min()), float(states[:, 3].max()),
+                float(np.abs(states[:, 5]).max()))
+
+    va_lo, va_hi, gamma = worst(ClosedFormGains())
+    assert va_lo >= lo[3] - 0.1 and va_hi <= hi[3] + 0.1 and gamma <= hi[5] + 0.01
+    va_lo, va_hi, gamma = worst(ClosedFormGains(guard_time_s=1e-9))
+    assert va_hi > hi[3] + 0.1 or gamma > hi[5] + 0.01
+    with pytest.raises(InvalidInputError, match="guard_time_s"):
+        ClosedFormGains(guard_time_s=0.0)
+
+
 def test_backstepping_linearises_the_uav7_dynamics() -> None:
-    """Eq. (13): unsaturated, q̈ = −(K1+K2+K3) q̇ − (1+K1K2K3)(q − q^d) for a fixed reference."""
+    """Eq. (13): unsaturated, q̈ = −(K1+K2+K3) q̇ − (1+K1K2K3)(q − q^d) for a fixed reference
+    (the state-box guard is made too fast to bind)."""
     problem = _uav7_problem(dt_s=1.0)  # rate limits (per step) far from binding
-    gains = ClosedFormGains(backstepping=(1.0, 2.0, 3.0))
+    gains = ClosedFormGains(backstepping=(1.0, 2.0, 3.0), guard_time_s=1e-9)
     m, x = problem.model, problem.state
     u = control_law(problem, x, 0.0, np.zeros(4), gains)
     xdot = m.f(x, u)
