@@ -138,6 +138,16 @@ class FlightLog:
         """Smallest clearance to any obstacle (m; ``inf`` without obstacles)."""
         return float(np.min(self.clearance_m))
 
+    @property
+    def state_violations(self) -> int:
+        """Logged states outside the model's state box (beyond 1e-6 relative): the true model
+        is not clipped, only the state the controllers are given."""
+        m = self.model
+        lo, hi = np.asarray(m.state_lower), np.asarray(m.state_upper)
+        tol = 1e-6 * np.maximum(1.0, np.abs(np.where(np.isfinite(hi), hi, 0.0)))
+        out = (self.states < lo - tol) | (self.states > hi + tol)
+        return int(np.count_nonzero(out.any(axis=1)))
+
     def count(self, controller: str) -> int:
         """Steps answered by ``controller``."""
         return sum(1 for c in self.controllers if c == controller)

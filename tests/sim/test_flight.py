@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -103,5 +104,8 @@ def test_uav7_nmpc_in_3d_respects_input_and_state_limits() -> None:
     assert_within_limits(log, model)
     lo, hi = np.asarray(model.state_lower), np.asarray(model.state_upper)
     assert np.all(log.states >= lo - 1e-4) and np.all(log.states <= hi + 1e-4)
+    assert log.state_violations == 0
+    outside = dataclasses.replace(log, states=log.states + np.r_[0, 0, 0, 50.0, 0, 0, 0])
+    assert outside.state_violations == len(log.states)  # airspeed above its bound everywhere
     assert log.min_clearance_m < 5.0  # the obstacles were in play
     assert log.rms_error_m < 5.0

@@ -13,6 +13,7 @@ wind and obstacles as parameters, and warm-started from the shifted previous pla
 from __future__ import annotations
 
 import contextlib
+import functools
 import logging
 import math
 import tempfile
@@ -24,6 +25,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from searchtrack.errors import InvalidInputError
 from searchtrack.models.vehicles import VehicleModel
 from searchtrack.plan.result import Result, Sense, Status
 from searchtrack.plan.stop import check_time_limit
@@ -132,6 +134,20 @@ def wall_time_limit(budget_s: float) -> float:
     return float(1e-3 * _LADDER**k)
 
 
+@functools.cache
+def _linear_solver_loads(name: str) -> bool:
+    """Whether Ipopt can load linear solver ``name`` (a one-variable NLP, solved once)."""
+    x = ca.SX.sym("x")
+    try:
+        probe = ca.nlpsol("probe", "ipopt", {"x": x, "f": (x - 1) ** 2},
+                          {"print_time": False, "error_on_fail": False,
+                           "ipopt": {"print_level": 0, "sb": "yes", "linear_solver": name}})
+        probe(x0=0.0)
+    except RuntimeError:  # not an Ipopt linear solver at all
+        return False
+    return str(probe.stats().get("return_status")) != "Invalid_Option"
+
+
 def build(model: VehicleModel, horizon: int, n_obstacles: int, dt_s: float,
           weights: TrackingWeights, options: NmpcOptions, budget_s: float) -> NmpcSolver:
     """The NLP for this problem shape (cached: the same arguments return the same solver).
@@ -144,6 +160,10 @@ def build(model: VehicleModel, horizon: int, n_obstacles: int, dt_s: float,
     if cached is not None:
         _CACHE.move_to_end(key)
         return cached
+    if options.solver == "ipopt" and not _linear_solver_loads(options.linear_solver):
+        raise InvalidInputError("linear_solver", options.linear_solver,
+                                "Ipopt cannot load it here (HSL solvers need the HSL library); "
+                                "use 'mumps'")
     started = time.perf_counter()
     dim = len(model.position_indices)
     w_x = ca.MX.sym("X", model.nx, horizon + 1)

@@ -103,3 +103,15 @@ def test_option_and_weight_objects_validate() -> None:
         ClosedFormGains(backstepping=(1.0, 0.0, 1.0))
     with pytest.raises(InvalidInputError, match="obstacle_turn"):
         ClosedFormGains(obstacle_turn="left")  # type: ignore[arg-type]
+
+
+def test_unloadable_linear_solver_is_refused_when_the_solver_is_built() -> None:
+    """A linear solver Ipopt cannot load (here: not a solver at all) is an InvalidInputError
+    naming ``linear_solver`` at build time, not an Ipopt failure on every step."""
+    from searchtrack.models.vehicles import unicycle
+    from searchtrack.plan.trajectory import NmpcOptions, TrackingProblem, solve_nmpc, waypoint_path
+
+    problem = TrackingProblem(unicycle(), np.array([0.0, -3.0, 0.0]),
+                              waypoint_path([[0, 0], [50, 0]], 10.0), horizon=5)
+    with pytest.raises(InvalidInputError, match="linear_solver"):
+        solve_nmpc(problem, time_limit_s=1.0, options=NmpcOptions(linear_solver="no_such"))
