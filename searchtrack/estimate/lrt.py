@@ -10,6 +10,7 @@ from each connected super-threshold component, and suppression of those nodes to
 from __future__ import annotations
 
 import logging
+import math
 from dataclasses import dataclass
 from typing import Literal
 
@@ -82,7 +83,8 @@ def llr_increment(zeta: float, sensitivity: float) -> float:
 
 
 def update_likelihood_field(
-    field: LikelihoodField, zeta: float | ArrayLike, footprint: ArrayLike, sensitivity: float
+    field: LikelihoodField, zeta: float | ArrayLike, footprint: ArrayLike, sensitivity: float,
+    floor: float = -math.inf,
 ) -> LikelihoodField:
     """Add ``m(ζ − m/2)`` to ``φ`` on every node of the sensor footprint (§3.3).
 
@@ -98,11 +100,20 @@ def update_likelihood_field(
         Indices of the nodes within the footprint radius ``ρ`` of the UAV (may be empty).
     sensitivity
         ``m = z(P_d) − z(P_f) > 0`` (3.9).
+    floor
+        Lowest value ``φ`` may take on the updated nodes (``−inf``: none, the thesis). Negative
+        information otherwise piles up without bound where the UAVs fly often (hundreds of
+        nats), and a target that later drives there is buried: its ``+m²/2`` per step is
+        averaged away by its deeply negative neighbours before ``φ`` can reach ``φ_max``.
     """
     nodes = node_set("footprint", footprint, field.n_nodes)
     inc = zeta_increments(zeta, nodes.size, sensitivity)
+    if math.isnan(floor):
+        raise InvalidInputError("floor", floor, "must be a number or -inf")
     llr = np.array(field.llr, copy=True)
     np.add.at(llr, nodes, inc)
+    if floor > -math.inf and nodes.size:
+        llr[nodes] = np.maximum(llr[nodes], floor)
     return LikelihoodField(llr)
 
 

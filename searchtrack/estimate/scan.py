@@ -6,6 +6,7 @@ seeing the previous one's posteriors (§3.1: "consecutive measurement updates").
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -49,11 +50,13 @@ class ScanUpdater:
     tracked target does not raise the LRT a second time. With one ``ζ`` per footprint node the
     evidence is local, so the LRT is always updated except on the nodes within
     ``ASSOCIATED_RADIUS_SD`` noise standard deviations of an associated measurement: that
-    evidence went to the tracker.
+    evidence went to the tracker. ``llr_floor`` bounds ``φ`` from below on updated nodes (see
+    :func:`~searchtrack.estimate.lrt.update_likelihood_field`).
     """
 
     network: RoadNetwork
     associator: Associator
+    llr_floor: float = -math.inf
 
     def update(
         self,
@@ -112,7 +115,8 @@ class ScanUpdater:
         if np.ndim(zeta) == 0:
             lrt_updated = xy.shape[0] == 0 or bool(association.unassociated(xy.shape[0]))
             if lrt_updated:
-                field = update_likelihood_field(field, zeta, nodes, sensitivity)
+                field = update_likelihood_field(field, zeta, nodes, sensitivity,
+                                                self.llr_floor)
             return ScanUpdate(field, bank, association, lrt_updated)
         per_node = np.asarray(zeta, dtype=np.float64)
         if association.pairs:
@@ -121,6 +125,6 @@ class ScanUpdater:
                                  axis=2).min(axis=1)
             keep = gap > cell_radius_m + ASSOCIATED_RADIUS_SD * noise_sd_m
             nodes, per_node = nodes[keep], per_node[keep]
-        field = update_likelihood_field(field, per_node, nodes, sensitivity)
+        field = update_likelihood_field(field, per_node, nodes, sensitivity, self.llr_floor)
         lrt_updated = bool(nodes.size)
         return ScanUpdate(field, bank, association, lrt_updated)

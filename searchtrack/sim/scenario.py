@@ -129,6 +129,14 @@ class FilterSpec:
         A detection within this distance of a live tracker's peak is suppressed without a birth
         (100 m, the default validity distance: a second tracker that close to the same target
         would count as spurious; 0 births every detection, the thesis read literally).
+    llr_floor
+        Lower bound on ``φ`` where the sensors update it (``-inf``, the default: none, the
+        thesis read literally). Without one, detection-only search on a small map often never
+        finds every target: negative evidence piles up to hundreds of nats where the UAVs fly
+        and buries a target that later drives there; ``-20`` (−2 φ_max) fixes that
+        (``benchmarks/road_missions.py exp1``). In tracking missions the same floor lets a
+        target whose tracker lags be detected again, which costs PVT, so it is off by default
+        (see :func:`~searchtrack.estimate.lrt.update_likelihood_field`).
     """
 
     alpha: float = 0.447
@@ -139,10 +147,13 @@ class FilterSpec:
     associator: str = "greedy"
     birth_weighting: Literal["llr", "likelihood_ratio"] = "llr"
     merge_radius_m: float = 100.0
+    llr_floor: float = -math.inf
 
     def __post_init__(self) -> None:
         for name in ("alpha", "decay_c", "phi_max", "gate_m"):
             _positive(name, getattr(self, name))
+        if math.isnan(self.llr_floor) or self.llr_floor >= 0.0:
+            raise InvalidInputError("llr_floor", self.llr_floor, "must be < 0 (or -inf: none)")
         if not (math.isfinite(self.merge_radius_m) and self.merge_radius_m >= 0.0):
             raise InvalidInputError("merge_radius_m", self.merge_radius_m, "must be finite, ≥ 0")
         if not 0.0 < self.p_min < 1.0:

@@ -177,9 +177,21 @@ def _filter(t: Table) -> FilterSpec:
         birth_weighting=t.string("birth_weighting", "llr",  # type: ignore[arg-type]
                                  choices=("llr", "likelihood_ratio")),
         merge_radius_m=t.number("merge_radius_m", 100.0, minimum=0.0),
+        llr_floor=_floor(t),
     )
     t.done()
     return spec
+
+
+def _floor(t: Table) -> float:
+    """``llr_floor``: a negative number, or the string ``"none"`` for no floor."""
+    raw = t.raw("llr_floor", "none")
+    if raw == "none":
+        return -math.inf
+    value = t.number("llr_floor")
+    if value >= 0.0:
+        raise t.fail("llr_floor", f"must be < 0 or \"none\", got {value!r}")
+    return value
 
 
 def _guidance(t: Table) -> GuidanceSpec:

@@ -99,6 +99,19 @@ def test_detection_near_a_live_tracker_is_suppressed_without_birth(path5: RoadNe
         LRTInitiator(path5, merge_radius_m=-1.0)
 
 
+def test_floor_bounds_negative_evidence_on_updated_nodes(path5: RoadNetwork) -> None:
+    """With a floor, repeated misses stop at it on the footprint; nodes outside keep their
+    value, and no floor (the thesis) lets φ fall without bound."""
+    field = LikelihoodField(np.array([-50.0, 0.0, 0.0, 0.0, 0.0]))
+    for _ in range(20):
+        field = update_likelihood_field(field, 0.0, [1, 2], 3.0, floor=-20.0)
+    np.testing.assert_array_equal(field.llr, [-50.0, -20.0, -20.0, 0.0, 0.0])
+    free = update_likelihood_field(LikelihoodField.neutral(5), 0.0, [1], 3.0)
+    assert free.llr[1] == pytest.approx(-4.5)
+    with pytest.raises(InvalidInputError, match="floor"):
+        update_likelihood_field(field, 0.0, [1], 3.0, floor=math.nan)
+
+
 def test_no_detection_below_threshold(path5: RoadNetwork) -> None:
     """Below φ_max the field and the bank come back unchanged."""
     field = LikelihoodField(np.array([0.0, 9.99, 5.0, 3.0, -2.0]))

@@ -74,6 +74,8 @@ def test_grid_scenario_defaults(tmp_path: Path) -> None:
         (GRID + "[guidance]\nspring_k = -2.0\n", "guidance.spring_k"),
         (GRID + "[sensor]\ncell_radius_m = -1.0\n", "sensor.cell_radius_m"),
         (GRID + "[filter]\nmerge_radius_m = -5.0\n", "filter.merge_radius_m"),
+        (GRID + "[filter]\nllr_floor = 3.0\n", "filter.llr_floor"),
+        (GRID + "[filter]\nllr_floor = 'off'\n", "filter.llr_floor"),
     ],
 )
 def test_bad_fields_are_named(tmp_path: Path, text: str, key: str) -> None:
@@ -107,6 +109,17 @@ def test_constructor_validation() -> None:
         GuidanceSpec(strategy="chase")
     with pytest.raises(InvalidInputError, match="optw_backend"):
         GuidanceSpec(optw_backend="gurobi")
+
+
+def test_llr_floor_none_means_no_floor(tmp_path: Path) -> None:
+    """``llr_floor = "none"`` reads as −inf, the default (the thesis); a number is kept."""
+    import math
+
+    assert load_scenario(write(tmp_path, GRID)).filter.llr_floor == -math.inf
+    sc = load_scenario(write(tmp_path, GRID + "[filter]\nllr_floor = 'none'\n"))
+    assert sc.filter.llr_floor == -math.inf
+    sc = load_scenario(write(tmp_path, GRID + "[filter]\nllr_floor = -20.0\n"))
+    assert sc.filter.llr_floor == -20.0
 
 
 def test_spring_constants_reach_the_strategy() -> None:
