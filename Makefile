@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test lint typecheck bench clean
+.PHONY: demo test lint typecheck bench bench-all clean
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -29,6 +29,19 @@ test: lint typecheck
 bench: $(STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,bench]'
 	$(BIN)/python benchmarks/optw.py
+
+# Every issue's benchmark table in turn (about two hours on 2 cores; run on an idle machine).
+bench-all: bench
+	$(BIN)/python benchmarks/emd.py --graph osm
+	$(BIN)/python benchmarks/association.py
+	$(BIN)/python benchmarks/osm_reader.py
+	$(BIN)/python benchmarks/road_missions.py step
+	$(BIN)/python benchmarks/road_missions.py exp1
+	$(BIN)/python benchmarks/road_missions.py exp2
+	$(BIN)/python benchmarks/phd.py
+	$(BIN)/python benchmarks/assign.py
+	$(BIN)/python benchmarks/assign_experiments.py --help
+	$(BIN)/python benchmarks/trajectory.py all
 
 clean:
 	rm -rf $(VENV) build *.egg-info .pytest_cache .mypy_cache .ruff_cache
