@@ -208,6 +208,36 @@ class DownwardCamera:
         pix, front = self.project(pose, positions)
         return np.where(front & self.in_image(pix), pd, 0.0)
 
+    def detection_probabilities(self, poses: FloatArray, positions: FloatArray) -> FloatArray:
+        """``(K, N)`` :meth:`detection_probability` for ``K`` poses at once.
+
+        A gimballed camera is vectorised over blocks of poses, with the costly arctan and tanh
+        evaluated only for points inside each image; a tilting camera loops over the poses.
+        """
+        q_all = np.asarray(poses, dtype=np.float64)
+        if q_all.ndim != 2 or not 4 <= q_all.shape[1] <= 6 or not np.all(np.isfinite(q_all)):
+            raise InvalidInputError("poses", poses, "must be a finite (K, 4..6) array")
+        if np.any(q_all[:, 2] <= 0.0):
+            raise InvalidInputError("poses", poses, "every camera height z must be > 0 (m)")
+        xy = _ground("positions", positions)
+        if not self.gimballed:
+            return np.array([self.detection_probability(q, xy) for q in q_all]).reshape(
+                q_all.shape[0], xy.shape[0])
+        out = np.zeros((q_all.shape[0], xy.shape[0]))
+        px, py, f = xy[None, :, 0], xy[None, :, 1], self.focal_px
+        for s in range(0, q_all.shape[0], 16):  # 16 poses at a time stay in cache
+            q = q_all[s:s + 16]
+            dx, dy = px - q[:, 0:1], py - q[:, 1:2]
+            cy, sy, inv = np.cos(q[:, 3:4]), np.sin(q[:, 3:4]), f / q[:, 2:3]
+            ok = (np.abs((dx * sy - dy * cy) * inv) <= 0.5 * self.width_px) & (
+                np.abs((dx * cy + dy * sy) * inv) <= 0.5 * self.height_px)
+            k, j = np.nonzero(ok)
+            d = np.sqrt(dx[k, j] ** 2 + dy[k, j] ** 2 + q[k, 2] ** 2)
+            n_px = self.pixels_per_rad * np.arctan(self.target_length_m / d)
+            out[s + k, j] = self.pd0 + (self.pd_max - self.pd0) * 0.5 * (
+                1.0 + np.tanh(0.5 * self.slope_per_px * (n_px - self.n_px0)))
+        return out
+
     # ----- measurement model (eq. 8) ---------------------------------------------------------
 
     def likelihood(self, pose: FloatArray, measurements: FloatArray,

@@ -24,6 +24,31 @@ def test_satisfies_detection_sensor_protocol() -> None:
     assert CAM.meas_dim == 2
 
 
+@pytest.mark.parametrize("gimballed", [True, False])
+def test_batched_detection_matches_one_pose_at_a_time(gimballed: bool) -> None:
+    """detection_probabilities over many poses equals detection_probability pose by pose,
+    points on and near the image edges included; the planners' detection matrix uses it."""
+    from searchtrack.plan.assign.problem import BatchDetectionSensor, detection_matrix
+
+    cam = DownwardCamera(gimballed=gimballed)
+    rng = np.random.default_rng(4)
+    poses = np.column_stack([rng.uniform(-50, 50, (40, 2)), rng.uniform(20, 150, 40),
+                             rng.uniform(-np.pi, np.pi, 40), rng.uniform(-0.2, 0.2, (40, 2))])
+    points = rng.uniform(-200, 200, (500, 2))
+    edges = np.vstack([cam.footprint(p) for p in poses[:5]])  # exactly on the image edges
+    points = np.vstack([points, edges, edges + 1e-6])
+    batch = cam.detection_probabilities(poses, points)
+    one = np.array([cam.detection_probability(p, points) for p in poses])
+    interior = np.ones(points.shape[0], dtype=bool)
+    interior[500:] = False  # on-edge points may fall either side by round-off
+    np.testing.assert_allclose(batch[:, interior], one[:, interior], atol=1e-12)
+    assert np.count_nonzero(batch[:, interior]) > 100
+    assert isinstance(cam, BatchDetectionSensor)
+    np.testing.assert_allclose(detection_matrix(cam, poses, points), batch)
+    with pytest.raises(InvalidInputError, match="poses"):
+        cam.detection_probabilities(np.array([[0.0, 0.0, -5.0, 0.0]]), points)
+
+
 def test_pd_decreases_with_altitude_directly_below() -> None:
     """Straight below the camera p_d never rises with altitude and falls from 0.95 towards 0."""
     below = np.array([[10.0, -20.0]])
