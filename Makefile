@@ -40,7 +40,11 @@ bench-all: bench
 	$(BIN)/python benchmarks/road_missions.py exp2
 	$(BIN)/python benchmarks/phd.py
 	$(BIN)/python benchmarks/assign.py
-	$(BIN)/python benchmarks/assign_experiments.py --help
+	$(BIN)/python benchmarks/assign_experiments.py ideal
+	$(BIN)/python benchmarks/assign_experiments.py search
+	$(BIN)/python benchmarks/assign_experiments.py horizon
+	$(BIN)/python benchmarks/assign_experiments.py track
+	$(BIN)/python benchmarks/gp_motion.py
 	$(BIN)/python benchmarks/trajectory.py all
 
 clean:
