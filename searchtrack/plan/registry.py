@@ -8,6 +8,7 @@ from typing import Generic, Protocol, TypeVar
 
 from searchtrack.errors import InvalidInputError
 from searchtrack.plan.result import Result
+from searchtrack.plan.stop import check_time_limit
 
 ProblemT = TypeVar("ProblemT", contravariant=True)
 PlanT = TypeVar("PlanT")
@@ -74,3 +75,15 @@ class Registry(Generic[P, Q]):
             raise InvalidInputError(
                 "backend", name, f"unknown {self.problem} backend; choose one of {self.names()}"
             ) from None
+
+    def checked(self, name: str, problem: P, time_limit_s: float, seed: int) -> Backend[P, Q]:
+        """The backend called ``name`` after the checks every ``solve()`` makes: a valid time
+        limit, a non-negative integer seed, a known backend that can take ``problem``."""
+        check_time_limit(time_limit_s)
+        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+            raise InvalidInputError("seed", seed, "must be a non-negative integer")
+        chosen = self.get(name)
+        reason = chosen.supports(problem)
+        if reason is not None:
+            raise InvalidInputError("backend", name, reason)
+        return chosen

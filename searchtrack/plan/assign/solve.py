@@ -7,14 +7,13 @@ from __future__ import annotations
 
 import logging
 
-from searchtrack.errors import InvalidInputError
 from searchtrack.plan.assign.bnb import solve_bnb
 from searchtrack.plan.assign.brute import solve_brute_force, supports_brute_force
 from searchtrack.plan.assign.greedy import solve_greedy, solve_lazy_greedy
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
 from searchtrack.plan.registry import Backend, Registry
 from searchtrack.plan.result import Result, Status
-from searchtrack.plan.stop import Deadline, check_time_limit
+from searchtrack.plan.stop import Deadline
 
 log = logging.getLogger("searchtrack.plan.assign")
 
@@ -110,13 +109,7 @@ def solve(problem: AssignmentProblem, *, backend: str = "auto", time_limit_s: fl
     InvalidInputError
         Unknown backend, a backend that cannot take the problem, a bad limit or seed.
     """
-    check_time_limit(time_limit_s)
-    if not isinstance(seed, int) or seed < 0:
-        raise InvalidInputError("seed", seed, "must be a non-negative integer")
-    chosen = BACKENDS.get(backend)
-    reason = chosen.supports(problem)
-    if reason is not None:
-        raise InvalidInputError("backend", backend, reason)
+    chosen = BACKENDS.checked(backend, problem, time_limit_s, seed)
     result = chosen.solve(problem, time_limit_s=time_limit_s, seed=seed)
     log.info("assignment %s via %s: %s %s in %.3f s", problem.name, backend,
              result.status.name, result.objective, result.runtime_s)

@@ -9,12 +9,11 @@ from __future__ import annotations
 import logging
 import time
 
-from searchtrack.errors import InvalidInputError
 from searchtrack.plan.optw.instance import OPTWInstance, Routes
 from searchtrack.plan.optw.validate import validate
 from searchtrack.plan.registry import Backend, Registry
 from searchtrack.plan.result import Result, Status
-from searchtrack.plan.stop import Deadline, check_time_limit
+from searchtrack.plan.stop import Deadline
 
 log = logging.getLogger("searchtrack.plan.optw")
 
@@ -168,13 +167,7 @@ def solve(
     InvalidInputError
         Unknown backend, a backend that cannot take this instance, or a bad time limit.
     """
-    check_time_limit(time_limit_s)
-    if not isinstance(seed, int) or seed < 0:
-        raise InvalidInputError("seed", seed, "must be a non-negative integer")
-    chosen = BACKENDS.get(backend)
-    reason = chosen.supports(instance)
-    if reason is not None:
-        raise InvalidInputError("backend", backend, reason)
+    chosen = BACKENDS.checked(backend, instance, time_limit_s, seed)
     warm_up(backend)
     started = time.perf_counter()
     result = chosen.solve(instance, time_limit_s=time_limit_s, seed=seed)

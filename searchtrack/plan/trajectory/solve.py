@@ -10,10 +10,9 @@ from __future__ import annotations
 
 import logging
 
-from searchtrack.errors import InvalidInputError
 from searchtrack.plan.registry import Backend, Registry
 from searchtrack.plan.result import Result
-from searchtrack.plan.stop import Deadline, check_time_limit
+from searchtrack.plan.stop import Deadline
 from searchtrack.plan.trajectory.closed_form import MODELS, solve_closed_form
 from searchtrack.plan.trajectory.ltv_mpc import solve_ltv_mpc
 from searchtrack.plan.trajectory.nmpc import prepare, solve_nmpc
@@ -104,11 +103,5 @@ def solve(problem: TrackingProblem, *, backend: str = "auto", time_limit_s: floa
     InvalidInputError
         Unknown backend, a backend that cannot take this model, or a bad time limit.
     """
-    check_time_limit(time_limit_s)
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise InvalidInputError("seed", seed, "must be a non-negative integer")
-    chosen = BACKENDS.get(backend)
-    reason = chosen.supports(problem)
-    if reason is not None:
-        raise InvalidInputError("backend", backend, reason)
+    chosen = BACKENDS.checked(backend, problem, time_limit_s, seed)
     return chosen.solve(problem, time_limit_s=time_limit_s, seed=seed)
