@@ -208,6 +208,8 @@ class LRTInitiator:
                 log.debug("detection within %g m of a tracker's peak: suppressed, no birth",
                           self.merge_radius_m)
                 continue
+            if self.merge_radius_m > 0.0:  # components of this step merge with each other too
+                tracked = np.vstack([tracked.reshape(-1, 2), peak_xy])
             weight = field.llr[nodes]
             if self.weighting == "likelihood_ratio":
                 weight = np.exp(weight - weight.max())

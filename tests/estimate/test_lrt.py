@@ -97,6 +97,11 @@ def test_detection_near_a_live_tracker_is_suppressed_without_birth(path5: RoadNe
     np.testing.assert_array_equal(new_field.llr, [0.0, 0.0, 0.0, 3.0, 0.0])
     with pytest.raises(InvalidInputError, match="merge_radius_m"):
         LRTInitiator(path5, merge_radius_m=-1.0)
+    # two components of one step, 30 m apart: one birth (the higher peak) within 35 m
+    _, out = LRTInitiator(path5, merge_radius_m=35.0).initiate(field, TrackerBank(5))
+    assert len(out) == 1 and out[0].peak_node() == 2
+    _, out = LRTInitiator(path5, merge_radius_m=5.0).initiate(field, TrackerBank(5))
+    assert len(out) == 2
 
 
 def test_floor_bounds_negative_evidence_on_updated_nodes(path5: RoadNetwork) -> None:
