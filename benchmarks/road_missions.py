@@ -22,6 +22,7 @@ import sys
 import time
 
 import numpy as np
+from tables import table
 
 from searchtrack.models import DubinsLimits, SensorModel
 from searchtrack.models.sensors import THESIS_ALTITUDES_M, AltitudeModel
@@ -29,17 +30,6 @@ from searchtrack.sim.campaign import estimate, fly_seeds
 from searchtrack.sim.mission import Mission, World
 from searchtrack.sim.record import PHASES
 from searchtrack.sim.scenario import FilterSpec, GuidanceSpec, MapSpec, Scenario, bundled_map
-
-
-def table(header: list[str], rows: list[list[str]]) -> None:
-    """Print an aligned text table."""
-    widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(header)]
-    print("  ".join(h.rjust(w) for h, w in zip(header, widths, strict=True)))
-    print("  ".join("-" * w for w in widths))
-    for r in rows:
-        print("  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)))
-    sys.stdout.flush()
-
 
 MAPS = {
     "aguascalientes": MapSpec("osm", bundled_map("aguascalientes")),

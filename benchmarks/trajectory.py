@@ -26,6 +26,7 @@ from collections.abc import Callable
 from functools import partial
 
 import numpy as np
+from tables import table
 
 from searchtrack.errors import InvalidInputError
 from searchtrack.models import SensorModel
@@ -60,14 +61,6 @@ from searchtrack.sim.scenario import GuidanceSpec, MapSpec, Scenario
 Solver = Callable[[TrackingProblem], Result[ControlPlan]]
 
 
-def table(header: list[str], rows: list[list[str]]) -> None:
-    """Print an aligned text table."""
-    widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(header)]
-    print("  ".join(h.rjust(w) for h, w in zip(header, widths, strict=True)))
-    print("  ".join("-" * w for w in widths))
-    for r in rows:
-        print("  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)))
-    sys.stdout.flush()
 
 
 def square_course() -> tuple[Reference, Obstacles]:

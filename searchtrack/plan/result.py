@@ -85,3 +85,20 @@ class Result(Generic[PlanT]):
         if self.sense is Sense.MINIMIZE:
             diff = -diff
         return max(0.0, diff) / max(abs(self.objective), 1.0)
+
+
+def merge_answers(heuristic: Result[PlanT], exact: Result[PlanT], runtime_s: float,
+                  tol: float, stats: dict[str, float] | None = None) -> Result[PlanT] | None:
+    """One maximisation answer from a heuristic run and an exact run: the better plan, the
+    tighter bound, ``OPTIMAL`` once the plan meets the bound within ``tol`` (relative to
+    ``max(1, objective)``); ``None`` when neither has a plan. The caller sets the message."""
+    candidates = [r for r in (exact, heuristic) if r.status.has_plan]
+    if not candidates:
+        return None
+    best = max(candidates, key=lambda r: r.objective or 0.0)
+    bounds = [r.bound for r in (heuristic, exact) if r.bound is not None]
+    bound = min(bounds) if bounds else None
+    objective = best.objective if best.objective is not None else 0.0
+    optimal = bound is not None and bound - objective <= tol * max(1.0, objective)
+    return Result(Status.OPTIMAL if optimal else best.status, objective, bound, runtime_s,
+                  best.backend, best.plan, stats=dict(stats or {}))

@@ -58,3 +58,22 @@ def test_deadline_counts_down() -> None:
     assert 0.0 <= d.elapsed() < 1.0 and 9.0 < d.remaining() <= 10.0 and not d.expired()
     assert d.sub(0.5).time_limit_s <= 5.0
     assert Deadline(1e-9).expired() or Deadline(1e-9).remaining() < 1e-6
+
+
+def test_merge_answers_takes_the_better_plan_and_the_tighter_bound() -> None:
+    """merge_answers: best plan of the two, smallest bound, OPTIMAL once they meet; None
+    without any plan."""
+    from searchtrack.plan.result import merge_answers
+
+    heuristic = Result(Status.FEASIBLE, 9.0, 12.0, 0.1, "h", "plan-h")
+    exact = Result(Status.FEASIBLE, 8.0, 10.0, 0.2, "x", "plan-x")
+    merged = merge_answers(heuristic, exact, 0.3, 1e-6, {"k": 1.0})
+    assert merged is not None
+    assert (merged.plan, merged.objective, merged.bound, merged.backend) == ("plan-h", 9.0, 10.0,
+                                                                            "h")
+    assert merged.status is Status.FEASIBLE and merged.stats == {"k": 1.0}
+    proved = Result(Status.OPTIMAL, 9.0, 9.0, 0.2, "x", "plan-x")
+    done = merge_answers(heuristic, proved, 0.3, 1e-6)
+    assert done is not None and done.status is Status.OPTIMAL and done.bound == 9.0
+    none = Result(Status.NO_SOLUTION, None, None, 0.1, "x", None)
+    assert merge_answers(none, none, 0.2, 1e-6) is None

@@ -5,6 +5,7 @@ joint action space is small enough."""
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 
 from searchtrack.plan.assign.bnb import solve_bnb
@@ -12,7 +13,7 @@ from searchtrack.plan.assign.brute import solve_brute_force, supports_brute_forc
 from searchtrack.plan.assign.greedy import solve_greedy, solve_lazy_greedy
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
 from searchtrack.plan.registry import Backend, Registry
-from searchtrack.plan.result import Result, Status
+from searchtrack.plan.result import Result, Status, merge_answers
 from searchtrack.plan.stop import Deadline
 
 log = logging.getLogger("searchtrack.plan.assign")
@@ -54,20 +55,14 @@ def _auto(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Resu
     if first.status is Status.OPTIMAL or exact is None or deadline.remaining() < 1e-3:
         return _relabel(first, deadline, f"auto: lazy_greedy answered ({first.message})")
     second = exact(problem, time_limit_s=deadline.remaining(), seed=seed)
-    candidates = [r for r in (second, first) if r.status.has_plan]
-    if not candidates:
+    merged = merge_answers(first, second, deadline.elapsed(), 1e-6,
+                           {"greedy_objective": first.objective or 0.0,
+                            "greedy_s": first.runtime_s})
+    if merged is None:
         return _relabel(second, deadline, f"auto: no plan ({second.message})")
-    best = max(candidates, key=lambda r: r.objective or 0.0)
-    bounds = [r.bound for r in (first, second) if r.bound is not None]
-    bound = min(bounds) if bounds else None
-    objective = best.objective or 0.0
-    optimal = bound is not None and bound - objective <= 1e-6 * max(1.0, objective)
     note = (f"auto: lazy_greedy {first.objective}; {second.backend} {second.status.name} "
-            f"{second.objective}; {best.backend} answered")
-    return Result(Status.OPTIMAL if optimal else best.status, objective, bound,
-                  deadline.elapsed(), best.backend, best.plan, message=note,
-                  stats={"greedy_objective": first.objective or 0.0,
-                         "greedy_s": first.runtime_s})
+            f"{second.objective}; {merged.backend} answered")
+    return dataclasses.replace(merged, message=note)
 
 
 def _relabel(result: Result[Assignment], deadline: Deadline,

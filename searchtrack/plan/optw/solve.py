@@ -6,13 +6,14 @@ the result into ``ERROR`` (never a silent wrong answer).
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 
 from searchtrack.plan.optw.instance import OPTWInstance, Routes
 from searchtrack.plan.optw.validate import validate
 from searchtrack.plan.registry import Backend, Registry
-from searchtrack.plan.result import Result, Status
+from searchtrack.plan.result import Result, Status, merge_answers
 from searchtrack.plan.stop import Deadline
 
 log = logging.getLogger("searchtrack.plan.optw")
@@ -63,30 +64,18 @@ def _auto(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Route
     second = exact_solve(
         inst, time_limit_s=max(1e-3, deadline.remaining()), seed=seed, initial=first.plan
     )
-    candidates = [r for r in (second, first) if r.status.has_plan]
-    if not candidates:
+    merged = merge_answers(first, second, deadline.elapsed(), _TOL,
+                           {"heuristic_objective": first.objective or 0.0,
+                            "heuristic_s": first.runtime_s})
+    if merged is None:
         return _relabel(second, deadline, f"auto: no plan ({second.message})")
-    best = max(candidates, key=lambda r: r.objective or 0.0)
-    bounds = [r.bound for r in (first, second) if r.bound is not None]
-    bound = min(bounds) if bounds else None
-    objective = best.objective if best.objective is not None else 0.0
-    status = Status.OPTIMAL if bound is not None and objective >= bound - _TOL else best.status
     note = (
         f"auto: ils {first.objective:g} in {first.runtime_s:.2f} s; "
         f"{second.backend} {second.status.name}"
         + (f" {second.objective:g}" if second.objective is not None else "")
-        + f"; {best.backend} answered"
+        + f"; {merged.backend} answered"
     )
-    return Result(
-        status=status,
-        objective=objective,
-        bound=bound,
-        runtime_s=deadline.elapsed(),
-        backend=best.backend,
-        plan=best.plan,
-        message=note,
-        stats={"heuristic_objective": first.objective or 0.0, "heuristic_s": first.runtime_s},
-    )
+    return dataclasses.replace(merged, message=note)
 
 
 def _relabel(result: Result[Routes], deadline: Deadline, message: str) -> Result[Routes]:

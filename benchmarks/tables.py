@@ -1,0 +1,15 @@
+"""Printing helpers shared by the benchmark scripts."""
+
+from __future__ import annotations
+
+import sys
+
+
+def table(header: list[str], rows: list[list[str]]) -> None:
+    """Print an aligned, right-justified text table and flush."""
+    widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(header)]
+    print("  ".join(h.rjust(w) for h, w in zip(header, widths, strict=True)))
+    print("  ".join("-" * w for w in widths))
+    for r in rows:
+        print("  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)))
+    sys.stdout.flush()
