@@ -41,7 +41,7 @@ def plot_map(mission: MissionLog, path: Path) -> Path:
     heat = mission.final_trackers
     hot = heat > 1e-3 * max(float(heat.max()), 1e-12)
     if np.any(hot):
-        ax.scatter(xy[hot, 0], xy[hot, 1], c=heat[hot], s=10, cmap="magma_r", zorder=3,
+        ax.scatter(xy[hot, 0], xy[hot, 1], c=heat[hot], s=16, cmap="magma_r", zorder=5,
                    label="tracker probability")
     for j in range(mission.uav_xy_m.shape[1]):
         p = mission.uav_xy_m[:, j]
@@ -63,7 +63,7 @@ def plot_map(mission: MissionLog, path: Path) -> Path:
     ax.set_title(f"{sc_.name}: {sc_.guidance.strategy}, t = {mission.time_s[-1]:.1f} s")
     ax.legend(loc="upper right", fontsize=7)
     fig.tight_layout()
-    fig.savefig(path)
+    fig.savefig(path, bbox_inches="tight")
     plt.close(fig)
     return path
 
@@ -80,6 +80,7 @@ def plot_moc(mission: MissionLog, path: Path) -> Path:
     ax2.step(mission.time_s, [s.trackers for s in mission.steps], where="post", color="0.5",
              lw=0.8, label="trackers")
     ax2.set_ylabel("trackers")
+    ax2.yaxis.get_major_locator().set_params(integer=True)
     ax.set_title(f"{mission.scenario.name}: measure of completeness")
     fig.legend(loc="lower right", fontsize=7)
     fig.tight_layout()
