@@ -10,13 +10,14 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from searchtrack.errors import InvalidInputError
 from searchtrack.estimate._checks import node_set, points, real
 from searchtrack.estimate.association import Association, Associator
 from searchtrack.estimate.lrt import LikelihoodField, update_likelihood_field, zeta_increments
 from searchtrack.estimate.node_tracker import (
+    NodeTracker,
     TrackerBank,
     measurement_density,
     position_log_likelihood,
@@ -57,6 +58,13 @@ class ScanUpdater:
     network: RoadNetwork
     associator: Associator
     llr_floor: float = -math.inf
+    detection_probability: float = 0.0
+
+    def __post_init__(self) -> None:
+        p = real("detection_probability", self.detection_probability)
+        if not 0.0 <= p < 1.0:
+            raise InvalidInputError("detection_probability", self.detection_probability,
+                                    "must be in [0, 1)")
 
     def update(
         self,
@@ -112,6 +120,8 @@ class ScanUpdater:
             for t, q in association.pairs:
                 trackers[t] = update_tracker(trackers[t], ll[q])
             bank = bank.with_trackers(tuple(trackers))
+        if self.detection_probability > 0.0 and len(bank) and nodes.size:
+            bank = self._negative_information(bank, nodes, {t for t, _ in association.pairs})
         if np.ndim(zeta) == 0:
             lrt_updated = xy.shape[0] == 0 or bool(association.unassociated(xy.shape[0]))
             if lrt_updated:
@@ -128,3 +138,21 @@ class ScanUpdater:
         field = update_likelihood_field(field, per_node, nodes, sensitivity, self.llr_floor)
         lrt_updated = bool(nodes.size)
         return ScanUpdate(field, bank, association, lrt_updated)
+
+    def _negative_information(self, bank: TrackerBank, footprint: NDArray[np.int64],
+                              associated: set[int]) -> TrackerBank:
+        """Trackers this scan did not update saw nothing in the footprint: ``P ∝ P (1 − p_d)``
+        there (digest §10 item 7; the thesis applies none). A tracker wholly inside the
+        footprint is left as it is (no mass outside to move to)."""
+        keep = 1.0 - self.detection_probability
+        trackers = list(bank.trackers)
+        for t, tracker in enumerate(trackers):
+            if t in associated:
+                continue
+            p = np.array(tracker.probability, copy=True)
+            inside = float(p[footprint].sum())
+            if inside <= 0.0 or inside >= 1.0 - 1e-12:
+                continue
+            p[footprint] *= keep
+            trackers[t] = NodeTracker(p / p.sum(), tracker.track_id)
+        return bank.with_trackers(tuple(trackers))

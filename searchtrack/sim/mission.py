@@ -128,7 +128,9 @@ class Mission:
         self.associator = TimedAssociator(
             GreedyEMDAssociator(net, gate_m=f.gate_m) if f.associator == "greedy"
             else OptimalEMDAssociator(net, gate_m=f.gate_m))
-        self.updater = ScanUpdater(net, self.associator, f.llr_floor)
+        detect = (scenario.sensor.pd * scenario.sensor.hit_rate if f.negative_information
+                  else 0.0)
+        self.updater = ScanUpdater(net, self.associator, f.llr_floor, detect)
         self.initiator = LRTInitiator(net, f.phi_max, f.birth_weighting, f.merge_radius_m)
         self.deleter = TrackerDeleter(f.p_min)
         self.lrt_predictor = LRTPredictor(self.world.lrt_diffusion)

@@ -178,6 +178,7 @@ def _filter(t: Table) -> FilterSpec:
                                  choices=("llr", "likelihood_ratio")),
         merge_radius_m=t.number("merge_radius_m", 100.0, minimum=0.0),
         llr_floor=_floor(t),
+        negative_information=t.boolean("negative_information", True),
     )
     t.done()
     return spec
@@ -185,10 +186,9 @@ def _filter(t: Table) -> FilterSpec:
 
 def _floor(t: Table) -> float:
     """``llr_floor``: a negative number, or the string ``"none"`` for no floor."""
-    raw = t.raw("llr_floor", "none")
-    if raw == "none":
+    if t.raw("llr_floor", None) == "none":
         return -math.inf
-    value = t.number("llr_floor")
+    value = t.number("llr_floor", -20.0)
     if value >= 0.0:
         raise t.fail("llr_floor", f"must be < 0 or \"none\", got {value!r}")
     return value

@@ -83,6 +83,27 @@ def test_empty_scan_is_negative_information(path5: RoadNetwork) -> None:
     np.testing.assert_allclose(out.field.llr, [-M * M / 2, -M * M / 2, 0, 0, 0])
 
 
+def test_negative_information_moves_an_unseen_tracker_off_the_footprint(
+        path5: RoadNetwork) -> None:
+    """With detection_probability, a tracker the scan did not update keeps (1 − p_d) of its
+    probability on the footprint, renormalised; an associated tracker and a tracker wholly
+    inside the footprint are left to the usual rules."""
+    bank = TrackerBank(5).with_birth([0.0, 0.25, 0.5, 0.25, 0.0])
+    updater = ScanUpdater(path5, PeakGate(), detection_probability=0.8)
+    out = updater.update(LikelihoodField.neutral(5), bank, zeta=0.0, footprint=[2, 3, 4],
+                         sensitivity=M, positions_m=np.empty((0, 2)), noise_sd_m=5.0)
+    want = np.array([0.0, 0.25, 0.5 * 0.2, 0.25 * 0.2, 0.0])
+    np.testing.assert_allclose(out.bank[0].probability, want / want.sum())
+    inside = updater.update(LikelihoodField.neutral(5), bank, zeta=0.0, footprint=[0, 1, 2, 3],
+                            sensitivity=M, positions_m=np.empty((0, 2)), noise_sd_m=5.0)
+    np.testing.assert_allclose(inside.bank[0].probability, bank[0].probability)
+    seen = updater.update(LikelihoodField.neutral(5), bank, zeta=3.0, footprint=[1, 2, 3],
+                          sensitivity=M, positions_m=[[20.0, 0.0]], noise_sd_m=5.0)
+    assert seen.association.pairs == ((0, 0),) and seen.bank[0].probability[2] > 0.5
+    with pytest.raises(InvalidInputError, match="detection_probability"):
+        ScanUpdater(path5, PeakGate(), detection_probability=1.0)
+
+
 def test_bad_scan_inputs_name_the_field(path5: RoadNetwork) -> None:
     """A bad associator answer, NaN ζ or NaN positions each name their field."""
     field, bank = LikelihoodField.neutral(5), _bank(path5, 0)

@@ -76,6 +76,7 @@ def test_grid_scenario_defaults(tmp_path: Path) -> None:
         (GRID + "[filter]\nmerge_radius_m = -5.0\n", "filter.merge_radius_m"),
         (GRID + "[filter]\nllr_floor = 3.0\n", "filter.llr_floor"),
         (GRID + "[filter]\nllr_floor = 'off'\n", "filter.llr_floor"),
+        (GRID + "[filter]\nnegative_information = 1\n", "filter.negative_information"),
     ],
 )
 def test_bad_fields_are_named(tmp_path: Path, text: str, key: str) -> None:
@@ -112,14 +113,16 @@ def test_constructor_validation() -> None:
 
 
 def test_llr_floor_none_means_no_floor(tmp_path: Path) -> None:
-    """``llr_floor = "none"`` reads as −inf, the default (the thesis); a number is kept."""
+    """``llr_floor = "none"`` reads as −inf (the thesis); the default is −20; a number is kept."""
     import math
 
-    assert load_scenario(write(tmp_path, GRID)).filter.llr_floor == -math.inf
+    assert load_scenario(write(tmp_path, GRID)).filter.llr_floor == -20.0
     sc = load_scenario(write(tmp_path, GRID + "[filter]\nllr_floor = 'none'\n"))
     assert sc.filter.llr_floor == -math.inf
-    sc = load_scenario(write(tmp_path, GRID + "[filter]\nllr_floor = -20.0\n"))
-    assert sc.filter.llr_floor == -20.0
+    sc = load_scenario(write(tmp_path, GRID + "[filter]\nllr_floor = -5.0\n"))
+    assert sc.filter.llr_floor == -5.0
+    sc = load_scenario(write(tmp_path, GRID + "[filter]\nnegative_information = false\n"))
+    assert sc.filter.negative_information is False
 
 
 def test_spring_constants_reach_the_strategy() -> None:
