@@ -28,6 +28,7 @@ import argparse
 import time
 
 import numpy as np
+from tables import table_with_header as table
 from threadpoolctl import threadpool_limits
 
 from searchtrack.estimate.association import Associator
@@ -84,12 +85,6 @@ def best_ms(associator: Associator, bank: TrackerBank, dens: np.ndarray, repeat:
     return 1e3 * min(times)
 
 
-def print_table(rows: list[list[str]]) -> None:
-    widths = [max(len(r[k]) for r in rows) for k in range(len(rows[0]))]
-    for k, r in enumerate(rows):
-        print("  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)))
-        if k == 0:
-            print("  ".join("-" * w for w in widths))
 
 
 def timing_table(net: RoadNetwork, args: argparse.Namespace) -> None:
@@ -126,7 +121,7 @@ def timing_table(net: RoadNetwork, args: argparse.Namespace) -> None:
                              f"{np.mean(g_ms):.2f}", f"{np.mean(o_ms):.2f}",
                              f"{np.mean(f_ms):.1f}" if f_ms else "-",
                              ("yes" if agree else "NO") if f_ms else "-"])
-    print_table(rows)
+    table(rows)
 
 
 def truncation_table(net: RoadNetwork, args: argparse.Namespace) -> None:
@@ -153,7 +148,7 @@ def truncation_table(net: RoadNetwork, args: argparse.Namespace) -> None:
             errs.append(abs(value - full) / full)
         rows.append([str(steps), f"{noise:g}", f"{full:.3f}", f"{full_ms:.0f}"]
                     + [f"{e:.1e}" for e in errs] + [f"{t:.2f}" for t in times])
-    print_table(rows)
+    table(rows)
 
 
 def main() -> None:

@@ -24,6 +24,7 @@ import statistics
 import time
 
 import numpy as np
+from tables import table_with_header as table
 from threadpoolctl import threadpool_limits
 
 from searchtrack.estimate.diffusion import GraphDiffusion
@@ -44,12 +45,6 @@ STEPS = (2, 8, 20, 60)
 ALPHA, DT_S = 0.447, 0.3
 
 
-def print_table(rows: list[list[str]]) -> None:
-    widths = [max(len(r[k]) for r in rows) for k in range(len(rows[0]))]
-    for k, r in enumerate(rows):
-        print("  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)))
-        if k == 0:
-            print("  ".join("-" * w for w in widths))
 
 
 def scene(net: RoadNetwork, diffusion: GraphDiffusion,
@@ -93,7 +88,7 @@ def strategy_table(net: RoadNetwork, diffusion: GraphDiffusion, bank: TrackerBan
             label = f"{name} ({variant})" if variant else name
             rows.append([label, ",".join(m[0] for m in g.mode), f"{statistics.median(times):.2f}",
                          f"{max(times):.2f}", f"{statistics.median(plan):.2f}"])
-    print_table(rows)
+    table(rows)
 
 
 def optw_table(net: RoadNetwork, diffusion: GraphDiffusion, bank: TrackerBank,
@@ -105,7 +100,7 @@ def optw_table(net: RoadNetwork, diffusion: GraphDiffusion, bank: TrackerBank,
     peak = net.coords[tracker.peak_node()]
     for distance in (300.0, 550.0):
         optw_rows(net, diffusion, tracker, peak + np.array([distance, 0.0]), rows)
-    print_table(rows)
+    table(rows)
 
 
 def optw_rows(net: RoadNetwork, diffusion: GraphDiffusion, tracker: NodeTracker,

@@ -13,3 +13,8 @@ def table(header: list[str], rows: list[list[str]]) -> None:
     for r in rows:
         print("  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)))
     sys.stdout.flush()
+
+
+def table_with_header(rows: list[list[str]]) -> None:
+    """:func:`table` for rows whose first row is the header."""
+    table(rows[0], rows[1:])
