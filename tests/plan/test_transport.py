@@ -13,6 +13,7 @@ import scipy.sparse as sp
 from scipy.sparse import csgraph
 
 from searchtrack.errors import InvalidInputError
+from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.result import Result, Sense, Status
 from searchtrack.plan.transport import (
     EMD_BACKENDS,
@@ -125,6 +126,10 @@ def test_graph_emd_on_a_path_is_the_cdf_distance() -> None:
     for backend in BACKENDS:
         assert emd_on_graph(adj, p, q, backend=backend).objective == pytest.approx(expected,
                                                                                   rel=RTOL)
+    # the same path as a RoadNetwork: its edge lengths are the metric
+    coords = np.column_stack([np.r_[0.0, np.cumsum(lengths)], np.zeros(n)])
+    net = RoadNetwork(coords, np.column_stack([i, i + 1]), lengths)
+    assert emd_on_graph(net, p, q).objective == pytest.approx(expected, rel=RTOL)
 
 
 @pytest.mark.parametrize("mass", ["normalize", "partial", "equal"])

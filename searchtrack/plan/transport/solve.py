@@ -18,6 +18,7 @@ from typing import Any, TypeVar
 import numpy as np
 from numpy.typing import ArrayLike
 
+from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.registry import Backend, Registry, SolveFn
 from searchtrack.plan.result import Result, Status
 from searchtrack.plan.stop import Deadline, check_time_limit
@@ -191,8 +192,9 @@ def emd_on_graph(
     Parameters
     ----------
     adjacency
-        ``scipy.sparse`` ``(N, N)`` matrix (CSR) of edge lengths in metres: each stored entry
-        ``[i, j] = ℓ ≥ 0`` is an arc ``i → j``; symmetric for an undirected road network.
+        A :class:`~searchtrack.models.roads.RoadNetwork`, or a ``scipy.sparse`` ``(N, N)``
+        matrix (CSR) of edge lengths in metres: each stored entry ``[i, j] = ℓ ≥ 0`` is an arc
+        ``i → j``; symmetric for an undirected road network.
     p, q
         Non-negative weights on the N nodes.
     mass, backend, time_limit_s
@@ -212,6 +214,8 @@ def emd_on_graph(
     check_time_limit(time_limit_s)
     warm_up()
     chosen = GRAPH_EMD_BACKENDS.get(backend)
+    if isinstance(adjacency, RoadNetwork):
+        adjacency = adjacency.adjacency  # edge lengths (m), both ways
     problem = GraphProblem.build(adjacency, p, q, mass)
     result = chosen.solve(problem, time_limit_s=time_limit_s, seed=0)
     if result.plan is not None:
