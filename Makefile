@@ -42,6 +42,7 @@ bench-all: bench
 	$(BIN)/python benchmarks/assign.py
 	$(BIN)/python benchmarks/assign_experiments.py ideal
 	$(BIN)/python benchmarks/assign_experiments.py search
+	$(BIN)/python benchmarks/assign_experiments.py search --refinement mi
 	$(BIN)/python benchmarks/assign_experiments.py horizon
 	$(BIN)/python benchmarks/assign_experiments.py track
 	$(BIN)/python benchmarks/gp_motion.py
