@@ -199,7 +199,9 @@ class LRTInitiator:
         phi = field.llr[hot]
         peaks = [float(phi[labels == c].max()) for c in range(count)]
         llr = np.array(field.llr, copy=True)
-        tracked = self.network.coords[[t.peak_node() for t in bank]]
+        merging = self.merge_radius_m > 0.0
+        tracked = (self.network.coords[[t.peak_node() for t in bank]] if merging
+                   else np.empty((0, 2)))
         for c in sorted(range(count), key=lambda c: (-peaks[c], c)):
             nodes = hot[labels == c]
             llr[nodes] = 0.0
@@ -208,7 +210,7 @@ class LRTInitiator:
                 log.debug("detection within %g m of a tracker's peak: suppressed, no birth",
                           self.merge_radius_m)
                 continue
-            if self.merge_radius_m > 0.0:  # components of this step merge with each other too
+            if merging:  # components of this step merge with each other too
                 tracked = np.vstack([tracked.reshape(-1, 2), peak_xy])
             weight = field.llr[nodes]
             if self.weighting == "likelihood_ratio":

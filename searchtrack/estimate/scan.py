@@ -51,16 +51,30 @@ class ScanUpdater:
     tracked target does not raise the LRT a second time. With one ``ζ`` per footprint node the
     evidence is local, so the LRT is always updated except on the nodes within
     ``ASSOCIATED_RADIUS_SD`` noise standard deviations of an associated measurement: that
-    evidence went to the tracker. ``llr_floor`` bounds ``φ`` from below on updated nodes (see
-    :func:`~searchtrack.estimate.lrt.update_likelihood_field`).
+    evidence went to the tracker.
+
+    Parameters
+    ----------
+    cell_radius_m
+        The sensor's resolution cell (per-node ``ζ`` only): nodes within
+        ``cell_radius_m + ASSOCIATED_RADIUS_SD · s`` of an associated measurement keep their
+        LRT value, since the target's whole cell raised them.
+    llr_floor
+        Lower bound on ``φ`` on updated nodes (see
+        :func:`~searchtrack.estimate.lrt.update_likelihood_field`); ``-inf``: none.
+    detection_probability
+        ``P_d`` of the negative information given to trackers the scan did not update (0: none).
     """
 
     network: RoadNetwork
     associator: Associator
+    cell_radius_m: float = 0.0
     llr_floor: float = -math.inf
     detection_probability: float = 0.0
 
     def __post_init__(self) -> None:
+        if real("cell_radius_m", self.cell_radius_m) < 0.0:
+            raise InvalidInputError("cell_radius_m", self.cell_radius_m, "must be ≥ 0 (m)")
         p = real("detection_probability", self.detection_probability)
         if not 0.0 <= p < 1.0:
             raise InvalidInputError("detection_probability", self.detection_probability,
@@ -76,7 +90,6 @@ class ScanUpdater:
         sensitivity: float,
         positions_m: ArrayLike,
         noise_sd_m: float,
-        cell_radius_m: float = 0.0,
     ) -> ScanUpdate:
         """Assimilate one scan.
 
@@ -93,10 +106,6 @@ class ScanUpdater:
             ``(k, 2)`` measured target positions (``k = 0`` when ``ζ ≤ c``).
         noise_sd_m
             Position noise s.d. ``s`` (m).
-        cell_radius_m
-            The sensor's resolution cell (per-node ``ζ`` only): nodes within
-            ``cell_radius_m + ASSOCIATED_RADIUS_SD · s`` of an associated measurement keep their
-            LRT value, since the target's whole cell raised them.
         """
         n = self.network.n_nodes
         if field.n_nodes != n or bank.n_nodes != n:
@@ -104,8 +113,6 @@ class ScanUpdater:
                                     f"field and bank must be on the network's {n} nodes")
         xy = points("positions_m", positions_m)
         real("noise_sd_m", noise_sd_m, positive=True)  # all inputs are checked, whatever the
-        if real("cell_radius_m", cell_radius_m) < 0.0:
-            raise InvalidInputError("cell_radius_m", cell_radius_m, "must be ≥ 0 (m)")
         nodes = node_set("footprint", footprint, n)
         zeta_increments(zeta, nodes.size, sensitivity)  # scan's route
         association = Association()
@@ -133,7 +140,7 @@ class ScanUpdater:
             used = xy[[q for _, q in association.pairs]]
             gap = np.linalg.norm(self.network.coords[nodes][:, None, :] - used[None, :, :],
                                  axis=2).min(axis=1)
-            keep = gap > cell_radius_m + ASSOCIATED_RADIUS_SD * noise_sd_m
+            keep = gap > self.cell_radius_m + ASSOCIATED_RADIUS_SD * noise_sd_m
             nodes, per_node = nodes[keep], per_node[keep]
         field = update_likelihood_field(field, per_node, nodes, sensitivity, self.llr_floor)
         lrt_updated = bool(nodes.size)

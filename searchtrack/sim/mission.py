@@ -130,7 +130,8 @@ class Mission:
             else OptimalEMDAssociator(net, gate_m=f.gate_m))
         detect = (scenario.sensor.pd * scenario.sensor.hit_rate if f.negative_information
                   else 0.0)
-        self.updater = ScanUpdater(net, self.associator, f.llr_floor, detect)
+        self.updater = ScanUpdater(net, self.associator, scenario.sensor.cell_radius_m,
+                                   f.llr_floor, detect)
         self.initiator = LRTInitiator(net, f.phi_max, f.birth_weighting, f.merge_radius_m)
         self.deleter = TrackerDeleter(f.p_min)
         self.lrt_predictor = LRTPredictor(self.world.lrt_diffusion)
@@ -182,8 +183,7 @@ class Mission:
                 rows = self._confirmed(pos.xy_m, np.flatnonzero(pos.uav == j), footprint, zeta)
                 out = self.updater.update(field, bank, zeta=zeta, footprint=footprint,
                                           sensitivity=m, positions_m=pos.xy_m[rows],
-                                          noise_sd_m=sc.sensor.position_noise_m,
-                                          cell_radius_m=sc.sensor.cell_radius_m)
+                                          noise_sd_m=sc.sensor.position_noise_m)
                 field, bank = out.field, out.bank
                 for tr, q in out.association.pairs:
                     truth = pos_target[rows[q]]

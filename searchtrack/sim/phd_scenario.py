@@ -45,11 +45,6 @@ class PHDScenario:
     motion: ConstantVelocity
     dt_s: float
 
-    @property
-    def truth_positions(self) -> list[FloatArray]:
-        """The true ``(n, 2)`` positions at each scan."""
-        return [t[:, :2] for t in self.truth]
-
 
 def _trajectories(n: int, t: int, box: FloatArray, motion: ConstantVelocity, dt: float,
                   speed: float, rng: np.random.Generator) -> FloatArray:

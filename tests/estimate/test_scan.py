@@ -173,6 +173,14 @@ def test_per_node_zeta_spares_only_the_associated_neighbourhood(path5: RoadNetwo
     expected = M * (zeta - M / 2)
     np.testing.assert_allclose(out.field.llr[:3], expected[:3])
     assert out.field.llr[3] == 0.0 and out.field.llr[4] == 0.0
+    # a 10 m resolution cell widens the spared neighbourhood by one node (20 m from the fix)
+    cell = ScanUpdater(path5, PeakGate(), cell_radius_m=10.0).update(
+        LikelihoodField.neutral(5), bank, zeta=zeta, footprint=[0, 1, 2, 3], sensitivity=M,
+        positions_m=[[30.0, 0.0]], noise_sd_m=2.0)
+    np.testing.assert_allclose(cell.field.llr[:2], expected[:2])
+    assert cell.field.llr[2] == 0.0 and cell.field.llr[3] == 0.0
+    with pytest.raises(InvalidInputError, match="cell_radius_m"):
+        ScanUpdater(path5, PeakGate(), cell_radius_m=-1.0)
 
 
 def test_per_node_zeta_shape_is_checked(path5: RoadNetwork) -> None:

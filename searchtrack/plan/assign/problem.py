@@ -265,18 +265,6 @@ class AssignmentProblem:
                 ok &= ~self.conflicts[(robot, r)][:, a]
         return ok
 
-    def check_selection(self, selection: Sequence[tuple[int, int]]) -> None:
-        """Raise unless ``selection`` names valid, distinct UAVs and existing actions."""
-        seen: set[int] = set()
-        for item in selection:
-            r, a = item
-            if not (0 <= r < self.robots) or r in seen:
-                raise InvalidInputError("selection", item, "UAV index out of range or repeated")
-            if not 0 <= a < self.n_actions(r):
-                raise InvalidInputError("selection", item, f"UAV {r} has {self.n_actions(r)} "
-                                        "actions")
-            seen.add(r)
-
 
 @dataclass(frozen=True, eq=False)
 class Assignment:

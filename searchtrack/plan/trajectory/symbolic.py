@@ -41,13 +41,6 @@ def symbols(model: VehicleModel) -> tuple[Any, Any, Any, Any]:
 
 
 @lru_cache(maxsize=32)
-def dynamics_function(model: VehicleModel) -> ca.Function:
-    """``f(x, u, p) -> ẋ`` as a CasADi function."""
-    x, u, p, _ = symbols(model)
-    return ca.Function("f", [x, u, p], [model.dynamics(x, u, p, CASADI)], ["x", "u", "p"], ["xdot"])
-
-
-@lru_cache(maxsize=32)
 def step_function(model: VehicleModel) -> ca.Function:
     """``F(x, u, p, dt) -> x⁺``: one RK4 step (the model's own :func:`rk4_step`)."""
     x, u, p, dt = symbols(model)
