@@ -285,7 +285,7 @@ def nlp_refinement(seeds: int) -> None:
         if res.objective is None:
             print(f"| {seed} | - | - | - | {dt:.2f} | {res.message} |")
             continue
-        g = res.stats["greedy_objective"]
+        g = res.stats["heuristic_objective"]
         obj = res.objective
         print(f"| {seed} | {g:.4f} | {obj:.4f} | {100 * (obj / g - 1):.1f} | {dt:.2f} | "
               f"{res.message.split(',')[0]} |")

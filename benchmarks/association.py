@@ -33,6 +33,8 @@ from threadpoolctl import threadpool_limits
 
 from searchtrack.estimate.association import Associator
 from searchtrack.estimate.diffusion import GraphDiffusion
+from searchtrack.estimate.emd_association import GreedyEMDAssociator, OptimalEMDAssociator
+from searchtrack.estimate.emd_matrix import emd_matrix, truncate_signature
 from searchtrack.estimate.node_tracker import (
     NodeTracker,
     TrackerBank,
@@ -40,9 +42,7 @@ from searchtrack.estimate.node_tracker import (
     position_log_likelihood,
 )
 from searchtrack.models import RoadNetwork, read_osm
-from searchtrack.plan.association import GreedyEMDAssociator, OptimalEMDAssociator
-from searchtrack.plan.emd_matrix import emd_matrix, truncate_signature
-from searchtrack.plan.road_metric import RoadMetric
+from searchtrack.models.road_metric import RoadMetric
 from searchtrack.sim.scenario import bundled_map
 
 OSM = str(bundled_map("aguascalientes"))

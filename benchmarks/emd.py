@@ -34,8 +34,8 @@ import scipy.sparse as sp
 from scipy.sparse import csgraph
 from threadpoolctl import threadpool_limits
 
+from searchtrack.estimate.transport import emd, emd_on_graph
 from searchtrack.models import read_osm
-from searchtrack.plan.transport import emd, emd_on_graph
 from searchtrack.sim.scenario import bundled_map
 
 SPACING_M = 10.0

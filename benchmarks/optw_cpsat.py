@@ -22,11 +22,11 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw import Routes, read_optw, validate
 from searchtrack.plan.optw.cpsat import Formulation, solve_cpsat
 from searchtrack.plan.optw.ils import solve_ils, warm_up
 from searchtrack.plan.optw.mip import solve_mip
-from searchtrack.plan.result import Result, Status
 
 DEFAULT_DATA = Path(__file__).resolve().parents[2] / "shared" / "benchmarks" / "optw"
 

@@ -13,9 +13,9 @@ import csv
 import time
 from pathlib import Path
 
+from searchtrack.core.result import Status
 from searchtrack.plan.optw import read_optw, validate
 from searchtrack.plan.optw.labelling import solve_labelling, warm_up
-from searchtrack.plan.result import Status
 
 BENCH = Path(__file__).resolve().parents[2] / "shared" / "benchmarks" / "optw"
 

@@ -28,11 +28,11 @@ from functools import partial
 import numpy as np
 from tables import table
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result
 from searchtrack.models import SensorModel
 from searchtrack.models.road_synthetic import grid_network
 from searchtrack.models.vehicles import VehicleModel, fixed_wing, uav7, unicycle
-from searchtrack.plan.result import Result
 from searchtrack.plan.trajectory import (
     ControlPlan,
     NmpcOptions,

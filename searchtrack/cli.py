@@ -17,10 +17,10 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from searchtrack import cli_mission
-from searchtrack.errors import SearchtrackError
+from searchtrack.core.errors import SearchtrackError
+from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw import OPTWInstance, Routes, read_optw
 from searchtrack.plan.optw.solve import BACKENDS, solve
-from searchtrack.plan.result import Result, Status
 from searchtrack.sim.track_job import add_track_parser
 
 

@@ -26,8 +26,8 @@ import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
 from scipy.sparse.linalg import expm_multiply
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.estimate._checks import real
+from searchtrack.core.checks import real
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.roads import RoadNetwork
 
 log = logging.getLogger("searchtrack.estimate.diffusion")

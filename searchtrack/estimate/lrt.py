@@ -18,8 +18,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.sparse import csgraph
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.estimate._checks import node_set, node_vector, real
+from searchtrack.core.checks import node_set, node_vector, positive, real
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.belief import entropy_nats
 from searchtrack.estimate.diffusion import GraphDiffusion
 from searchtrack.estimate.node_tracker import TrackerBank
@@ -78,7 +78,7 @@ class LikelihoodField:
 def llr_increment(zeta: float, sensitivity: float) -> float:
     """``log 𝓛(ζ|ξ) = m(ζ − m/2)`` (§3.3, from (3.3), (3.10), (3.11)) for a measurement ``ζ``."""
     z = real("zeta", zeta)
-    m = real("sensitivity", sensitivity, positive=True)
+    m = positive("sensitivity", sensitivity)
     return m * (z - 0.5 * m)
 
 
@@ -126,7 +126,7 @@ def zeta_increments(zeta: float | ArrayLike, n_nodes: int,
     if z.shape != (n_nodes,) or not np.all(np.isfinite(z)):
         raise InvalidInputError("zeta", zeta, f"must be a finite scalar or ({n_nodes},) array, "
                                 "one value per footprint node")
-    m = real("sensitivity", sensitivity, positive=True)
+    m = positive("sensitivity", sensitivity)
     return np.asarray(m * (z - 0.5 * m), dtype=np.float64)
 
 
@@ -173,7 +173,7 @@ class LRTInitiator:
     merge_radius_m: float = 0.0
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "threshold", real("threshold", self.threshold, positive=True))
+        object.__setattr__(self, "threshold", positive("threshold", self.threshold))
         radius = real("merge_radius_m", self.merge_radius_m)
         if radius < 0.0:
             raise InvalidInputError("merge_radius_m", self.merge_radius_m, "must be ≥ 0 (m)")

@@ -24,13 +24,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.estimate import _checks
-
-FloatArray = NDArray[np.float64]
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 
 
 def _set(name: str, points: ArrayLike, dim: int | None = None) -> FloatArray:
@@ -55,7 +54,7 @@ def _pair(x: ArrayLike, y: ArrayLike) -> tuple[FloatArray, FloatArray]:
 
 
 def _params(c: float, p: float) -> tuple[float, float]:
-    return _checks.real("c", c, positive=True), _checks.real("p", p, positive=True)
+    return checks.positive("c", c), checks.positive("p", p)
 
 
 def _assigned_cost(cost: FloatArray) -> float:
@@ -91,7 +90,7 @@ def ospa(x: ArrayLike, y: ArrayLike, c: float, p: float = 1.0) -> float:
 def gospa(x: ArrayLike, y: ArrayLike, c: float, p: float = 1.0, alpha: float = 2.0) -> float:
     """GOSPA distance (order ``p``, cut-off ``c``, ``α ∈ (0, 2]``) between point sets."""
     c, p = _params(c, p)
-    alpha = _checks.real("alpha", alpha, positive=True)
+    alpha = checks.positive("alpha", alpha)
     if alpha > 2.0:
         raise InvalidInputError("alpha", alpha, "must be in (0, 2]")
     a, b = _pair(x, y)

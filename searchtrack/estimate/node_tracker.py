@@ -15,8 +15,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.estimate._checks import node_vector, points, real
+from searchtrack.core.checks import node_vector, points, positive, real
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.belief import entropy_nats
 from searchtrack.estimate.diffusion import GraphDiffusion
 from searchtrack.models.roads import RoadNetwork
@@ -188,7 +188,7 @@ def position_log_likelihood(
     the Euclidean distance from the measured point ``ξ̃_q`` to each node, noise s.d. ``s``.
     """
     xy = points("positions_m", positions_m)
-    s = real("noise_sd_m", noise_sd_m, positive=True)
+    s = positive("noise_sd_m", noise_sd_m)
     c = network.coords
     d2 = np.subtract.outer(xy[:, 0], c[:, 0]) ** 2 + np.subtract.outer(xy[:, 1], c[:, 1]) ** 2
     return np.asarray(-d2 / (2.0 * s * s), dtype=np.float64)

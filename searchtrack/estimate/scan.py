@@ -12,8 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.estimate._checks import node_set, points, real
+from searchtrack.core.checks import node_set, points, positive, real
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.association import Association, Associator
 from searchtrack.estimate.lrt import LikelihoodField, update_likelihood_field, zeta_increments
 from searchtrack.estimate.node_tracker import (
@@ -112,7 +112,7 @@ class ScanUpdater:
             raise InvalidInputError("field", (field.n_nodes, bank.n_nodes),
                                     f"field and bank must be on the network's {n} nodes")
         xy = points("positions_m", positions_m)
-        real("noise_sd_m", noise_sd_m, positive=True)  # all inputs are checked, whatever the
+        positive("noise_sd_m", noise_sd_m)  # all inputs are checked, whatever the
         nodes = node_set("footprint", footprint, n)
         zeta_increments(zeta, nodes.size, sensitivity)  # scan's route
         association = Association()

@@ -31,15 +31,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
-
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray, IntArray
 
 
 def _bounds(name: str, value: ArrayLike) -> FloatArray:
-    arr = _checks.finite_array(name, value, (2, 2))
+    arr = checks.finite_array(name, value, (2, 2))
     if not np.all(arr[:, 1] > arr[:, 0]):
         raise InvalidInputError(name, value, "must be [[x0, x1], [y0, y1]] with x0 < x1, y0 < y1")
     return arr
@@ -76,14 +74,14 @@ class BirthSurvivalGrid:
     def __post_init__(self) -> None:
         set_ = object.__setattr__
         b = _bounds("bounds", self.bounds)
-        cell = _checks.positive("cell_m", self.cell_m)
+        cell = checks.positive("cell_m", self.cell_m)
         shape_f = (b[:, 1] - b[:, 0]) / cell
         shape = np.rint(shape_f).astype(np.int64)
         if np.any(np.abs(shape_f - shape) > 1e-6) or np.any(shape < 1):
             raise InvalidInputError("cell_m", cell, "must divide the area's width and height")
         cells = (int(shape[0]), int(shape[1]))
         for name in ("birth_counts", "survival_counts", "death_counts"):
-            arr = _checks.finite_array(name, getattr(self, name), cells)
+            arr = checks.finite_array(name, getattr(self, name), cells)
             if np.any(arr < 0):
                 raise InvalidInputError(name, getattr(self, name), "must be ≥ 0")
             set_(self, name, arr)
@@ -92,9 +90,9 @@ class BirthSurvivalGrid:
                                     "survival + death counts must be > 0 in every cell")
         set_(self, "bounds", b)
         set_(self, "cell_m", cell)
-        set_(self, "birth_rate_per_s", _checks.non_negative("birth_rate_per_s",
+        set_(self, "birth_rate_per_s", checks.non_negative("birth_rate_per_s",
                                                             self.birth_rate_per_s))
-        set_(self, "data_dt_s", _checks.positive("data_dt_s", self.data_dt_s))
+        set_(self, "data_dt_s", checks.positive("data_dt_s", self.data_dt_s))
 
     @classmethod
     def from_tracks(cls, xy_m: ArrayLike, track: ArrayLike, time_s: ArrayLike, bounds: ArrayLike,
@@ -109,16 +107,16 @@ class BirthSurvivalGrid:
         The area is ``bounds`` extended up and right to a whole number of cells. Samples of the
         same track more than 1.5 ``data_dt_s`` apart are not linked (a gap in the trace).
         """
-        xy = _checks.finite_array("xy_m", xy_m, (None, 2))
+        xy = checks.finite_array("xy_m", xy_m, (None, 2))
         n = xy.shape[0]
         trk = np.asarray(track)
         if trk.shape != (n,) or (n and trk.dtype.kind not in "iu"):
             raise InvalidInputError("track", track, f"must be {n} integer track ids")
-        t = _checks.finite_array("time_s", time_s, (n,))
+        t = checks.finite_array("time_s", time_s, (n,))
         b = _bounds("bounds", bounds)
-        cell = _checks.positive("cell_m", cell_m)
-        dt = _checks.positive("data_dt_s", data_dt_s)
-        priors = [_checks.non_negative(name, v) for name, v in (
+        cell = checks.positive("cell_m", cell_m)
+        dt = checks.positive("data_dt_s", data_dt_s)
+        priors = [checks.non_negative(name, v) for name, v in (
             ("birth_prior", birth_prior), ("survival_prior", survival_prior),
             ("death_prior", death_prior))]
         for name, flag in (("count_same_cell", count_same_cell),
@@ -182,7 +180,7 @@ class BirthSurvivalGrid:
     def birth_mass(self, dt_s: float | None = None) -> float:
         """Expected births in a step of ``dt_s`` seconds (one data step if ``None``):
         ``rate · Δt``."""
-        dt = self.data_dt_s if dt_s is None else _checks.non_negative("dt_s", dt_s)
+        dt = self.data_dt_s if dt_s is None else checks.non_negative("dt_s", dt_s)
         return self.birth_rate_per_s * dt
 
     def _cells(self, positions: FloatArray) -> tuple[IntArray, IntArray, NDArray[np.bool_]]:
@@ -208,14 +206,14 @@ class BirthSurvivalGrid:
         ix, iy, inside = self._cells(positions)
         ps = self.survival_grid[ix, iy]
         if dt_s is not None:
-            ps = ps ** (_checks.non_negative("dt_s", dt_s) / self.data_dt_s)
+            ps = ps ** (checks.non_negative("dt_s", dt_s) / self.data_dt_s)
         return np.where(inside, ps, 0.0)
 
     def sample_births(self, count: int, rng: np.random.Generator) -> FloatArray:
         """``(count, 2)`` birth positions: a cell drawn by its birth count, then a uniform point
         in it (digest 003 §2.2, step 2)."""
-        k = _checks.count("count", count)
-        rng = _checks.generator("rng", rng)
+        k = checks.count("count", count)
+        rng = checks.generator("rng", rng)
         cdf = np.cumsum(self.birth_counts.ravel())
         if cdf[-1] <= 0:
             raise InvalidInputError("birth_counts", self.birth_counts, "all 0: nothing to sample")

@@ -41,11 +41,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
-
-FloatArray = NDArray[np.float64]
-BoolArray = NDArray[np.bool_]
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import BoolArray, FloatArray
 
 _MIN_DEPRESSION = math.radians(1.0)
 """Rays above this depression below the horizon are clamped to it by :meth:`to_position`."""
@@ -107,21 +105,21 @@ class DownwardCamera:
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
-        set_(self, "width_px", _checks.count("width_px", self.width_px, 1))
-        set_(self, "height_px", _checks.count("height_px", self.height_px, 1))
-        set_(self, "hfov_rad", _checks.real("hfov_rad", self.hfov_rad, low=0.0, high=math.pi,
+        set_(self, "width_px", checks.count("width_px", self.width_px, 1))
+        set_(self, "height_px", checks.count("height_px", self.height_px, 1))
+        set_(self, "hfov_rad", checks.real("hfov_rad", self.hfov_rad, low=0.0, high=math.pi,
                                             low_open=True, high_open=True))
-        set_(self, "target_length_m", _checks.positive("target_length_m", self.target_length_m))
-        pd0 = _checks.real("pd0", self.pd0, low=0.0, high=1.0)
-        pd_max = _checks.real("pd_max", self.pd_max, low=0.0, high=1.0)
+        set_(self, "target_length_m", checks.positive("target_length_m", self.target_length_m))
+        pd0 = checks.real("pd0", self.pd0, low=0.0, high=1.0)
+        pd_max = checks.real("pd_max", self.pd_max, low=0.0, high=1.0)
         if pd_max < pd0:
             raise InvalidInputError("pd_max", self.pd_max, f"must be ≥ pd0={pd0!r}")
         set_(self, "pd0", pd0)
         set_(self, "pd_max", pd_max)
-        set_(self, "slope_per_px", _checks.positive("slope_per_px", self.slope_per_px))
-        set_(self, "n_px0", _checks.non_negative("n_px0", self.n_px0))
-        set_(self, "sigma_px", _checks.positive("sigma_px", self.sigma_px))
-        set_(self, "clutter_rate", _checks.non_negative("clutter_rate", self.clutter_rate))
+        set_(self, "slope_per_px", checks.positive("slope_per_px", self.slope_per_px))
+        set_(self, "n_px0", checks.non_negative("n_px0", self.n_px0))
+        set_(self, "sigma_px", checks.positive("sigma_px", self.sigma_px))
+        set_(self, "clutter_rate", checks.non_negative("clutter_rate", self.clutter_rate))
         if not isinstance(self.gimballed, bool):
             raise InvalidInputError("gimballed", self.gimballed, "must be True or False")
 
@@ -285,7 +283,7 @@ class DownwardCamera:
             ``(k, 2)`` pixel detections in random order (noisy detections falling off the image
             are dropped), and ``(k,)`` the index of the target behind each one (``-1``: clutter).
         """
-        rng = _checks.generator("rng", rng)
+        rng = checks.generator("rng", rng)
         pd = self.detection_probability(pose, positions)
         idx = np.flatnonzero(rng.random(pd.size) < pd)
         pix, _ = self.project(pose, np.asarray(positions, dtype=np.float64)[idx])

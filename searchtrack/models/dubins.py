@@ -20,19 +20,19 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 
-FloatArray = NDArray[np.float64]
 Method = Literal["exact", "rk4", "euler"]
 MPS_PER_MPH = 0.44704
 
 
 def sat(x: ArrayLike, x_max: float) -> FloatArray:
     """The saturation function (5.5): ``x`` clipped to ``[−x_max, x_max]``."""
-    limit = _checks.non_negative("x_max", x_max)
+    limit = checks.non_negative("x_max", x_max)
     return np.clip(np.asarray(x, dtype=np.float64), -limit, limit)
 
 
@@ -55,15 +55,15 @@ class DubinsLimits:
     turn_rate_max_rps: float = math.radians(70.0)
 
     def __post_init__(self) -> None:
-        hi = _checks.positive("speed_max_mps", self.speed_max_mps)
-        lo = _checks.positive("speed_min_mps", self.speed_min_mps)
+        hi = checks.positive("speed_max_mps", self.speed_max_mps)
+        lo = checks.positive("speed_min_mps", self.speed_min_mps)
         if lo > hi:
             raise InvalidInputError("speed_min_mps", self.speed_min_mps,
                                     f"must not exceed speed_max_mps={hi!r}")
         object.__setattr__(self, "speed_max_mps", hi)
         object.__setattr__(self, "speed_min_mps", lo)
         object.__setattr__(self, "turn_rate_max_rps",
-                           _checks.positive("turn_rate_max_rps", self.turn_rate_max_rps))
+                           checks.positive("turn_rate_max_rps", self.turn_rate_max_rps))
 
     def turn_radius_m(self, speed_mps: ArrayLike) -> FloatArray:
         """The tightest turn radius ``S/θ̇_max`` (m) at ``speed_mps``."""
@@ -89,13 +89,13 @@ class UavState:
     speed_mps: FloatArray
 
     def __post_init__(self) -> None:
-        x = _checks.finite_array("x_m", np.atleast_1d(np.asarray(self.x_m, dtype=float)), (None,))
+        x = checks.finite_array("x_m", np.atleast_1d(np.asarray(self.x_m, dtype=float)), (None,))
         shape = (x.shape[0],)
         set_ = object.__setattr__
         set_(self, "x_m", x)
         for name in ("y_m", "heading_rad", "speed_mps"):
             value = np.atleast_1d(np.asarray(getattr(self, name), dtype=float))
-            set_(self, name, _checks.finite_array(name, value, shape))
+            set_(self, name, checks.finite_array(name, value, shape))
         if np.any(self.speed_mps <= 0):
             raise InvalidInputError("speed_mps", self.speed_mps, "speeds must be > 0 (m/s)")
 
@@ -124,10 +124,10 @@ def force_to_controls(
     Turn rate ``sat((Y cos θ − X sin θ)/S, θ̇_max)`` ((5.3)–(5.5)) and speed
     ``S + (X cos θ + Y sin θ)Δt`` (5.4), clamped to ``[S_min, S_max]``.
     """
-    f = _checks.points("force", force)
+    f = checks.points("force", force)
     if f.shape[0] != state.n:
         raise InvalidInputError("force", force, f"must have shape ({state.n}, 2), one per UAV")
-    dt = _checks.positive("dt_s", dt_s)
+    dt = checks.positive("dt_s", dt_s)
     c, s = np.cos(state.heading_rad), np.sin(state.heading_rad)
     turn = (f[:, 1] * c - f[:, 0] * s) / state.speed_mps
     accel = f[:, 0] * c + f[:, 1] * s
@@ -168,11 +168,11 @@ def propagate(
     method
         ``"exact"`` (closed-form arc), ``"rk4"`` or ``"euler"`` (the thesis's (5.4)).
     """
-    dt = _checks.positive("dt_s", dt_s)
+    dt = checks.positive("dt_s", dt_s)
     n = (state.n,)
-    u = _checks.finite_array("turn_rate_rps", np.broadcast_to(
+    u = checks.finite_array("turn_rate_rps", np.broadcast_to(
         np.asarray(turn_rate_rps, dtype=float), n), n)
-    v = _checks.finite_array("speed_mps", np.broadcast_to(np.asarray(speed_mps, dtype=float), n), n)
+    v = checks.finite_array("speed_mps", np.broadcast_to(np.asarray(speed_mps, dtype=float), n), n)
     if np.any(v < 0):
         raise InvalidInputError("speed_mps", speed_mps, "must be ≥ 0 (m/s) before clamping")
     u, v = sat(u, limits.turn_rate_max_rps), limits.clamp_speed(v)

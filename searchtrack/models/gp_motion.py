@@ -21,16 +21,16 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 from scipy.spatial import cKDTree
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.models.gp_regression import GPHyper, check_xy, fit_hyperparameters, local_predict
 
 log = logging.getLogger("searchtrack.models.gp_motion")
 
-FloatArray = NDArray[np.float64]
 
 _FAR = 6.0
 """Grid nodes farther than ``_FAR · ℓ`` from every sample get the prior directly."""
@@ -67,17 +67,17 @@ class GPVelocityField:
     def __post_init__(self) -> None:
         if not isinstance(self.hyper, GPHyper):
             raise InvalidInputError("hyper", self.hyper, "must be a GPHyper")
-        object.__setattr__(self, "origin", _checks.finite_array("origin", self.origin, (2,)))
-        object.__setattr__(self, "cell_m", _checks.positive("cell_m", self.cell_m))
-        mean = _checks.finite_array("mean", self.mean, (None, None, 2))
+        object.__setattr__(self, "origin", checks.finite_array("origin", self.origin, (2,)))
+        object.__setattr__(self, "cell_m", checks.positive("cell_m", self.cell_m))
+        mean = checks.finite_array("mean", self.mean, (None, None, 2))
         if mean.shape[0] < 2 or mean.shape[1] < 2:
             raise InvalidInputError("mean", mean.shape, "needs at least 2 × 2 grid nodes")
-        var = _checks.finite_array("variance", self.variance, mean.shape[:2])
+        var = checks.finite_array("variance", self.variance, mean.shape[:2])
         if np.any(var < 0):
             raise InvalidInputError("variance", self.variance, "must be ≥ 0")
         object.__setattr__(self, "mean", mean)
         object.__setattr__(self, "variance", var)
-        object.__setattr__(self, "fit_s", _checks.non_negative("fit_s", self.fit_s))
+        object.__setattr__(self, "fit_s", checks.non_negative("fit_s", self.fit_s))
 
     @classmethod
     def fit(cls, positions: ArrayLike, velocities: ArrayLike, rng: np.random.Generator, *,
@@ -108,18 +108,18 @@ class GPVelocityField:
         start = time.perf_counter()
         x, y = check_xy(np.asarray(positions, dtype=np.float64),
                         np.asarray(velocities, dtype=np.float64))
-        rng = _checks.generator("rng", rng)
+        rng = checks.generator("rng", rng)
         if cell_m is not None:
-            _checks.positive("cell_m", cell_m)
-        n_h = _checks.count("n_hyper", n_hyper, 2)
-        n_nb = _checks.count("n_neighbours", n_neighbours, 1)
-        min_len = _checks.positive("min_length_m", min_length_m)
+            checks.positive("cell_m", cell_m)
+        n_h = checks.count("n_hyper", n_hyper, 2)
+        n_nb = checks.count("n_neighbours", n_neighbours, 1)
+        min_len = checks.positive("min_length_m", min_length_m)
         if hyper is not None and not isinstance(hyper, GPHyper):
             raise InvalidInputError("hyper", hyper, "must be a GPHyper or None")
         if bounds is None:
             box = np.column_stack([x.min(axis=0), x.max(axis=0)])
         else:
-            box = _checks.finite_array("bounds", bounds, (2, 2))
+            box = checks.finite_array("bounds", bounds, (2, 2))
             if not np.all(box[:, 1] > box[:, 0]):
                 raise InvalidInputError("bounds", bounds, "must be [[x0, x1], [y0, y1]], x0 < x1")
         if hyper is None:
@@ -195,7 +195,7 @@ class GPMotion:
             raise InvalidInputError("field", self.field, "must be a GPVelocityField")
         if self.max_step_s is not None:
             object.__setattr__(self, "max_step_s",
-                               _checks.positive("max_step_s", self.max_step_s))
+                               checks.positive("max_step_s", self.max_step_s))
         if not isinstance(self.include_noise, bool):
             raise InvalidInputError("include_noise", self.include_noise, "must be True or False")
 
@@ -222,7 +222,7 @@ class GPMotion:
         x = np.array(states, dtype=np.float64)
         if x.ndim != 2 or x.shape[1] != 2:
             raise InvalidInputError("states", x.shape, "must have shape (N, 2)")
-        dt = _checks.non_negative("dt_s", dt_s)
+        dt = checks.non_negative("dt_s", dt_s)
         n_sub = 1 if self.max_step_s is None else max(1, math.ceil(dt / self.max_step_s))
         h = dt / n_sub
         eps = rng.standard_normal(x.shape)

@@ -20,18 +20,17 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
 from scipy.linalg import cho_solve, lapack
 from scipy.optimize import minimize
 from scipy.spatial import cKDTree
 from scipy.spatial.distance import cdist
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 
 log = logging.getLogger("searchtrack.models.gp_regression")
 
-FloatArray = NDArray[np.float64]
 _SQRT3 = math.sqrt(3.0)
 _JITTER = 1e-8
 
@@ -52,7 +51,7 @@ class GPHyper:
 
     def __post_init__(self) -> None:
         for name in ("length_m", "sigma_f", "sigma_n"):
-            object.__setattr__(self, name, _checks.positive(name, getattr(self, name)))
+            object.__setattr__(self, name, checks.positive(name, getattr(self, name)))
 
     def kernel(self, a: FloatArray, b: FloatArray) -> FloatArray:
         """``(n, m)`` covariances between points ``a`` ``(n, 2)`` and ``b`` ``(m, 2)``."""
@@ -148,8 +147,8 @@ def local_predict(x: FloatArray, y: FloatArray, hyper: GPHyper, xs: FloatArray,
 
 def check_xy(positions: FloatArray, velocities: FloatArray) -> tuple[FloatArray, FloatArray]:
     """``(n, 2)`` finite positions and matching ``(n, 2)`` velocities, ``n ≥ 2``."""
-    x = _checks.finite_array("positions", positions, (None, 2))
+    x = checks.finite_array("positions", positions, (None, 2))
     if x.shape[0] < 2:
         raise InvalidInputError("positions", positions, "need at least 2 samples")
-    y = _checks.finite_array("velocities", velocities, (x.shape[0], 2))
+    y = checks.finite_array("velocities", velocities, (x.shape[0], 2))
     return np.asarray(x), np.asarray(y)

@@ -21,12 +21,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.models.sensors import SensorModel
 
-IntArray = NDArray[np.int64]
-FloatArray = NDArray[np.float64]
 FALSE_ALARM = -1
 """The ``target`` index of a false position measurement."""
 
@@ -111,9 +110,9 @@ def lrt_measurements(
         ``sensor.cell_radius_m`` of a target, or one per UAV shared by its footprint nodes,
         ``N(m, 1)`` when any target is in the footprint (the thesis's Fig. 3.1).
     """
-    xy = _checks.points("uav_xy_m", uav_xy_m)
-    targets = _checks.index_array("target_nodes", np.atleast_1d(target_nodes), network.n_nodes)
-    rng = _checks.generator("rng", rng)
+    xy = checks.points("uav_xy_m", uav_xy_m)
+    targets = checks.index_array("target_nodes", np.atleast_1d(target_nodes), network.n_nodes)
+    rng = checks.generator("rng", rng)
     uav, node = network.nodes_within(xy, sensor.footprint_radius_m)
     occupied = np.zeros(network.n_nodes, dtype=bool)
     occupied[targets] = True
@@ -156,9 +155,9 @@ def position_measurements(
     rng
         Source of randomness.
     """
-    xy = _checks.points("uav_xy_m", uav_xy_m)
-    truth = _checks.points("target_xy_m", target_xy_m)
-    rng = _checks.generator("rng", rng)
+    xy = checks.points("uav_xy_m", uav_xy_m)
+    truth = checks.points("target_xy_m", target_xy_m)
+    rng = checks.generator("rng", rng)
     rho, s = sensor.footprint_radius_m, sensor.position_noise_m
     dist = np.linalg.norm(xy[:, None, :] - truth[None, :, :], axis=2)
     in_view = (dist <= rho) & (rng.random(dist.shape) < sensor.pd)

@@ -18,23 +18,21 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
-
-FloatArray = NDArray[np.float64]
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 
 
 def _position_dim(value: object) -> int:
-    dim = _checks.count("position_dim", value, least=1)
+    dim = checks.count("position_dim", value, least=1)
     if dim not in (1, 2, 3):
         raise InvalidInputError("position_dim", value, "must be 1, 2 or 3")
     return dim
 
 
 def _dt(dt_s: float) -> float:
-    return _checks.non_negative("dt_s", dt_s)
+    return checks.non_negative("dt_s", dt_s)
 
 
 def _states(states: FloatArray, state_dim: int) -> FloatArray:
@@ -60,7 +58,7 @@ class RandomWalk:
     position_dim: int = 2
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "sigma_mps", _checks.positive("sigma_mps", self.sigma_mps))
+        object.__setattr__(self, "sigma_mps", checks.positive("sigma_mps", self.sigma_mps))
         object.__setattr__(self, "position_dim", _position_dim(self.position_dim))
 
     @property
@@ -92,7 +90,7 @@ class ConstantVelocity:
     position_dim: int = 2
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "q", _checks.positive("q", self.q))
+        object.__setattr__(self, "q", checks.positive("q", self.q))
         object.__setattr__(self, "position_dim", _position_dim(self.position_dim))
 
     @property

@@ -18,9 +18,8 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 from scipy.sparse import csgraph
 
+from searchtrack.core.types import IntArray
 from searchtrack.models.roads import RoadNetwork
-
-IntArray = NDArray[np.int64]
 
 
 def street_labels(network: RoadNetwork) -> IntArray:

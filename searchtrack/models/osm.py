@@ -31,7 +31,7 @@ from typing import IO
 
 import numpy as np
 
-from searchtrack.errors import ParseError
+from searchtrack.core.errors import ParseError
 from searchtrack.models.projection import LocalProjection
 from searchtrack.models.road_builder import network_from_polylines
 from searchtrack.models.roads import RoadNetwork, validate_spacing

@@ -20,9 +20,8 @@ from __future__ import annotations
 from typing import Protocol, runtime_checkable
 
 import numpy as np
-from numpy.typing import NDArray
 
-FloatArray = NDArray[np.float64]
+from searchtrack.core.types import FloatArray
 
 
 @runtime_checkable

@@ -15,16 +15,16 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 
-FloatArray = NDArray[np.float64]
 TAIL_SIGMAS = 9.0
 
 
 def area_array(name: str, area: ArrayLike) -> FloatArray:
     """``area`` ``[[x0, x1], [y0, y1]]`` as a read-only ``(2, 2)`` array, ``x0 < x1, y0 < y1``."""
-    arr = _checks.finite_array(name, area, (2, 2))
+    arr = checks.finite_array(name, area, (2, 2))
     if not np.all(arr[:, 1] > arr[:, 0]):
         raise InvalidInputError(name, area, "must be [[x0, x1], [y0, y1]] with x0 < x1, y0 < y1")
     return arr
@@ -52,10 +52,10 @@ class PositionSensor:
     area: FloatArray
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "pd", _checks.real("pd", self.pd, low=0.0, high=1.0))
-        object.__setattr__(self, "sigma_m", _checks.positive("sigma_m", self.sigma_m))
+        object.__setattr__(self, "pd", checks.real("pd", self.pd, low=0.0, high=1.0))
+        object.__setattr__(self, "sigma_m", checks.positive("sigma_m", self.sigma_m))
         object.__setattr__(self, "clutter_rate",
-                           _checks.non_negative("clutter_rate", self.clutter_rate))
+                           checks.non_negative("clutter_rate", self.clutter_rate))
         object.__setattr__(self, "area", area_array("area", self.area))
 
     @property

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 
 WGS84_A_M = 6378137.0
 """WGS84 semi-major axis (m)."""

@@ -27,10 +27,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
-
-FloatArray = NDArray[np.float64]
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 
 
 def _pose(pose: FloatArray) -> FloatArray:
@@ -51,7 +50,7 @@ def _triple(name: str, value: ArrayLike) -> FloatArray:
     """Three positive numbers (a scalar is repeated)."""
     arr = np.broadcast_to(np.asarray(value, dtype=np.float64), (3,)) if np.ndim(value) == 0 \
         else np.asarray(value, dtype=np.float64)
-    arr = _checks.finite_array(name, arr, (3,))
+    arr = checks.finite_array(name, arr, (3,))
     if not np.all(arr > 0.0):
         raise InvalidInputError(name, value, "must be > 0")
     return arr
@@ -93,13 +92,13 @@ class RangeBearingElevationSensor:
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
-        set_(self, "gain", _checks.real("gain", self.gain, low=0.0, high=1.0, low_open=True))
+        set_(self, "gain", checks.real("gain", self.gain, low=0.0, high=1.0, low_open=True))
         set_(self, "fov_m", _triple("fov_m", self.fov_m))
         set_(self, "sigma", _triple("sigma", self.sigma))
         if not isinstance(self.squared, bool):
             raise InvalidInputError("squared", self.squared, "must be True or False")
-        set_(self, "clutter_rate", _checks.non_negative("clutter_rate", self.clutter_rate))
-        set_(self, "max_range_m", _checks.positive("max_range_m", self.max_range_m))
+        set_(self, "clutter_rate", checks.non_negative("clutter_rate", self.clutter_rate))
+        set_(self, "max_range_m", checks.positive("max_range_m", self.max_range_m))
 
     @property
     def meas_dim(self) -> int:
@@ -171,7 +170,7 @@ class RangeBearingElevationSensor:
         (measurements, origin)
             ``(k, 3)`` measurements in random order and ``(k,)`` target indices (``-1``: clutter).
         """
-        rng = _checks.generator("rng", rng)
+        rng = checks.generator("rng", rng)
         pos = _positions(positions)
         pi = self.detection_probability(pose, pos)
         idx = np.flatnonzero(rng.random(pi.size) < pi)

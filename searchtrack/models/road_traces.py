@@ -35,19 +35,18 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.models.one_way import one_way_roads
 from searchtrack.models.roads import RoadNetwork
 
 log = logging.getLogger("searchtrack.models.road_traces")
 
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 
 
 def _range(model: object, lo_name: str, hi_name: str, positive: bool) -> None:
-    check = _checks.positive if positive else _checks.non_negative
+    check = checks.positive if positive else checks.non_negative
     lo = check(lo_name, getattr(model, lo_name))
     hi = check(hi_name, getattr(model, hi_name))
     if hi < lo:
@@ -79,14 +78,14 @@ class TaxiModel:
         _range(self, "dwell_min_s", "dwell_max_s", positive=False)
         set_ = object.__setattr__
         set_(self, "stop_probability",
-             _checks.real("stop_probability", self.stop_probability, low=0.0, high=1.0))
-        set_(self, "n_hotspots", _checks.count("n_hotspots", self.n_hotspots))
-        set_(self, "hotspot_radius_m", _checks.positive("hotspot_radius_m", self.hotspot_radius_m))
+             checks.real("stop_probability", self.stop_probability, low=0.0, high=1.0))
+        set_(self, "n_hotspots", checks.count("n_hotspots", self.n_hotspots))
+        set_(self, "hotspot_radius_m", checks.positive("hotspot_radius_m", self.hotspot_radius_m))
         set_(self, "hotspot_share",
-             _checks.real("hotspot_share", self.hotspot_share, low=0.0, high=1.0))
-        set_(self, "gps_sigma_m", _checks.non_negative("gps_sigma_m", self.gps_sigma_m))
+             checks.real("hotspot_share", self.hotspot_share, low=0.0, high=1.0))
+        set_(self, "gps_sigma_m", checks.non_negative("gps_sigma_m", self.gps_sigma_m))
         set_(self, "one_way_fraction",
-             _checks.real("one_way_fraction", self.one_way_fraction, low=0.0, high=1.0))
+             checks.real("one_way_fraction", self.one_way_fraction, low=0.0, high=1.0))
 
 
 @dataclass(frozen=True)
@@ -122,19 +121,19 @@ class Traces:
             raise InvalidInputError("vehicle", self.vehicle, "must be sorted (non-decreasing)")
         veh.setflags(write=False)
         n = veh.size
-        t = _checks.finite_array("time_s", self.time_s, (n,))
+        t = checks.finite_array("time_s", self.time_s, (n,))
         same = veh[1:] == veh[:-1]
         if np.any(np.diff(t)[same] <= 0):
             raise InvalidInputError("time_s", self.time_s, "must increase within a vehicle")
         object.__setattr__(self, "vehicle", veh)
         object.__setattr__(self, "time_s", t)
-        object.__setattr__(self, "xy_m", _checks.finite_array("xy_m", self.xy_m, (n, 2)))
+        object.__setattr__(self, "xy_m", checks.finite_array("xy_m", self.xy_m, (n, 2)))
         occ = np.array(self.occupied, copy=True)
         if occ.shape != (n,) or occ.dtype != np.bool_:
             raise InvalidInputError("occupied", self.occupied, f"must be {n} booleans")
         occ.setflags(write=False)
         object.__setattr__(self, "occupied", occ)
-        object.__setattr__(self, "dt_s", _checks.positive("dt_s", self.dt_s))
+        object.__setattr__(self, "dt_s", checks.positive("dt_s", self.dt_s))
 
     @property
     def n_points(self) -> int:
@@ -243,10 +242,10 @@ def taxi_traces(network: RoadNetwork, n_vehicles: int, duration_s: float, dt_s: 
         raise InvalidInputError("network", network, "must be a RoadNetwork")
     if not network.is_connected:
         raise InvalidInputError("network", network, "must be connected (use largest_component)")
-    k = _checks.count("n_vehicles", n_vehicles, 1)
-    duration = _checks.positive("duration_s", duration_s)
-    dt = _checks.positive("dt_s", dt_s)
-    rng = _checks.generator("rng", rng)
+    k = checks.count("n_vehicles", n_vehicles, 1)
+    duration = checks.positive("duration_s", duration_s)
+    dt = checks.positive("dt_s", dt_s)
+    rng = checks.generator("rng", rng)
     model = TaxiModel() if model is None else model
     if not isinstance(model, TaxiModel):
         raise InvalidInputError("model", model, "must be a TaxiModel")

@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.sparse import csgraph
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.projection import LocalProjection
 
 M2_PER_KM2 = 1.0e6

@@ -21,13 +21,12 @@ from dataclasses import dataclass
 from typing import overload
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 from scipy.special import ndtr, ndtri
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
-
-FloatArray = NDArray[np.float64]
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 
 
 @overload
@@ -45,7 +44,7 @@ def z_score(p: ArrayLike) -> float | FloatArray:
 
 def sensitivity(pd: float, pf: float) -> float:
     """The sensitivity ``m = z(P_d) − z(P_f)`` (3.9) in standard-deviation units."""
-    return z_score(_checks.probability("pd", pd)) - z_score(_checks.probability("pf", pf))
+    return z_score(checks.probability("pd", pd)) - z_score(checks.probability("pf", pf))
 
 
 def roc(sensitivity_m: float, criteria: ArrayLike) -> tuple[FloatArray, FloatArray]:
@@ -54,8 +53,8 @@ def roc(sensitivity_m: float, criteria: ArrayLike) -> tuple[FloatArray, FloatArr
     ``P_f = 1 − Φ(z_c)`` and ``P_d = 1 − Φ(z_c − m)``: the rates of ``ζ > z_c`` without and with
     a target.
     """
-    m = _checks.real("sensitivity_m", sensitivity_m)
-    zc = _checks.finite_array("criteria", np.atleast_1d(np.asarray(criteria, dtype=float)), (None,))
+    m = checks.real("sensitivity_m", sensitivity_m)
+    zc = checks.finite_array("criteria", np.atleast_1d(np.asarray(criteria, dtype=float)), (None,))
     return np.asarray(ndtr(-zc)), np.asarray(ndtr(m - zc))
 
 
@@ -94,21 +93,21 @@ class SensorModel:
     cell_radius_m: float = 20.0
 
     def __post_init__(self) -> None:
-        pd = _checks.probability("pd", self.pd)
-        pf = _checks.probability("pf", self.pf)
+        pd = checks.probability("pd", self.pd)
+        pf = checks.probability("pf", self.pf)
         if pd <= pf:
             raise InvalidInputError("pd", self.pd, f"must exceed pf={pf!r} (sensitivity > 0)")
         set_ = object.__setattr__
         set_(self, "pd", pd)
         set_(self, "pf", pf)
-        set_(self, "footprint_radius_m", _checks.positive("footprint_radius_m",
+        set_(self, "footprint_radius_m", checks.positive("footprint_radius_m",
                                                           self.footprint_radius_m))
-        set_(self, "position_noise_m", _checks.non_negative("position_noise_m",
+        set_(self, "position_noise_m", checks.non_negative("position_noise_m",
                                                             self.position_noise_m))
-        set_(self, "cell_radius_m", _checks.non_negative("cell_radius_m", self.cell_radius_m))
+        set_(self, "cell_radius_m", checks.non_negative("cell_radius_m", self.cell_radius_m))
         if self.false_alarms_per_scan is not None:
             set_(self, "false_alarms_per_scan",
-                 _checks.non_negative("false_alarms_per_scan", self.false_alarms_per_scan))
+                 checks.non_negative("false_alarms_per_scan", self.false_alarms_per_scan))
 
     @property
     def sensitivity(self) -> float:
@@ -177,13 +176,13 @@ class AltitudeModel:
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
-        set_(self, "pd_intercept", _checks.real("pd_intercept", self.pd_intercept,
+        set_(self, "pd_intercept", checks.real("pd_intercept", self.pd_intercept,
                                                 low=0.0, high=1.0, low_open=True))
         for name in ("reference_altitude_m", "pd_drop", "pf_rise", "focal_length_m",
                      "sensor_radius_m"):
-            set_(self, name, _checks.positive(name, getattr(self, name)))
+            set_(self, name, checks.positive(name, getattr(self, name)))
         set_(self, "noise_at_reference_m",
-             _checks.non_negative("noise_at_reference_m", self.noise_at_reference_m))
+             checks.non_negative("noise_at_reference_m", self.noise_at_reference_m))
 
     @property
     def max_altitude_m(self) -> float:
@@ -221,7 +220,7 @@ class AltitudeModel:
 
     def sensor(self, altitude_m: float, false_alarms_per_scan: float | None = None) -> SensorModel:
         """The :class:`SensorModel` at one altitude (m)."""
-        h = _checks.positive("altitude_m", altitude_m)
+        h = checks.positive("altitude_m", altitude_m)
         return SensorModel(
             pd=float(self.pd(h)),
             pf=float(self.pf(h)),

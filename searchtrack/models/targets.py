@@ -27,15 +27,14 @@ from functools import cached_property
 import numpy as np
 from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.models.dubins import MPS_PER_MPH
 from searchtrack.models.roads import RoadNetwork
 
 log = logging.getLogger("searchtrack.models.targets")
 
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 
 
 @dataclass(frozen=True)
@@ -62,12 +61,12 @@ class CourierModel:
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
-        set_(self, "max_speed_mps", _checks.positive("max_speed_mps", self.max_speed_mps))
+        set_(self, "max_speed_mps", checks.positive("max_speed_mps", self.max_speed_mps))
         set_(self, "min_speed_fraction",
-             _checks.real("min_speed_fraction", self.min_speed_fraction, low=0.0, high=1.0))
-        set_(self, "mean_drive_s", _checks.positive("mean_drive_s", self.mean_drive_s))
-        lo = _checks.non_negative("dwell_min_s", self.dwell_min_s)
-        hi = _checks.non_negative("dwell_max_s", self.dwell_max_s)
+             checks.real("min_speed_fraction", self.min_speed_fraction, low=0.0, high=1.0))
+        set_(self, "mean_drive_s", checks.positive("mean_drive_s", self.mean_drive_s))
+        lo = checks.non_negative("dwell_min_s", self.dwell_min_s)
+        hi = checks.non_negative("dwell_max_s", self.dwell_max_s)
         if lo > hi:
             raise InvalidInputError("dwell_max_s", self.dwell_max_s,
                                     f"must be ≥ dwell_min_s={lo!r}")
@@ -132,7 +131,7 @@ class TargetState:
         forward.setflags(write=False)
         set_(self, "forward", forward)
         for name in ("offset_m", "speed_mps", "drive_left_s", "dwell_left_s", "odometer_m"):
-            value = _checks.finite_array(name, np.atleast_1d(np.asarray(getattr(self, name),
+            value = checks.finite_array(name, np.atleast_1d(np.asarray(getattr(self, name),
                                                                         dtype=float)), shape)
             if np.any(value < 0):
                 raise InvalidInputError(name, getattr(self, name), "must be ≥ 0")
@@ -195,8 +194,8 @@ class CourierMotion:
 
     def spawn(self, count: int, rng: np.random.Generator) -> TargetState:
         """``count`` targets uniform over the road length, random directions, starting drives."""
-        k = _checks.count("count", count)
-        rng = _checks.generator("rng", rng)
+        k = checks.count("count", count)
+        rng = checks.generator("rng", rng)
         lengths = self.network.lengths_m
         edge = rng.choice(lengths.size, size=k, p=lengths / lengths.sum())
         return TargetState(
@@ -211,8 +210,8 @@ class CourierMotion:
 
     def step(self, state: TargetState, dt_s: float, rng: np.random.Generator) -> TargetState:
         """The targets ``dt_s`` seconds later (drives, stops and turns drawn from ``rng``)."""
-        dt = _checks.positive("dt_s", dt_s)
-        rng = _checks.generator("rng", rng)
+        dt = checks.positive("dt_s", dt_s)
+        rng = checks.generator("rng", rng)
         state.check_on(self.network)
         speed, drive, dwell, dist = self._phases(state, dt, rng)
         edge, offset, forward = self._walk(state, dist, rng)

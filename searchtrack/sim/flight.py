@@ -15,10 +15,11 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.models.vehicles import VehicleModel
 from searchtrack.plan.trajectory import (
     ControlPlan,
@@ -32,7 +33,6 @@ from searchtrack.plan.trajectory import (
 
 log = logging.getLogger("searchtrack.sim.flight")
 
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -78,12 +78,12 @@ class FlightConfig:
     nmpc_options: NmpcOptions | None = None
 
     def __post_init__(self) -> None:
-        _checks.positive("dt_s", self.dt_s)
-        _checks.count("horizon", self.horizon, least=1)
-        _checks.positive("time_limit_s", self.time_limit_s)
+        checks.positive("dt_s", self.dt_s)
+        checks.count("horizon", self.horizon, least=1)
+        checks.positive("time_limit_s", self.time_limit_s)
         if self.duration_s is not None:
-            _checks.positive("duration_s", self.duration_s)
-        _checks.non_negative("safety_margin_m", self.safety_margin_m)
+            checks.positive("duration_s", self.duration_s)
+        checks.non_negative("safety_margin_m", self.safety_margin_m)
 
 
 @dataclass(frozen=True)
@@ -170,7 +170,7 @@ def fly(
         A start outside the state box or inside an obstacle, bad wind or noise sizes.
     """
     cfg = FlightConfig() if config is None else config
-    gen = _checks.generator("rng", rng)
+    gen = checks.generator("rng", rng)
     obs = Obstacles() if obstacles is None else obstacles
     wind = _vector("wind_mps", cfg.wind_mps, model.n_wind)
     noise = _vector("process_noise", cfg.process_noise, model.nx)
@@ -237,7 +237,7 @@ def _stale(plan: ControlPlan | None, age: int) -> ControlPlan | None:
 def _vector(name: str, value: tuple[float, ...] | None, size: int) -> FloatArray:
     if value is None:
         return np.zeros(size)
-    arr = _checks.finite_array(name, value, (size,))
+    arr = checks.finite_array(name, value, (size,))
     if name == "process_noise" and np.any(arr < 0):
         raise InvalidInputError(name, value, "standard deviations must be ≥ 0")
     return np.asarray(arr, dtype=np.float64)

@@ -23,10 +23,11 @@ import logging
 import math
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.models.dubins import DubinsLimits
 from searchtrack.models.range_sensor import RangeBearingElevationSensor
 from searchtrack.models.roads import RoadNetwork
@@ -39,7 +40,6 @@ from searchtrack.sim.flight import FlightConfig, FlightLog, fly
 
 log = logging.getLogger("searchtrack.sim.flight_routes")
 
-FloatArray = NDArray[np.float64]
 
 
 # ----- road map: OPTW and potential-field routes ------------------------------------------------
@@ -81,8 +81,8 @@ def path_waypoints(xy_m: ArrayLike, *, min_spacing_m: float = 5.0) -> FloatArray
     (the last point always kept); :class:`InvalidInputError` unless a finite ``(n ≥ 2, 2)``
     array that moves.
     """
-    pts = _checks.finite_array("xy_m", xy_m, (None, 2))
-    spacing = _checks.positive("min_spacing_m", min_spacing_m)
+    pts = checks.finite_array("xy_m", xy_m, (None, 2))
+    spacing = checks.positive("min_spacing_m", min_spacing_m)
     if pts.shape[0] < 2:
         raise InvalidInputError("xy_m", xy_m, "needs at least 2 points")
     keep = [0]
@@ -109,7 +109,7 @@ def fly_dubins(waypoints_m: ArrayLike, *, limits: DubinsLimits | None = None,
     starting on the first waypoint heading along the first leg, until the reference ends
     (unless ``config.duration_s`` says otherwise)."""
     lim = DubinsLimits() if limits is None else limits
-    pts = _checks.finite_array("waypoints_m", waypoints_m, (None, 2))
+    pts = checks.finite_array("waypoints_m", waypoints_m, (None, 2))
     reference = waypoint_path(pts, lim.speed_max_mps)
     if reference.positions_m.shape[0] < 2:
         raise InvalidInputError("waypoints_m", waypoints_m, "needs two distinct waypoints")
@@ -153,7 +153,7 @@ def plan_optw_route(network: RoadNetwork, scores: ArrayLike, start_node: int, *,
                     ) -> tuple[int, ...]:
     """An OPTW route over the best-scored nodes, as thesis 001 §5.5 builds it for reacquisition
     (:func:`reacquisition_instance`): node ids, ``start_node`` first."""
-    n = _checks.count("start_node", start_node)
+    n = checks.count("start_node", start_node)
     if n >= network.n_nodes:
         raise InvalidInputError("start_node", start_node, f"must be < {network.n_nodes}")
     instance, ids = reacquisition_instance(network, scores, network.coords[n], speed_mps,
@@ -175,16 +175,16 @@ def road_obstacles(network: RoadNetwork, count: int, *, radius_m: float, clearan
     InvalidInputError
         Bad sizes, or fewer than ``count`` places found within ``max_tries`` draws.
     """
-    k = _checks.count("count", count)
-    radius = _checks.positive("radius_m", radius_m)
-    clear = _checks.non_negative("clearance_m", clearance_m)
-    gen = _checks.generator("rng", rng)
-    keep = np.zeros((0, 2)) if keep_clear_xy_m is None else _checks.finite_array(
+    k = checks.count("count", count)
+    radius = checks.positive("radius_m", radius_m)
+    clear = checks.non_negative("clearance_m", clearance_m)
+    gen = checks.generator("rng", rng)
+    keep = np.zeros((0, 2)) if keep_clear_xy_m is None else checks.finite_array(
         "keep_clear_xy_m", np.reshape(keep_clear_xy_m, (-1, 2)), (None, 2))
-    far = _checks.non_negative("keep_clear_m", keep_clear_m)
+    far = checks.non_negative("keep_clear_m", keep_clear_m)
     lo, hi = network.coords.min(axis=0), network.coords.max(axis=0)
     centres: list[FloatArray] = []
-    for _ in range(_checks.count("max_tries", max_tries, least=1)):
+    for _ in range(checks.count("max_tries", max_tries, least=1)):
         if len(centres) == k:
             break
         c = gen.uniform(lo, hi)
@@ -236,15 +236,15 @@ class E7Setup:
     resolution_m: float = 10.0
 
     def __post_init__(self) -> None:
-        _checks.count("steps", self.steps, least=1)
-        _checks.count("targets", self.targets, least=1)
-        lo, hi = (_checks.real("box_m", v) for v in self.box_m)
+        checks.count("steps", self.steps, least=1)
+        checks.count("targets", self.targets, least=1)
+        lo, hi = (checks.real("box_m", v) for v in self.box_m)
         if not lo < 0.0 < hi:
             raise InvalidInputError("box_m", self.box_m, "must contain the start 0 (lo < 0 < hi)")
         for name in ("speed_mps", "max_slope", "obstacle_radius_m", "resolution_m"):
-            _checks.positive(name, getattr(self, name))
-        _checks.non_negative("obstacle_standoff_m", self.obstacle_standoff_m)
-        _checks.finite_array("wind_mps", self.wind_mps, (3,))
+            checks.positive(name, getattr(self, name))
+        checks.non_negative("obstacle_standoff_m", self.obstacle_standoff_m)
+        checks.finite_array("wind_mps", self.wind_mps, (3,))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -267,7 +267,7 @@ def e7_waypoints(setup: E7Setup, rng: np.random.Generator) -> tuple[FloatArray, 
     """Run the exploration planner for ``setup.steps`` steps (filter-free, targets found at
     first detection); the ``(steps + 1, 3)`` planner-frame waypoints from the origin, the
     number of targets found and the step all were found (``None`` if not)."""
-    gen = _checks.generator("rng", rng)
+    gen = checks.generator("rng", rng)
     box = np.array([setup.box_m] * 3, dtype=np.float64)
     targets = gen.uniform(box[:, 0], box[:, 1], size=(setup.targets, 3))
     found = np.zeros(setup.targets, dtype=bool)
@@ -296,10 +296,10 @@ def fixed_wing_path(waypoints_m: ArrayLike, speed_mps: float, max_slope: float,
     (a trailing vertical move is not reached). :class:`InvalidInputError` for bad sizes or
     waypoints that never move horizontally.
     """
-    pts = _checks.finite_array("waypoints_m", waypoints_m, (None, 3))
-    speed = _checks.positive("speed_mps", speed_mps)
-    slope = _checks.positive("max_slope", max_slope)
-    step = _checks.positive("sample_m", sample_m)
+    pts = checks.finite_array("waypoints_m", waypoints_m, (None, 3))
+    speed = checks.positive("speed_mps", speed_mps)
+    slope = checks.positive("max_slope", max_slope)
+    step = checks.positive("sample_m", sample_m)
     xy, z = pts[:, :2], pts[:, 2]
     arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
     moves = np.flatnonzero(np.diff(arc) > 1e-9)
@@ -337,7 +337,7 @@ def route_deviation_m(flight: FlightLog, waypoints_m: ArrayLike) -> FloatArray:
     """``(T + 1,)`` distance from each flown position to the polyline ``waypoints_m`` (the
     cross-track error, blind to lagging behind the timed reference)."""
     pos = flight.states[:, list(flight.model.position_indices)]
-    path = _checks.finite_array("waypoints_m", waypoints_m, (None, pos.shape[1]))
+    path = checks.finite_array("waypoints_m", waypoints_m, (None, pos.shape[1]))
     return _segment_distance(pos, path)
 
 
@@ -346,7 +346,7 @@ def e7_obstacles(waypoints_m: FloatArray, setup: E7Setup, count: int = 3) -> Obs
     sideways (horizontally, across the local leg) so that its surface is
     ``obstacle_standoff_m`` from the nearest leg; :class:`InvalidInputError` if there is no room.
     """
-    path = _checks.finite_array("waypoints_m", waypoints_m, (None, 3))
+    path = checks.finite_array("waypoints_m", waypoints_m, (None, 3))
     r, gap = setup.obstacle_radius_m, setup.obstacle_standoff_m
     n = path.shape[0]
     centres: list[FloatArray] = []
@@ -378,7 +378,7 @@ def fly_e7(seed: int, *, setup: E7Setup | None = None, config: FlightConfig | No
     (digest §3.1).
     """
     s = E7Setup() if setup is None else setup
-    gen = np.random.default_rng(_checks.count("seed", seed))
+    gen = np.random.default_rng(checks.count("seed", seed))
     planned, found, all_found = e7_waypoints(s, gen)
     ned = planned * np.array([1.0, 1.0, -1.0])
     reference = fixed_wing_path(ned, s.speed_mps, s.max_slope)

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from searchtrack.core.types import FloatArray
 from searchtrack.estimate import (
     Association,
     Associator,
@@ -35,6 +36,7 @@ from searchtrack.estimate import (
     TrackerDeleter,
     TrackerPredictor,
 )
+from searchtrack.estimate.emd_association import GreedyEMDAssociator, OptimalEMDAssociator
 from searchtrack.models import (
     CourierMotion,
     RoadNetwork,
@@ -44,14 +46,12 @@ from searchtrack.models import (
     step_force,
 )
 from searchtrack.models.measurements import FALSE_ALARM
-from searchtrack.plan.association import GreedyEMDAssociator, OptimalEMDAssociator
 from searchtrack.sim.guidance_setup import make_strategy, view
 from searchtrack.sim.metrics import StepScore, match_trackers
 from searchtrack.sim.record import MissionLog, PairRecord, Recorder, StepTimes
 from searchtrack.sim.scenario import Scenario
 
 log = logging.getLogger("searchtrack.sim.mission")
-FloatArray = NDArray[np.float64]
 Progress = Callable[[int, int], None]
 
 

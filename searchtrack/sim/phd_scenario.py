@@ -13,13 +13,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.types import FloatArray
 from searchtrack.models.motion import ConstantVelocity
 from searchtrack.models.position_sensor import PositionSensor, area_array
 
-FloatArray = NDArray[np.float64]
 STANDARD_AREA = ((0.0, 1000.0), (0.0, 1000.0))
 
 
@@ -72,10 +72,10 @@ def standard_scenario(seed: int, *, n_targets: int = 10, n_scans: int = 100, dt_
                       speed_sigma_mps: float = 3.0) -> PHDScenario:
     """Simulate the standard scenario (defaults) from ``numpy.random.default_rng(seed)``."""
     box = area_array("area", area)
-    n = _checks.count("n_targets", n_targets, 0)
-    t = _checks.count("n_scans", n_scans, 1)
-    dt = _checks.positive("dt_s", dt_s)
-    speed = _checks.non_negative("speed_sigma_mps", speed_sigma_mps)
+    n = checks.count("n_targets", n_targets, 0)
+    t = checks.count("n_scans", n_scans, 1)
+    dt = checks.positive("dt_s", dt_s)
+    speed = checks.non_negative("speed_sigma_mps", speed_sigma_mps)
     rng = np.random.default_rng(seed)
     motion = ConstantVelocity(q)
     sensor = PositionSensor(pd, sigma_m, clutter_rate, box)

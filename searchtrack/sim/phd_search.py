@@ -28,9 +28,10 @@ from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.estimate.metrics import ospa
 from searchtrack.estimate.phd import (
     BirthGrid,
@@ -44,7 +45,6 @@ from searchtrack.estimate.phd import (
     systematic_indices,
     update,
 )
-from searchtrack.models import _checks
 from searchtrack.models.camera import DownwardCamera
 from searchtrack.models.gp_motion import GPMotion, GPVelocityField
 from searchtrack.models.motion import RandomWalk
@@ -62,7 +62,6 @@ __all__ = ["SearchConfig", "SearchEpisode", "TaxiWorld", "TrackConfig", "TrackEp
 
 log = logging.getLogger("searchtrack.sim.phd_search")
 
-FloatArray = NDArray[np.float64]
 TrackPlanner = Literal["end", "mi", "lawnmower"]
 TRACK_PLANNERS = ("end", "mi", "lawnmower")
 
@@ -142,13 +141,13 @@ class TrackConfig:
         for name, least in (("robots", 1), ("horizon", 1), ("steps", 1), ("n_targets", 1),
                             ("n_training", 1), ("blocks", 2), ("particles", 1),
                             ("max_particles", 1), ("plan_particles", 1)):
-            set_(self, name, _checks.count(name, getattr(self, name), least))
+            set_(self, name, checks.count(name, getattr(self, name), least))
         for name in ("dt_s", "block_m", "walk_sigma_mps", "lawnmower_altitude_m",
                      "lawnmower_spacing_m"):
-            set_(self, name, _checks.positive(name, getattr(self, name)))
+            set_(self, name, checks.positive(name, getattr(self, name)))
         set_(self, "one_way_fraction",
-             _checks.real("one_way_fraction", self.one_way_fraction, low=0.0, high=1.0))
-        set_(self, "min_separation_m", _checks.non_negative("min_separation_m",
+             checks.real("one_way_fraction", self.one_way_fraction, low=0.0, high=1.0))
+        set_(self, "min_separation_m", checks.non_negative("min_separation_m",
                                                              self.min_separation_m))
         if not isinstance(self.camera, DownwardCamera):
             raise InvalidInputError("camera", self.camera, "must be a DownwardCamera")
@@ -183,7 +182,7 @@ def taxi_world(config: TrackConfig, seed: int) -> TaxiWorld:
     """Taxi traces on the road grid (training and truth vehicles share the one-way streets) and,
     for ``motion="gp"``, the GP velocity field fitted on the training vehicles; deterministic for
     a seed."""
-    seed = _checks.count("seed", seed, 0)
+    seed = checks.count("seed", seed, 0)
     rng = np.random.default_rng([seed, 2])
     net = grid_network(config.blocks, config.blocks, block_m=config.block_m,
                        spacing_m=config.block_m / 10.0)
@@ -291,7 +290,7 @@ def _start(config: TrackConfig) -> FloatArray:
 def run_track_episode(config: TrackConfig, world: TaxiWorld, seed: int) -> TrackEpisode:
     """Run one closed-loop 003 episode on ``world`` (from :func:`taxi_world`); deterministic
     for a seed."""
-    seed = _checks.count("seed", seed, 0)
+    seed = checks.count("seed", seed, 0)
     if world.truth.shape[0] < config.steps + 1 or world.truth.shape[1] != config.n_targets:
         raise InvalidInputError("world", world.truth.shape,
                                 f"must hold ({config.steps + 1}, {config.n_targets}, 2) truth")

@@ -38,7 +38,9 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.estimate.phd import (
     FoundConfig,
     PHDConfig,
@@ -51,7 +53,6 @@ from searchtrack.estimate.phd import (
     resample,
     update,
 )
-from searchtrack.models import _checks
 from searchtrack.models.motion import Static
 from searchtrack.models.range_sensor import RangeBearingElevationSensor
 from searchtrack.plan.assign.exploration import ExplorationBonus
@@ -60,7 +61,6 @@ from searchtrack.plan.search.receding import RecedingConfig, plan_search_step
 
 log = logging.getLogger("searchtrack.sim.phd_search_004")
 
-FloatArray = NDArray[np.float64]
 SearchPlanner = Literal["proposed", "refinement", "lawnmower"]
 PLANNERS = ("proposed", "refinement", "lawnmower")
 
@@ -150,16 +150,16 @@ class SearchConfig:
             raise InvalidInputError("bounds", self.bounds, "must be (3, 2) with low < high")
         b.setflags(write=False)
         set_(self, "bounds", b)
-        set_(self, "n_targets", _checks.count("n_targets", self.n_targets, 1))
-        set_(self, "max_steps", _checks.count("max_steps", self.max_steps, 1))
+        set_(self, "n_targets", checks.count("n_targets", self.n_targets, 1))
+        set_(self, "max_steps", checks.count("max_steps", self.max_steps, 1))
         if not isinstance(self.horizon, int) or not 1 <= self.horizon <= 5:
             raise InvalidInputError("horizon", self.horizon, "must be an integer in [1, 5]")
-        set_(self, "alpha", _checks.non_negative("alpha", self.alpha))
+        set_(self, "alpha", checks.non_negative("alpha", self.alpha))
         if self.refinement not in ("centre", "mi"):
             raise InvalidInputError("refinement", self.refinement, "must be 'centre' or 'mi'")
-        set_(self, "min_distinct", _checks.count("min_distinct", self.min_distinct, 1))
+        set_(self, "min_distinct", checks.count("min_distinct", self.min_distinct, 1))
         for name in ("step_m", "bonus_resolution_m", "lawnmower_spacing_m", "match_m"):
-            set_(self, name, _checks.positive(name, getattr(self, name)))
+            set_(self, name, checks.positive(name, getattr(self, name)))
         s = np.array(self.start, dtype=np.float64).reshape(-1)
         if s.shape != (3,) or not np.all((s >= b[:, 0]) & (s <= b[:, 1])):
             raise InvalidInputError("start", self.start, "must be a point [x, y, z] in bounds")
@@ -260,7 +260,7 @@ def _filter_step(state: PHDState, found: FloatArray, z: FloatArray, position: Fl
 def run_search_episode(config: SearchConfig, seed: int) -> SearchEpisode:
     """Run Algorithm 1 of paper 004 in closed loop with the SMC-PHD filter; deterministic for a
     seed (the target map depends on the seed only, so planners compare on the same maps)."""
-    seed = _checks.count("seed", seed, 0)
+    seed = checks.count("seed", seed, 0)
     targets = np.random.default_rng([seed, 0]).uniform(
         config.bounds[:, 0], config.bounds[:, 1], size=(config.n_targets, 3))
     rng = np.random.default_rng([seed, 1])

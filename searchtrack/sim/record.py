@@ -7,14 +7,13 @@ from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import numpy as np
-from numpy.typing import NDArray
 
+from searchtrack.core.types import FloatArray
 from searchtrack.estimate import LikelihoodField, TrackerBank
 from searchtrack.models import RoadNetwork
 from searchtrack.sim.metrics import MissionScore, StepScore, score
 from searchtrack.sim.scenario import Scenario
 
-FloatArray = NDArray[np.float64]
 PHASES = ("truth", "sense", "associate", "update", "initiate", "guide", "predict")
 """Timed phases of a step; the filter-and-plan step is every phase but ``truth`` and
 ``sense`` (the simulated world)."""

@@ -13,7 +13,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Literal
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models import (
     CourierModel,
     DubinsLimits,

@@ -7,7 +7,7 @@ import math
 import tomllib
 from pathlib import Path
 
-from searchtrack.errors import InvalidInputError, ParseError
+from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.models import CourierModel, DubinsLimits, SensorModel
 from searchtrack.models.sensors import AltitudeModel
 from searchtrack.plan.guidance import STRATEGIES

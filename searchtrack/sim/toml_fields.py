@@ -7,7 +7,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
-from searchtrack.errors import ParseError
+from searchtrack.core.errors import ParseError
 
 
 class Table:

@@ -29,17 +29,16 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 from rich.console import Console
 from threadpoolctl import threadpool_limits
 
-from searchtrack.errors import ParseError
+from searchtrack.core.errors import ParseError
+from searchtrack.core.types import FloatArray
 from searchtrack.estimate.phd import PHDConfig, PHDState, SensorScan, step
 from searchtrack.models.motion import ConstantVelocity, RandomWalk, Static
 from searchtrack.models.particle_models import MotionModel
 from searchtrack.models.position_sensor import PositionSensor
 
-FloatArray = NDArray[np.float64]
 MOTION_MODELS = ("cv", "rw", "static")
 
 

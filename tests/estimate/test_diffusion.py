@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate import GraphDiffusion
 from searchtrack.estimate.diffusion import Method, Weighting
 from searchtrack.models import grid_network, random_network

@@ -1,4 +1,4 @@
-"""searchtrack.estimate imports only searchtrack.models and searchtrack.errors from the package."""
+"""searchtrack.estimate imports only searchtrack.models and searchtrack.core.errors from the package."""
 
 from __future__ import annotations
 

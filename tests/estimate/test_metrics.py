@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.metrics import gospa, ospa, ospa2, track_distance
 
 NAN = math.nan

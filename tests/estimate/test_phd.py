@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.metrics import ospa
 from searchtrack.estimate.particle_belief import ParticleBelief
 from searchtrack.estimate.phd import (

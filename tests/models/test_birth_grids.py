@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models import random_network
 from searchtrack.models.birth_grids import BirthSurvivalGrid
 from searchtrack.models.road_traces import taxi_traces

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.camera import DownwardCamera
 from searchtrack.models.particle_models import DetectionSensor
 

@@ -8,7 +8,7 @@ from typing import get_args
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.dubins import (
     MPS_PER_MPH,
     DubinsLimits,

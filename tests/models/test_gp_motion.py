@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import approx_fprime
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.gp_motion import GPMotion, GPVelocityField
 from searchtrack.models.gp_regression import GPHyper, local_predict, matern32, negative_log_marginal
 from searchtrack.models.particle_models import MotionModel

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.motion import ConstantVelocity, RandomWalk, Static
 from searchtrack.models.particle_models import MotionModel
 

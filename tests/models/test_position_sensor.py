@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.particle_models import DetectionSensor
 from searchtrack.models.position_sensor import PositionSensor
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models import RoadNetwork, random_network
 from searchtrack.models.road_traces import TaxiModel, Traces, taxi_traces
 

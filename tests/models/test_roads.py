@@ -11,7 +11,7 @@ import networkx as nx
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError, ParseError
+from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.models import (
     CAR_HIGHWAYS,
     LocalProjection,

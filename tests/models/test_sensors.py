@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models import RoadNetwork, grid_network
 from searchtrack.models.measurements import (
     FALSE_ALARM,

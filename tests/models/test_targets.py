@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models import RoadNetwork, grid_network, random_network
 from searchtrack.models.dubins import MPS_PER_MPH
 from searchtrack.models.targets import CourierModel, CourierMotion, TargetState

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.linalg import expm
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.diffusion import GraphDiffusion
 from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
 from searchtrack.models.dubins import DubinsLimits, UavState, step_force

@@ -7,7 +7,7 @@ import itertools
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.guidance import (

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.vehicles import VehicleModel, uav7, unicycle
 from searchtrack.plan.trajectory import Obstacles, waypoint_path
 from searchtrack.sim.flight import FlightConfig, FlightLog, fly, plot_flight

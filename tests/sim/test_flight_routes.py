@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models import SensorModel
 from searchtrack.models.dubins import DubinsLimits
 from searchtrack.models.road_synthetic import grid_network

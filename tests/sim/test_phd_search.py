@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.plan.search.lawnmower import lawnmower_3d
 from searchtrack.sim.phd_search import (
     SearchConfig,

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from searchtrack.errors import InvalidInputError, ParseError
+from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.sim.scenario import FilterSpec, GuidanceSpec, MapSpec, Scenario, bundled_map
 from searchtrack.sim.scenario_file import load_scenario
 

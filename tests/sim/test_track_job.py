@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from searchtrack.cli import main
-from searchtrack.errors import ParseError
+from searchtrack.core.errors import ParseError
 from searchtrack.estimate.metrics import ospa
 from searchtrack.models.motion import ConstantVelocity, Static
 from searchtrack.sim.phd_scenario import standard_scenario

@@ -6,13 +6,13 @@ from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.models.birth_grids import BirthSurvivalGrid
 
-FloatArray = NDArray[np.float64]
 EXTRACTIONS = ("attribution", "kmeans")
 
 
@@ -60,8 +60,8 @@ class BirthGrid:
         w.setflags(write=False)
         object.__setattr__(self, "bounds", b)
         object.__setattr__(self, "cell_weights", w)
-        object.__setattr__(self, "mass", _checks.non_negative("mass", self.mass))
-        object.__setattr__(self, "particles", _checks.count("particles", self.particles, 1))
+        object.__setattr__(self, "mass", checks.non_negative("mass", self.mass))
+        object.__setattr__(self, "particles", checks.count("particles", self.particles, 1))
 
     @classmethod
     def from_counts(cls, grid: BirthSurvivalGrid, dt_s: float, particles: int) -> BirthGrid:
@@ -158,7 +158,7 @@ class PHDConfig:
     region: FloatArray | None = None
 
     def __post_init__(self) -> None:
-        c = _checks
+        c = checks
         object.__setattr__(self, "survival_probability", c.real(
             "survival_probability", self.survival_probability, low=0.0, high=1.0, low_open=True))
         if self.survival_map is not None and not isinstance(self.survival_map, SurvivalMap):

@@ -15,9 +15,9 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.particle_belief import ParticleBelief
-from searchtrack.models import _checks
 
 
 def entropy_per_target(belief: ParticleBelief, bounds: ArrayLike, cell_m: float) -> float:
@@ -30,7 +30,7 @@ def entropy_per_target(belief: ParticleBelief, bounds: ArrayLike, cell_m: float)
     InvalidInputError
         If ``bounds`` does not match the particles' dimension or ``cell_m`` is not positive.
     """
-    cell = _checks.positive("cell_m", cell_m)
+    cell = checks.positive("cell_m", cell_m)
     pos, w = belief.positions, belief.weights
     b = np.asarray(bounds, dtype=np.float64)
     p = pos.shape[1]

@@ -20,13 +20,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
 
+from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.phd.config import PHDConfig
 from searchtrack.estimate.phd.state import PHDState
-
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 
 
 @dataclass(frozen=True)

@@ -15,12 +15,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.estimate.phd.extract import Clusters
 from searchtrack.estimate.phd.state import PHDState
-from searchtrack.models import _checks
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -33,7 +32,7 @@ class FoundConfig:
 
     def __post_init__(self) -> None:
         for name in ("radius_m", "mass", "gate_m"):
-            object.__setattr__(self, name, _checks.positive(name, getattr(self, name)))
+            object.__setattr__(self, name, checks.positive(name, getattr(self, name)))
 
 
 def mark_found(state: PHDState, clusters: Clusters, config: FoundConfig,

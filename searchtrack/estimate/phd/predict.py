@@ -18,14 +18,12 @@ surveillance region: targets that leave it are gone).
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.estimate.phd.config import PHDConfig
 from searchtrack.estimate.phd.state import NEWBORN, NO_TAG, PERSISTENT, PHDState, UpdateRecord
 from searchtrack.models.particle_models import MotionModel
-
-FloatArray = NDArray[np.float64]
 
 
 def _newborn_states(positions: FloatArray, state_dim: int, config: PHDConfig,

@@ -11,10 +11,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from searchtrack.core.types import IntArray
 from searchtrack.estimate.phd.config import PHDConfig
 from searchtrack.estimate.phd.state import PHDState
-
-IntArray = NDArray[np.int64]
 
 
 def systematic_indices(weights: NDArray[np.float64], n: int,

@@ -39,15 +39,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.phd.config import PHDConfig
 from searchtrack.estimate.phd.state import NO_TAG, PHDState, UpdateRecord
 from searchtrack.models.particle_models import DetectionSensor
-
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 
 
 @dataclass(frozen=True)

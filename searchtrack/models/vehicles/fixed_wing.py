@@ -11,8 +11,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.vehicles.model import VehicleModel
 from searchtrack.models.vehicles.namespace import ArrayNamespace
 
@@ -50,17 +50,17 @@ def fixed_wing(
     InvalidInputError
         Non-positive limits, inverted ranges or ``pitch_max_rad ≥ π/2``.
     """
-    lo = _checks.positive("speed_min_mps", speed_min_mps)
-    hi = _checks.positive("speed_max_mps", speed_max_mps)
+    lo = checks.positive("speed_min_mps", speed_min_mps)
+    hi = checks.positive("speed_max_mps", speed_max_mps)
     if lo > hi:
         raise InvalidInputError("speed_min_mps", speed_min_mps, f"must not exceed {hi!r}")
-    z_lo = _checks.real("altitude_min_m", altitude_min_m)
-    z_hi = _checks.real("altitude_max_m", altitude_max_m, low=z_lo, low_open=True)
-    pitch = _checks.real("pitch_max_rad", pitch_max_rad, low=0.0, high=0.5 * math.pi,
+    z_lo = checks.real("altitude_min_m", altitude_min_m)
+    z_hi = checks.real("altitude_max_m", altitude_max_m, low=z_lo, low_open=True)
+    pitch = checks.real("pitch_max_rad", pitch_max_rad, low=0.0, high=0.5 * math.pi,
                          low_open=True, high_open=True)
-    r_yaw = _checks.positive("yaw_rate_max_rps", yaw_rate_max_rps)
-    r_pitch = _checks.positive("pitch_rate_max_rps", pitch_rate_max_rps)
-    ang = _checks.positive("angular_accel_max_rps2", angular_accel_max_rps2)
+    r_yaw = checks.positive("yaw_rate_max_rps", yaw_rate_max_rps)
+    r_pitch = checks.positive("pitch_rate_max_rps", pitch_rate_max_rps)
+    ang = checks.positive("angular_accel_max_rps2", angular_accel_max_rps2)
     return VehicleModel(
         name="fixed_wing",
         state_names=("x_m", "y_m", "z_m", "yaw_rad", "pitch_rad"),
@@ -70,7 +70,7 @@ def fixed_wing(
         state_upper=(INF, INF, z_hi, INF, pitch),
         input_lower=(lo, -r_yaw, -r_pitch),
         input_upper=(hi, r_yaw, r_pitch),
-        input_rate_max=(_checks.positive("accel_max_mps2", accel_max_mps2), ang, ang),
+        input_rate_max=(checks.positive("accel_max_mps2", accel_max_mps2), ang, ang),
         nominal_input=(0.5 * (lo + hi), 0.0, 0.0),
         position_indices=(0, 1, 2),
         angle_indices=(3,),

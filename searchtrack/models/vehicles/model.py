@@ -12,13 +12,12 @@ from dataclasses import dataclass
 from typing import Any, Protocol
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.models.vehicles.namespace import NUMPY, ArrayNamespace
-
-FloatArray = NDArray[np.float64]
 
 
 class Dynamics(Protocol):
@@ -130,8 +129,8 @@ class VehicleModel:
     def step(self, x: ArrayLike, u: ArrayLike, dt_s: float, wind_mps: ArrayLike | None = None,
              *, substeps: int = 1) -> FloatArray:
         """``x`` advanced ``dt_s`` s by ``substeps`` RK4 steps with ``u`` held (not clipped)."""
-        n = _checks.count("substeps", substeps, least=1)
-        h = _checks.positive("dt_s", dt_s) / n
+        n = checks.count("substeps", substeps, least=1)
+        h = checks.positive("dt_s", dt_s) / n
         p = np.zeros(self.n_wind) if wind_mps is None else np.asarray(wind_mps, dtype=float)
         state, inp = np.asarray(x, dtype=float), np.asarray(u, dtype=float)
         for _ in range(n):
@@ -150,7 +149,7 @@ class VehicleModel:
     def check_state(self, field: str, x: ArrayLike) -> FloatArray:
         """``x`` as a read-only ``(nx,)`` array, or :class:`InvalidInputError` when it is not finite
         or lies outside the state box."""
-        arr = _checks.finite_array(field, x, (self.nx,))
+        arr = checks.finite_array(field, x, (self.nx,))
         bad = [self.state_names[i] for i in range(self.nx)
                if not self.state_lower[i] <= arr[i] <= self.state_upper[i]]
         if bad:
@@ -160,7 +159,7 @@ class VehicleModel:
     def check_input(self, field: str, u: ArrayLike) -> FloatArray:
         """``u`` as a read-only ``(nu,)`` array, or :class:`InvalidInputError` when not finite or
         outside the input box."""
-        arr = _checks.finite_array(field, u, (self.nu,))
+        arr = checks.finite_array(field, u, (self.nu,))
         if np.any(arr < np.asarray(self.input_lower) - 1e-9) or np.any(
                 arr > np.asarray(self.input_upper) + 1e-9):
             raise InvalidInputError(field, arr.tolist(), "outside the input bounds")

@@ -29,8 +29,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.vehicles.model import VehicleModel
 from searchtrack.models.vehicles.namespace import ArrayNamespace
 
@@ -96,18 +96,18 @@ def uav7(
     dyn = Uav7Dynamics() if dynamics is None else dynamics
     for name in ("mass_kg", "gravity_mps2", "lift_n"):
         if getattr(dyn, name) is not None:
-            _checks.positive(name, getattr(dyn, name))
-    _checks.non_negative("drag_n", dyn.drag_n)
-    va_lo = _checks.positive("airspeed_min_mps", airspeed_min_mps)
-    va_hi = _checks.real("airspeed_max_mps", airspeed_max_mps, low=va_lo)
-    gam = _checks.real("flight_path_max_rad", flight_path_max_rad, low=0.0, high=1.4,
+            checks.positive(name, getattr(dyn, name))
+    checks.non_negative("drag_n", dyn.drag_n)
+    va_lo = checks.positive("airspeed_min_mps", airspeed_min_mps)
+    va_hi = checks.real("airspeed_max_mps", airspeed_max_mps, low=va_lo)
+    gam = checks.real("flight_path_max_rad", flight_path_max_rad, low=0.0, high=1.4,
                        low_open=True)
-    roll = _checks.real("roll_max_rad", roll_max_rad, low=0.0, high=1.4, low_open=True)
-    t_lo = _checks.real("thrust_min_n", thrust_min_n)
-    t_hi = _checks.real("thrust_max_n", thrust_max_n, low=t_lo, low_open=True)
-    turn = _checks.positive("turn_input_max", turn_input_max)
-    load = _checks.positive("load_factor_max", load_factor_max)
-    rate = _checks.positive("roll_rate_max_rps", roll_rate_max_rps)
+    roll = checks.real("roll_max_rad", roll_max_rad, low=0.0, high=1.4, low_open=True)
+    t_lo = checks.real("thrust_min_n", thrust_min_n)
+    t_hi = checks.real("thrust_max_n", thrust_max_n, low=t_lo, low_open=True)
+    turn = checks.positive("turn_input_max", turn_input_max)
+    load = checks.positive("load_factor_max", load_factor_max)
+    rate = checks.positive("roll_rate_max_rps", roll_rate_max_rps)
     z_lo, z_hi = (float(v) for v in altitude_band_m)
     if not z_lo < z_hi:
         raise InvalidInputError("altitude_band_m", altitude_band_m,

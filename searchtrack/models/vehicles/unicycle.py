@@ -11,8 +11,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.dubins import DubinsLimits
 from searchtrack.models.vehicles.model import VehicleModel
 from searchtrack.models.vehicles.namespace import ArrayNamespace
@@ -46,12 +46,12 @@ def unicycle(
     InvalidInputError
         Non-positive limits, ``v_min > v_max`` or a cruise speed outside ``[v_min, v_max]``.
     """
-    lo = _checks.non_negative("speed_min_mps", speed_min_mps)
-    hi = _checks.positive("speed_max_mps", speed_max_mps)
+    lo = checks.non_negative("speed_min_mps", speed_min_mps)
+    hi = checks.positive("speed_max_mps", speed_max_mps)
     if lo > hi:
         raise InvalidInputError("speed_min_mps", speed_min_mps, f"must not exceed {hi!r}")
-    w = _checks.positive("turn_rate_max_rps", turn_rate_max_rps)
-    cruise = 0.5 * (lo + hi) if cruise_speed_mps is None else _checks.real(
+    w = checks.positive("turn_rate_max_rps", turn_rate_max_rps)
+    cruise = 0.5 * (lo + hi) if cruise_speed_mps is None else checks.real(
         "cruise_speed_mps", cruise_speed_mps, low=lo, high=hi)
     return VehicleModel(
         name="unicycle",
@@ -62,8 +62,8 @@ def unicycle(
         state_upper=(INF, INF, INF),
         input_lower=(lo, -w),
         input_upper=(hi, w),
-        input_rate_max=(_checks.positive("accel_max_mps2", accel_max_mps2),
-                        _checks.positive("turn_accel_max_rps2", turn_accel_max_rps2)),
+        input_rate_max=(checks.positive("accel_max_mps2", accel_max_mps2),
+                        checks.positive("turn_accel_max_rps2", turn_accel_max_rps2)),
         nominal_input=(cruise, 0.0),
         position_indices=(0, 1),
         angle_indices=(2,),

@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.plan.assign.problem import FloatArray
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 
 
 def _values(name: str, values: tuple[float, ...], positive: bool = False) -> None:

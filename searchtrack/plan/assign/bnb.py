@@ -14,18 +14,17 @@ import math
 
 import numpy as np
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.deadline import Deadline
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Status
+from searchtrack.core.types import BoolArray, FloatArray
 from searchtrack.plan.assign.exact import formulate
 from searchtrack.plan.assign.greedy import solve_lazy_greedy
 from searchtrack.plan.assign.objectives import ExpectedDetections
 from searchtrack.plan.assign.problem import (
     Assignment,
     AssignmentProblem,
-    BoolArray,
-    FloatArray,
 )
-from searchtrack.plan.result import Result, Status
-from searchtrack.plan.stop import Deadline
 
 _TOL = 1e-9
 

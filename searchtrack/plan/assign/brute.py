@@ -7,10 +7,10 @@ import math
 
 import numpy as np
 
+from searchtrack.core.deadline import Deadline
+from searchtrack.core.result import Result, Status
 from searchtrack.plan.assign.objectives import objective_for
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
-from searchtrack.plan.result import Result, Status
-from searchtrack.plan.stop import Deadline
 
 #: Largest number of joint actions ``Π_r |Q^r|`` brute force accepts.
 MAX_JOINT = 2_000_000

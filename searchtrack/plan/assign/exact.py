@@ -27,19 +27,17 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.deadline import Deadline
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Status
+from searchtrack.core.types import BoolArray, FloatArray, IntArray
 from searchtrack.plan.assign.objectives import ExpectedDetections
-from searchtrack.plan.assign.problem import Assignment, AssignmentProblem, FloatArray
-from searchtrack.plan.result import Result, Status
-from searchtrack.plan.stop import Deadline
+from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
 
 log = logging.getLogger("searchtrack.plan.assign")
 
 MipSolver = Literal["scip", "cpsat"]
-IntArray = NDArray[np.int64]
-BoolArray = NDArray[np.bool_]
 _REL_TOL = 1e-6
 
 

@@ -16,10 +16,11 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.models.particle_models import DetectionSensor
 from searchtrack.plan.assign.mutual_info import binary_mi
-from searchtrack.plan.assign.problem import FloatArray, detection_matrix
+from searchtrack.plan.assign.problem import detection_matrix
 
 
 @dataclass

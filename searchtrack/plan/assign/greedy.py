@@ -16,10 +16,10 @@ import logging
 
 import numpy as np
 
+from searchtrack.core.deadline import Deadline
+from searchtrack.core.result import Result, Status
 from searchtrack.plan.assign.objectives import Objective, Selection, objective_for
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
-from searchtrack.plan.result import Result, Status
-from searchtrack.plan.stop import Deadline
 
 log = logging.getLogger("searchtrack.plan.assign")
 

@@ -24,13 +24,11 @@ import math
 from typing import Literal
 
 import numpy as np
-from numpy.typing import NDArray
 from scipy import sparse
 from scipy.special import logsumexp
 
-from searchtrack.errors import InvalidInputError
-
-FloatArray = NDArray[np.float64]
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 
 _TAIL_TOL = 1e-9
 _MAX_TERMS = 2048

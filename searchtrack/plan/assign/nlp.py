@@ -21,12 +21,13 @@ from typing import Any
 
 import numpy as np
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.deadline import Deadline
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Status
+from searchtrack.core.types import FloatArray
 from searchtrack.plan.assign.greedy import solve_lazy_greedy
 from searchtrack.plan.assign.objectives import expected_detections_of_poses
-from searchtrack.plan.assign.problem import Assignment, AssignmentProblem, FloatArray
-from searchtrack.plan.result import Result, Status
-from searchtrack.plan.stop import Deadline
+from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
 
 _FEAS_TOL = 1e-6
 

@@ -11,8 +11,9 @@ from typing import Protocol
 
 import numpy as np
 
+from searchtrack.core.types import FloatArray
 from searchtrack.plan.assign.mutual_info import binary_mi, conditional_entropy
-from searchtrack.plan.assign.problem import AssignmentProblem, FloatArray, detection_matrix
+from searchtrack.plan.assign.problem import AssignmentProblem, detection_matrix
 
 Selection = Sequence[tuple[int, int]]
 

@@ -15,13 +15,12 @@ from functools import cached_property
 from typing import Literal, Protocol, runtime_checkable
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import BoolArray, FloatArray
 from searchtrack.models.particle_models import DetectionSensor
 
-FloatArray = NDArray[np.float64]
-BoolArray = NDArray[np.bool_]
 ObjectiveName = Literal["end", "mi"]
 
 #: ``p_d`` is capped at ``1 − PD_CAP_EPS`` where ``−log(1 − p_d)`` is needed.

@@ -5,16 +5,14 @@ joint action space is small enough."""
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 
+from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
+from searchtrack.core.result import Result
 from searchtrack.plan.assign.bnb import solve_bnb
 from searchtrack.plan.assign.brute import solve_brute_force, supports_brute_force
 from searchtrack.plan.assign.greedy import solve_greedy, solve_lazy_greedy
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
-from searchtrack.plan.registry import Backend, Registry
-from searchtrack.plan.result import Result, Status, merge_answers
-from searchtrack.plan.stop import Deadline
 
 log = logging.getLogger("searchtrack.plan.assign")
 
@@ -48,27 +46,17 @@ def _nlp_supports(problem: AssignmentProblem) -> str | None:
 
 
 def _auto(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Result[Assignment]:
-    deadline = Deadline(time_limit_s)
-    first = solve_lazy_greedy(problem, time_limit_s=time_limit_s, seed=seed)
     exact = (solve_bnb if problem.objective == "end"
              else solve_brute_force if supports_brute_force(problem) is None else None)
-    if first.status is Status.OPTIMAL or exact is None or deadline.remaining() < 1e-3:
-        return _relabel(first, deadline, f"auto: lazy_greedy answered ({first.message})")
-    second = exact(problem, time_limit_s=deadline.remaining(), seed=seed)
-    merged = merge_answers(first, second, deadline.elapsed(), 1e-6,
-                           {"greedy_objective": first.objective or 0.0,
-                            "greedy_s": first.runtime_s})
-    if merged is None:
-        return _relabel(second, deadline, f"auto: no plan ({second.message})")
-    note = (f"auto: lazy_greedy {first.objective}; {second.backend} {second.status.name} "
-            f"{second.objective}; {merged.backend} answered")
-    return dataclasses.replace(merged, message=note)
 
+    def prove(problem: AssignmentProblem, first: Result[Assignment], limit_s: float,
+              seed: int) -> Result[Assignment]:
+        assert exact is not None
+        return exact(problem, time_limit_s=limit_s, seed=seed)
 
-def _relabel(result: Result[Assignment], deadline: Deadline,
-             message: str) -> Result[Assignment]:
-    return Result(result.status, result.objective, result.bound, deadline.elapsed(),
-                  result.backend, result.plan, message=message, stats=result.stats)
+    return heuristic_then_exact(problem, solve_lazy_greedy, prove if exact else None,
+                                time_limit_s=time_limit_s, seed=seed,
+                                heuristic_limit_s=time_limit_s)
 
 
 BACKENDS: Registry[AssignmentProblem, Assignment] = Registry("assignment")

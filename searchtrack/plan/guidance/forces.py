@@ -18,13 +18,11 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.models.roads import RoadNetwork
-
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 
 #: Default cap on a single Pauli magnitude; (5.9) grows as r⁻¹³ and is infinite at r = 0.
 PAULI_CAP = 1.0e6

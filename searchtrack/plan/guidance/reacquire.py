@@ -16,13 +16,13 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.deadline import check_time_limit
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result
 from searchtrack.estimate.diffusion import GraphDiffusion
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.optw.instance import OPTWInstance
 from searchtrack.plan.optw.solve import solve
-from searchtrack.plan.result import Result
-from searchtrack.plan.stop import check_time_limit
 
 log = logging.getLogger("searchtrack.plan.guidance.reacquire")
 

@@ -28,7 +28,8 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.deadline import Deadline
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.diffusion import GraphDiffusion
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.guidance.forces import GradientField, pauli_force, spring_force
@@ -39,7 +40,6 @@ from searchtrack.plan.guidance.reacquire import (
     reacquisition_instance,
 )
 from searchtrack.plan.guidance.view import Guidance, GuidanceView, StrategyConfig
-from searchtrack.plan.stop import Deadline
 
 log = logging.getLogger("searchtrack.plan.guidance.strategies")
 

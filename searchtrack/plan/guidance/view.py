@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.node_tracker import TrackerBank
 from searchtrack.models.dubins import MPS_PER_MPH
 from searchtrack.models.roads import RoadNetwork

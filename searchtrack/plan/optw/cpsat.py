@@ -38,7 +38,9 @@ from dataclasses import dataclass
 import numpy as np
 from ortools.sat.python import cp_model
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.deadline import Deadline, check_time_limit
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw.arcs import ArcGraph, arc_graph
 from searchtrack.plan.optw.cpsat_model import (
     CpModel,
@@ -58,8 +60,6 @@ from searchtrack.plan.optw.plans import (
     routes_profit,
     schedule,
 )
-from searchtrack.plan.result import Result, Status
-from searchtrack.plan.stop import Deadline, check_time_limit
 
 __all__ = [
     "Formulation",

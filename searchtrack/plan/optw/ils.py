@@ -15,13 +15,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.deadline import Deadline, check_time_limit
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw import ils_kernels as K
 from searchtrack.plan.optw import ils_search as KS
 from searchtrack.plan.optw.instance import OPTWInstance, Routes
 from searchtrack.plan.optw.reach import Reach, reach
-from searchtrack.plan.result import Result, Status
-from searchtrack.plan.stop import Deadline, check_time_limit
 
 log = logging.getLogger("searchtrack.plan.optw.ils")
 

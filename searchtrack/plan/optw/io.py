@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from searchtrack.errors import InvalidInputError, ParseError
+from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.plan.optw.instance import OPTWInstance
 
 _FIELDS = ("i", "x", "y", "d", "S", "f", "a")

@@ -32,7 +32,9 @@ from dataclasses import dataclass
 import numpy as np
 from ortools.linear_solver import pywraplp
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.deadline import Deadline, check_time_limit
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw.arcs import ArcGraph, arc_graph
 from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes
 from searchtrack.plan.optw.plans import (
@@ -42,8 +44,6 @@ from searchtrack.plan.optw.plans import (
     routes_profit,
     schedule,
 )
-from searchtrack.plan.result import Result, Status
-from searchtrack.plan.stop import Deadline, check_time_limit
 
 __all__ = ["solve_mip"]
 

@@ -6,15 +6,13 @@ the result into ``ERROR`` (never a silent wrong answer).
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import time
 
+from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
+from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw.instance import OPTWInstance, Routes
 from searchtrack.plan.optw.validate import validate
-from searchtrack.plan.registry import Backend, Registry
-from searchtrack.plan.result import Result, Status, merge_answers
-from searchtrack.plan.stop import Deadline
 
 log = logging.getLogger("searchtrack.plan.optw")
 
@@ -56,39 +54,14 @@ def _auto(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Route
     from searchtrack.plan.optw.ils import solve_ils
     from searchtrack.plan.optw.labelling import solve_labelling
 
-    deadline = Deadline(time_limit_s)
-    first = solve_ils(inst, time_limit_s=heuristic_share(time_limit_s), seed=seed)
-    if first.status is Status.OPTIMAL or deadline.remaining() < 1e-3:
-        return _relabel(first, deadline, f"auto: ils answered ({first.message})")
     exact_solve = solve_labelling if inst.vehicles == 1 else solve_cpsat
-    second = exact_solve(
-        inst, time_limit_s=max(1e-3, deadline.remaining()), seed=seed, initial=first.plan
-    )
-    merged = merge_answers(first, second, deadline.elapsed(), _TOL,
-                           {"heuristic_objective": first.objective or 0.0,
-                            "heuristic_s": first.runtime_s})
-    if merged is None:
-        return _relabel(second, deadline, f"auto: no plan ({second.message})")
-    note = (
-        f"auto: ils {first.objective:g} in {first.runtime_s:.2f} s; "
-        f"{second.backend} {second.status.name}"
-        + (f" {second.objective:g}" if second.objective is not None else "")
-        + f"; {merged.backend} answered"
-    )
-    return dataclasses.replace(merged, message=note)
 
+    def exact(problem: OPTWInstance, first: Result[Routes], limit_s: float,
+              seed: int) -> Result[Routes]:
+        return exact_solve(problem, time_limit_s=limit_s, seed=seed, initial=first.plan)
 
-def _relabel(result: Result[Routes], deadline: Deadline, message: str) -> Result[Routes]:
-    return Result(
-        status=result.status,
-        objective=result.objective,
-        bound=result.bound,
-        runtime_s=deadline.elapsed(),
-        backend=result.backend,
-        plan=result.plan,
-        message=message,
-        stats=result.stats,
-    )
+    return heuristic_then_exact(inst, solve_ils, exact, time_limit_s=time_limit_s, seed=seed,
+                                heuristic_limit_s=heuristic_share(time_limit_s), tol=_TOL)
 
 
 _WARMED: set[str] = set()

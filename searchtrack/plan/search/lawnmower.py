@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.plan.assign.problem import FloatArray
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 
 
 def _positive(name: str, value: float) -> None:

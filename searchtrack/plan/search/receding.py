@@ -16,7 +16,8 @@ from typing import Literal
 
 import numpy as np
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.models.particle_models import DetectionSensor
 from searchtrack.plan.assign.actions import lattice_moves, lattice_sequences
 from searchtrack.plan.assign.exploration import (
@@ -24,7 +25,6 @@ from searchtrack.plan.assign.exploration import (
     centre_probability,
     empty_horizon_mi,
 )
-from searchtrack.plan.assign.problem import FloatArray
 
 Refinement = Literal["centre", "mi", "none"]
 

@@ -25,11 +25,12 @@ from typing import Literal
 
 import numpy as np
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Sense, Status
+from searchtrack.core.types import FloatArray
 from searchtrack.models.vehicles import Uav7Dynamics
-from searchtrack.plan.result import Result, Sense, Status
-from searchtrack.plan.trajectory.problem import ControlPlan, FloatArray, TrackingProblem
+from searchtrack.plan.trajectory.problem import ControlPlan, TrackingProblem
 
 MODELS = ("unicycle", "fixed_wing", "uav7")
 
@@ -60,12 +61,12 @@ class ClosedFormGains:
     def __post_init__(self) -> None:
         for name in ("lookahead_s", "heading_gain", "speed_gain", "pitch_gain", "roll_gain",
                      "avoid_distance_m", "repulsion_gain", "guard_time_s"):
-            _checks.positive(name, getattr(self, name))
-        _checks.non_negative("avoid_gain", self.avoid_gain)
+            checks.positive(name, getattr(self, name))
+        checks.non_negative("avoid_gain", self.avoid_gain)
         if len(self.backstepping) != 3:
             raise InvalidInputError("backstepping", self.backstepping, "needs K_g1, K_g2, K_g3")
         for k in self.backstepping:
-            _checks.positive("backstepping", k)
+            checks.positive("backstepping", k)
         if self.obstacle_turn not in ("bearing", "printed"):
             raise InvalidInputError("obstacle_turn", self.obstacle_turn,
                                     "must be 'bearing' or 'printed'")

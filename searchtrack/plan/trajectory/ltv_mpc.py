@@ -24,14 +24,13 @@ from typing import Any
 import numpy as np
 import osqp
 import scipy.sparse as sp
-from numpy.typing import NDArray
 
+from searchtrack.core.deadline import Deadline, check_time_limit
+from searchtrack.core.result import Result, Sense, Status
+from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.models.vehicles import VehicleModel
-from searchtrack.plan.result import Result, Sense, Status
-from searchtrack.plan.stop import Deadline, check_time_limit
 from searchtrack.plan.trajectory.problem import (
     ControlPlan,
-    FloatArray,
     TrackingProblem,
     TrackingWeights,
     initial_guess,
@@ -41,7 +40,6 @@ from searchtrack.plan.trajectory.symbolic import step_jacobians
 
 log = logging.getLogger("searchtrack.plan.trajectory.ltv_mpc")
 
-IntArray = NDArray[np.int64]
 _COLD_ITERATIONS = 3
 SLACK_WEIGHT = 1e4  # exact-penalty weight on the obstacle slacks (cost units per metre)
 

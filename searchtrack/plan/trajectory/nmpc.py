@@ -25,14 +25,14 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.deadline import check_time_limit
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Sense, Status
+from searchtrack.core.types import FloatArray
 from searchtrack.models.vehicles import VehicleModel
-from searchtrack.plan.result import Result, Sense, Status
-from searchtrack.plan.stop import check_time_limit
 from searchtrack.plan.trajectory.options import NmpcOptions
 from searchtrack.plan.trajectory.problem import (
     ControlPlan,
-    FloatArray,
     TrackingProblem,
     TrackingWeights,
     initial_guess,

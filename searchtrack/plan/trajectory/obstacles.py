@@ -11,10 +11,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
-
-FloatArray = NDArray[np.float64]
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 
 
 @dataclass(frozen=True)
@@ -41,9 +40,9 @@ class Obstacles:
             raw = np.column_stack([raw, np.zeros(raw.shape[0])])
         if raw.size == 0:
             raw = raw.reshape(0, 3)
-        centers = _checks.finite_array("centers_m", raw, (None, 3))
+        centers = checks.finite_array("centers_m", raw, (None, 3))
         k = centers.shape[0]
-        radii = _checks.finite_array("radii_m", np.atleast_1d(np.asarray(self.radii_m, float))
+        radii = checks.finite_array("radii_m", np.atleast_1d(np.asarray(self.radii_m, float))
                                      if k else np.zeros(0), (k,))
         if np.any(radii <= 0):
             raise InvalidInputError("radii_m", radii.tolist(), "radii must be > 0 (m)")

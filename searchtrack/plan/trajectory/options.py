@@ -5,8 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
 
 
 @dataclass(frozen=True)
@@ -58,6 +58,6 @@ class NmpcOptions:
         if self.mu_strategy not in ("adaptive", "monotone"):
             raise InvalidInputError("mu_strategy", self.mu_strategy,
                                     "must be 'adaptive' or 'monotone'")
-        _checks.count("max_iter", self.max_iter, least=1)
-        _checks.positive("tol", self.tol)
-        _checks.positive("mu_init", self.mu_init)
+        checks.count("max_iter", self.max_iter, least=1)
+        checks.positive("tol", self.tol)
+        checks.positive("mu_init", self.mu_init)

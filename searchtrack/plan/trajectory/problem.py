@@ -6,16 +6,14 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.models.vehicles import VehicleModel
 from searchtrack.plan.trajectory.obstacles import Obstacles
 from searchtrack.plan.trajectory.options import NmpcOptions
 from searchtrack.plan.trajectory.reference import Reference
-
-FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -33,7 +31,7 @@ class TrackingWeights:
 
     def __post_init__(self) -> None:
         for name in ("position", "terminal", "effort", "rate"):
-            _checks.non_negative(name, getattr(self, name))
+            checks.non_negative(name, getattr(self, name))
 
 
 @dataclass(frozen=True)
@@ -89,10 +87,10 @@ class TrackingProblem:
         set_ = object.__setattr__
         state = m.check_state("state", self.state)
         set_(self, "state", state)
-        set_(self, "horizon", _checks.count("horizon", self.horizon, least=1))
-        set_(self, "dt_s", _checks.positive("dt_s", self.dt_s))
-        set_(self, "time_s", _checks.real("time_s", self.time_s))
-        set_(self, "safety_margin_m", _checks.non_negative("safety_margin_m",
+        set_(self, "horizon", checks.count("horizon", self.horizon, least=1))
+        set_(self, "dt_s", checks.positive("dt_s", self.dt_s))
+        set_(self, "time_s", checks.real("time_s", self.time_s))
+        set_(self, "safety_margin_m", checks.non_negative("safety_margin_m",
                                                            self.safety_margin_m))
         if self.reference.dim != m.n_wind:
             raise InvalidInputError("reference", self.reference.dim,
@@ -100,7 +98,7 @@ class TrackingProblem:
         prev = m.nominal_input if self.previous_input is None else self.previous_input
         set_(self, "previous_input", m.check_input("previous_input", prev))
         wind = np.zeros(m.n_wind) if self.wind_mps is None else self.wind_mps
-        set_(self, "wind_mps", _checks.finite_array("wind_mps", wind, (m.n_wind,)))
+        set_(self, "wind_mps", checks.finite_array("wind_mps", wind, (m.n_wind,)))
         self.obstacles.check_outside("state", m.position(state))
         if self.warm is not None and (self.warm.inputs.shape[1] != m.nu
                                       or self.warm.states.shape[1] != m.nx):
@@ -155,7 +153,7 @@ class ControlPlan:
         x.setflags(write=False)
         object.__setattr__(self, "inputs", u)
         object.__setattr__(self, "states", x)
-        object.__setattr__(self, "dt_s", _checks.positive("dt_s", self.dt_s))
+        object.__setattr__(self, "dt_s", checks.positive("dt_s", self.dt_s))
 
     @property
     def first_input(self) -> FloatArray:

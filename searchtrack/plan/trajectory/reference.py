@@ -6,12 +6,11 @@ from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import _checks
-
-FloatArray = NDArray[np.float64]
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 
 
 class Reference(Protocol):
@@ -40,10 +39,10 @@ class SampledPath:
     positions_m: FloatArray
 
     def __post_init__(self) -> None:
-        t = _checks.finite_array("times_s", self.times_s, (None,))
+        t = checks.finite_array("times_s", self.times_s, (None,))
         if t.shape[0] < 1 or np.any(np.diff(t) <= 0):
             raise InvalidInputError("times_s", t.tolist(), "must be ≥ 1 increasing times")
-        pos = _checks.finite_array("positions_m", self.positions_m, (t.shape[0], None))
+        pos = checks.finite_array("positions_m", self.positions_m, (t.shape[0], None))
         if pos.shape[1] not in (2, 3):
             raise InvalidInputError("positions_m", pos.shape, "must be (n, 2) or (n, 3)")
         object.__setattr__(self, "times_s", t)
@@ -73,9 +72,9 @@ def waypoint_path(waypoints_m: ArrayLike, speed_mps: float, *, start_time_s: flo
     pts = np.asarray(waypoints_m, dtype=float)
     if pts.ndim != 2 or pts.shape[0] < 1:
         raise InvalidInputError("waypoints_m", waypoints_m, "must be a (k, 2) or (k, 3) array")
-    pts = _checks.finite_array("waypoints_m", pts, (None, pts.shape[1]))
-    speed = _checks.positive("speed_mps", speed_mps)
-    start = _checks.real("start_time_s", start_time_s)
+    pts = checks.finite_array("waypoints_m", pts, (None, pts.shape[1]))
+    speed = checks.positive("speed_mps", speed_mps)
+    start = checks.real("start_time_s", start_time_s)
     seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
     keep = np.concatenate([[True], seg > 1e-9])
     pts = pts[keep]

@@ -10,9 +10,8 @@ from __future__ import annotations
 
 import logging
 
-from searchtrack.plan.registry import Backend, Registry
-from searchtrack.plan.result import Result
-from searchtrack.plan.stop import Deadline
+from searchtrack.core.registry import Backend, Registry, Stage, fallback_chain
+from searchtrack.core.result import Result
 from searchtrack.plan.trajectory.closed_form import MODELS, solve_closed_form
 from searchtrack.plan.trajectory.ltv_mpc import solve_ltv_mpc
 from searchtrack.plan.trajectory.nmpc import prepare, solve_nmpc
@@ -37,39 +36,20 @@ def _closed(problem: TrackingProblem, *, time_limit_s: float, seed: int) -> Resu
 
 
 def _auto(problem: TrackingProblem, *, time_limit_s: float, seed: int) -> Result[ControlPlan]:
-    nmpc_s = max(1e-3, NMPC_SHARE * time_limit_s)
-    prepare(problem, nmpc_s)  # a new shape's one-off build stays outside the clock
-    deadline = Deadline(time_limit_s)
-    notes: list[str] = []
-    first = solve_nmpc(problem, time_limit_s=nmpc_s)
-    if first.status.has_plan:
-        return _relabel(first, deadline, "auto: nmpc answered", 0)
-    notes.append(f"nmpc failed ({first.message})")
-    second = solve_ltv_mpc(problem, time_limit_s=max(_MIN_QP_S, deadline.remaining()))
-    if second.status.has_plan:
-        return _relabel(second, deadline, "auto: " + "; ".join(notes) + "; ltv_mpc answered", 1)
-    notes.append(f"ltv_mpc failed ({second.message})")
-    if _closed_form_models(problem) is not None:
-        log.warning("trajectory auto: no controller answered: %s", "; ".join(notes))
-        return _relabel(second, deadline, "auto: " + "; ".join(notes)
-                        + f"; no closed-form law for model {problem.model.name!r}", 1)
-    third = solve_closed_form(problem)
-    log.info("trajectory auto fell back to the closed form: %s", "; ".join(notes))
-    return _relabel(third, deadline, "auto: " + "; ".join(notes) + "; closed_form answered", 2)
-
-
-def _relabel(result: Result[ControlPlan], deadline: Deadline, message: str, fallbacks: int
-             ) -> Result[ControlPlan]:
-    return Result(status=result.status, objective=result.objective, bound=result.bound,
-                  runtime_s=deadline.elapsed(), backend=result.backend, plan=result.plan,
-                  sense=result.sense, message=message,
-                  stats={**result.stats, "fallbacks": float(fallbacks)})
+    prepare(problem, max(1e-3, NMPC_SHARE * time_limit_s))  # a new shape's build: off the clock
+    return fallback_chain(problem, _STAGES, time_limit_s=time_limit_s, seed=seed)
 
 
 def _closed_form_models(problem: TrackingProblem) -> str | None:
     name = problem.model.name
     return None if name in MODELS else f"no closed-form law for model {name!r}"
 
+
+_STAGES: tuple[Stage[TrackingProblem, ControlPlan], ...] = (
+    Stage("nmpc", _nmpc, share=NMPC_SHARE),
+    Stage("ltv_mpc", _ltv, min_s=_MIN_QP_S),
+    Stage("closed_form", _closed, supports=_closed_form_models),
+)
 
 BACKENDS: Registry[TrackingProblem, ControlPlan] = Registry("trajectory")
 BACKENDS.register(Backend("auto", _auto, False,

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Status
 from searchtrack.plan.assign import solve
 from searchtrack.plan.assign.actions import (
     FixedWingPrimitives,
@@ -16,7 +17,6 @@ from searchtrack.plan.assign.actions import (
 from searchtrack.plan.assign.footprint import GaussianFieldOfView
 from searchtrack.plan.assign.nlp import NLPLimits, solve_nlp
 from searchtrack.plan.assign.problem import AssignmentProblem
-from searchtrack.plan.result import Status
 
 
 def test_straight_primitive_matches_kinematics() -> None:

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Status
 from searchtrack.plan.assign import solve
 from searchtrack.plan.assign.bnb import solve_bnb
 from searchtrack.plan.assign.brute import solve_brute_force
@@ -13,7 +14,6 @@ from searchtrack.plan.assign.exact import solve_exact
 from searchtrack.plan.assign.greedy import solve_greedy, solve_lazy_greedy
 from searchtrack.plan.assign.objectives import ExpectedDetections
 from searchtrack.plan.assign.problem import AssignmentProblem
-from searchtrack.plan.result import Status
 
 from .helpers import DiscSensor, random_problem
 

@@ -7,10 +7,10 @@ from pathlib import Path
 
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Status
 from searchtrack.plan.optw import OPTWInstance, read_optw, validate
 from searchtrack.plan.optw.cpsat import Formulation, solve_cpsat
-from searchtrack.plan.result import Status
 from tests.plan.optw.catalogue import brute_force, catalogue
 
 DATA = Path(__file__).resolve().parents[3] / "searchtrack" / "data" / "optw"

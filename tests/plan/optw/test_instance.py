@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.plan.optw import OPTWInstance
 from searchtrack.plan.optw.instance import euclidean_ticks
 

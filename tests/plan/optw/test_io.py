@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from searchtrack.errors import ParseError
+from searchtrack.core.errors import ParseError
 from searchtrack.plan.optw import read_optw, write_optw
 
 DATA = Path(__file__).parents[2] / "data" / "optw"

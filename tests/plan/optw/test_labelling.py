@@ -8,10 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Status
 from searchtrack.plan.optw import OPTWInstance, read_optw, validate
 from searchtrack.plan.optw.labelling import solve_labelling, warm_up
-from searchtrack.plan.result import Status
 
 DATA = Path(__file__).parents[2] / "data" / "optw"
 

@@ -6,10 +6,10 @@ import math
 
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Status
 from searchtrack.plan.optw import validate
 from searchtrack.plan.optw.mip import solve_mip
-from searchtrack.plan.result import Status
 from tests.plan.optw.catalogue import brute_force, catalogue
 
 

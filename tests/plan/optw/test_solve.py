@@ -7,10 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw import OPTWInstance, Routes, read_optw, validate
 from searchtrack.plan.optw.solve import BACKENDS, checked, heuristic_share, solve
-from searchtrack.plan.result import Result, Status
 from tests.plan.optw.catalogue import brute_force
 
 DATA = Path(__file__).parents[2] / "data" / "optw"

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.plan.assign.exploration import ExplorationBonus, empty_horizon_mi
 from searchtrack.plan.assign.footprint import GaussianFieldOfView
 from searchtrack.plan.search.lawnmower import lawnmower_2d, lawnmower_3d

@@ -8,9 +8,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Status
 from searchtrack.models.vehicles import fixed_wing, uav7
-from searchtrack.plan.result import Status
 from searchtrack.plan.trajectory import (
     ClosedFormGains,
     ControlPlan,

@@ -8,7 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.vehicles import fixed_wing, unicycle
 from searchtrack.plan.trajectory import Obstacles, SampledPath, TrackingProblem, waypoint_path
 from searchtrack.plan.trajectory.solve import solve

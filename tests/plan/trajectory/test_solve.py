@@ -8,9 +8,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Sense, Status
 from searchtrack.models.vehicles import VehicleModel, unicycle
-from searchtrack.plan.result import Result, Sense, Status
 from searchtrack.plan.trajectory import BACKENDS, ControlPlan, TrackingProblem, solve
 
 solve_module = importlib.import_module("searchtrack.plan.trajectory.solve")

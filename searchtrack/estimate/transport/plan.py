@@ -7,8 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
+from searchtrack.core.types import FloatArray, IntArray
 
 
 def _frozen(*arrays: NDArray[np.generic]) -> None:

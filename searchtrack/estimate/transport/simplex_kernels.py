@@ -1,4 +1,4 @@
-"""Numba kernels of the network simplex (see :mod:`searchtrack.plan.transport.simplex`).
+"""Numba kernels of the network simplex (see :mod:`searchtrack.estimate.transport.simplex`).
 
 Tree arrays cover the nodes plus the artificial root (last index): ``parent``, ``pred`` (the
 arc to the parent), ``up`` (1 if ``pred`` points to the parent), ``depth``, potentials ``pi``
@@ -16,8 +16,7 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
+from searchtrack.core.types import FloatArray, IntArray
 
 EPS = 1e-14  # pricing tolerance, relative to max(|cost|, |potentials|) of the arc
 

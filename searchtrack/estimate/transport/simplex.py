@@ -1,7 +1,7 @@
 """Primal network simplex for uncapacitated min-cost flow with real-valued supplies and costs.
 
-The exact fast path behind :func:`~searchtrack.plan.transport.emd` and
-:func:`~searchtrack.plan.transport.emd_on_graph`. It is the textbook method (Ahuja, Magnanti and
+The exact fast path behind :func:`~searchtrack.estimate.transport.emd` and
+:func:`~searchtrack.estimate.transport.emd_on_graph`. It is the textbook method (Ahuja, Magnanti and
 Orlin, *Network Flows*, ch. 11; the same algorithm as LEMON's and POT's ``ot.emd``):
 
 * a spanning tree basis rooted at an artificial node, started from one artificial arc per node
@@ -30,15 +30,13 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
-from searchtrack.plan.stop import Deadline
-from searchtrack.plan.transport import simplex_kernels as kernels
+from searchtrack.core.deadline import Deadline
+from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate.transport import simplex_kernels as kernels
 
-log = logging.getLogger("searchtrack.plan.transport")
+log = logging.getLogger("searchtrack.estimate.transport")
 
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 
 _CHUNK = 20_000  # pivots between deadline checks
 _ROUNDOFF = 1e-10  # unrouted mass below this fraction of the mass scale is round-off

@@ -1,7 +1,7 @@
 """Gated EMD data association (thesis §4.3, Algorithm 1) and its optimal counterpart.
 
 Both associators compute the EMD matrix ``DA`` between the trackers' priors and one UAV's
-measurement densities (:func:`~searchtrack.plan.emd_matrix.emd_matrix`: truncated signatures,
+measurement densities (:func:`~searchtrack.estimate.emd_matrix.emd_matrix`: truncated signatures,
 road distances in metres, pairs proven ≥ the gate skipped) and pair trackers with measurements
 one-to-one, only where ``EMD < gate`` (``𝓔 = 300`` m in the thesis):
 
@@ -21,26 +21,26 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.deadline import check_time_limit
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.estimate.association import Association
-from searchtrack.estimate.node_tracker import TrackerBank
-from searchtrack.models.roads import RoadNetwork
-from searchtrack.plan.emd_matrix import (
+from searchtrack.estimate.emd_matrix import (
     METHODS,
     check_gate,
     check_support_mass,
     checked_emd_matrix,
     distributions,
 )
-from searchtrack.plan.road_metric import RoadMetric
-from searchtrack.plan.stop import check_time_limit
+from searchtrack.estimate.node_tracker import TrackerBank
+from searchtrack.models.road_metric import RoadMetric
+from searchtrack.models.roads import RoadNetwork
 
-log = logging.getLogger("searchtrack.plan.association")
+log = logging.getLogger("searchtrack.estimate.emd_association")
 
-FloatArray = NDArray[np.float64]
 Pairs = tuple[tuple[int, int], ...]
 
 
@@ -114,7 +114,7 @@ class _GatedEMD:
     gate_m
         The association gate ``𝓔`` (m): only pairs with EMD ``< gate_m`` may associate.
     support_mass
-        Signature truncation, in ``(0, 1]`` (see :mod:`searchtrack.plan.emd_matrix`).
+        Signature truncation, in ``(0, 1]`` (see :mod:`searchtrack.estimate.emd_matrix`).
     method
         ``"transport"`` (default, faster) or ``"graph"``: the exact EMD solver per pair.
     time_limit_s

@@ -6,8 +6,8 @@ import math
 
 import pytest
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.plan import Backend, Deadline, Registry, Result, Sense, Status
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core import Backend, Deadline, Registry, Result, Sense, Status
 
 
 def test_result_gap_for_max_and_min() -> None:
@@ -63,7 +63,7 @@ def test_deadline_counts_down() -> None:
 def test_merge_answers_takes_the_better_plan_and_the_tighter_bound() -> None:
     """merge_answers: best plan of the two, smallest bound, OPTIMAL once they meet; None
     without any plan."""
-    from searchtrack.plan.result import merge_answers
+    from searchtrack.core.result import merge_answers
 
     heuristic = Result(Status.FEASIBLE, 9.0, 12.0, 0.1, "h", "plan-h")
     exact = Result(Status.FEASIBLE, 8.0, 10.0, 0.2, "x", "plan-x")

@@ -9,9 +9,14 @@ through ``"auto"``) or the cvxpy/HiGHS reference LP (``backend="lp"``).
 
 from __future__ import annotations
 
-from searchtrack.plan.transport.plan import GraphFlow, TransportPlan
-from searchtrack.plan.transport.problem import MASS_MODES, GraphProblem, MassMode, TransportProblem
-from searchtrack.plan.transport.solve import EMD_BACKENDS, GRAPH_EMD_BACKENDS, emd, emd_on_graph
+from searchtrack.estimate.transport.plan import GraphFlow, TransportPlan
+from searchtrack.estimate.transport.problem import (
+    MASS_MODES,
+    GraphProblem,
+    MassMode,
+    TransportProblem,
+)
+from searchtrack.estimate.transport.solve import EMD_BACKENDS, GRAPH_EMD_BACKENDS, emd, emd_on_graph
 
 __all__ = [
     "EMD_BACKENDS",

@@ -10,18 +10,18 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate import LikelihoodField, ScanUpdater, TrackerBank
 from searchtrack.estimate.association import Associator
-from searchtrack.estimate.node_tracker import measurement_density, position_log_likelihood
-from searchtrack.models import RoadNetwork, random_network
-from searchtrack.plan.association import (
+from searchtrack.estimate.emd_association import (
     GreedyEMDAssociator,
     OptimalEMDAssociator,
     gated_objective,
     greedy_pairs,
     optimal_pairs,
 )
+from searchtrack.estimate.node_tracker import measurement_density, position_log_likelihood
+from searchtrack.models import RoadNetwork, random_network
 
 GATE = 300.0
 INF = math.inf

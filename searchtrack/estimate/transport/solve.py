@@ -18,17 +18,18 @@ from typing import Any, TypeVar
 import numpy as np
 from numpy.typing import ArrayLike
 
+from searchtrack.core.deadline import check_time_limit
+from searchtrack.core.registry import Backend, Registry, SolveFn, Stage, fallback_chain
+from searchtrack.core.result import Result, Status
+from searchtrack.core.types import FloatArray
+from searchtrack.estimate.transport.lp import solve_graph_lp, solve_transport_lp
+from searchtrack.estimate.transport.network import solve_graph_network, solve_transport_network
+from searchtrack.estimate.transport.plan import GraphFlow, TransportPlan
+from searchtrack.estimate.transport.problem import GraphProblem, TransportProblem
+from searchtrack.estimate.transport.simplex import warm_up
 from searchtrack.models.roads import RoadNetwork
-from searchtrack.plan.registry import Backend, Registry, SolveFn
-from searchtrack.plan.result import Result, Status
-from searchtrack.plan.stop import Deadline, check_time_limit
-from searchtrack.plan.transport.lp import solve_graph_lp, solve_transport_lp
-from searchtrack.plan.transport.network import solve_graph_network, solve_transport_network
-from searchtrack.plan.transport.plan import FloatArray, GraphFlow, TransportPlan
-from searchtrack.plan.transport.problem import GraphProblem, TransportProblem
-from searchtrack.plan.transport.simplex import warm_up
 
-log = logging.getLogger("searchtrack.plan.transport")
+log = logging.getLogger("searchtrack.estimate.transport")
 
 CHECK_RTOL = 1e-7  # marginals must hold to this fraction of the total flow (HiGHS's tolerance)
 
@@ -90,20 +91,20 @@ def _auto(
     network: SolveFn[ProblemT, PlanT], lp: SolveFn[ProblemT, PlanT],
     check: Callable[[ProblemT, PlanT], list[str]],
 ) -> SolveFn[ProblemT, PlanT]:
+    def checked(problem: ProblemT, result: Result[PlanT]) -> Result[PlanT]:
+        return result if result.plan is None else _checked(result, check(problem, result.plan))
+
+    stages = (Stage("network", network, check=checked), Stage("lp", lp, check=checked))
+
     def solve(problem: ProblemT, /, *, time_limit_s: float, seed: int) -> Result[PlanT]:
-        deadline = Deadline(time_limit_s)
-        first = network(problem, time_limit_s=time_limit_s, seed=seed)
-        if first.plan is not None:
-            first = _checked(first, check(problem, first.plan))
-        if first.status is not Status.ERROR or deadline.remaining() < 1e-3:
-            return first
-        log.warning("emd: network simplex failed (%s); falling back to the LP", first.message)
-        second = lp(problem, time_limit_s=deadline.remaining(), seed=seed)
-        return dataclasses.replace(second, runtime_s=deadline.elapsed(),
-                                   message=f"auto: network failed ({first.message}); "
-                                   f"lp: {second.message}")
+        return fallback_chain(problem, stages, time_limit_s=time_limit_s, seed=seed,
+                              accept=_not_error)
 
     return solve
+
+
+def _not_error(result: Result[Any]) -> bool:
+    return result.status is not Status.ERROR
 
 
 EMD_BACKENDS: Registry[TransportProblem, TransportPlan] = Registry("emd")

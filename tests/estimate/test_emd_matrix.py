@@ -7,16 +7,16 @@ import math
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models import RoadNetwork, random_network
-from searchtrack.plan.emd_matrix import (
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.estimate.emd_matrix import (
     centroid_bound,
     emd_matrix,
     nearest_support_bound,
     truncate_signature,
 )
-from searchtrack.plan.road_metric import RoadMetric
-from searchtrack.plan.transport import emd, emd_on_graph
+from searchtrack.estimate.transport import emd, emd_on_graph
+from searchtrack.models import RoadNetwork, random_network
+from searchtrack.models.road_metric import RoadMetric
 
 
 def line_network(lengths: list[float]) -> RoadNetwork:

@@ -21,12 +21,10 @@ from typing import Literal, get_args
 
 import numpy as np
 import scipy.sparse as sp
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from searchtrack.errors import InvalidInputError
-
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray, IntArray
 
 MassMode = Literal["normalize", "partial", "equal"]
 MASS_MODES: tuple[str, ...] = get_args(MassMode)
@@ -83,7 +81,7 @@ class TransportProblem:
 
     @classmethod
     def build(cls, p: ArrayLike, q: ArrayLike, cost: ArrayLike, mass: str) -> TransportProblem:
-        """Validate the inputs of :func:`~searchtrack.plan.transport.emd`."""
+        """Validate the inputs of :func:`~searchtrack.estimate.transport.emd`."""
         p_arr, q_arr = signature("p", p), signature("q", q)
         try:
             c = np.ascontiguousarray(cost, dtype=np.float64)
@@ -116,7 +114,7 @@ class GraphProblem:
 
     @classmethod
     def build(cls, adjacency: object, p: ArrayLike, q: ArrayLike, mass: str) -> GraphProblem:
-        """Validate the inputs of :func:`~searchtrack.plan.transport.emd_on_graph`.
+        """Validate the inputs of :func:`~searchtrack.estimate.transport.emd_on_graph`.
 
         Every stored entry ``adjacency[i, j] = ℓ`` (explicit zeros included, as in
         ``scipy.sparse.csgraph``) is an arc ``i → j`` of length ``ℓ ≥ 0``; a symmetric matrix is

@@ -7,9 +7,9 @@ import dataclasses
 import numpy as np
 import pytest
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.models import RoadNetwork, grid_network, random_network
-from searchtrack.plan.road_metric import RoadMetric
+from searchtrack.models.road_metric import RoadMetric
 
 ATOL = 1e-9
 

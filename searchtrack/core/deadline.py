@@ -6,7 +6,7 @@ import math
 import time
 from dataclasses import dataclass, field
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 
 
 def check_time_limit(time_limit_s: float) -> float:

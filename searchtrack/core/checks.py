@@ -1,4 +1,4 @@
-"""Boundary checks shared by the sensor, UAV and target models: each names the field at fault."""
+"""Boundary checks used by every layer: each failure names the caller's field and the bad value."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
 
 _REAL = (int, float, np.integer, np.floating)
 
@@ -101,3 +101,27 @@ def generator(name: str, value: object) -> np.random.Generator:
         raise InvalidInputError(name, value, "must be a numpy.random.Generator "
                                 "(np.random.default_rng(seed))")
     return value
+
+
+def node_set(name: str, nodes: ArrayLike, n_nodes: int) -> NDArray[np.int64]:
+    """``nodes`` as a 1-D array of node indices in ``[0, n_nodes)`` (may be empty)."""
+    arr = np.asarray(nodes)
+    if arr.size == 0:
+        return np.empty(0, dtype=np.int64)
+    if arr.ndim != 1 or arr.dtype.kind not in "iu":
+        raise InvalidInputError(name, nodes, "must be a 1-D array of integer node indices")
+    if arr.min() < 0 or arr.max() >= n_nodes:
+        raise InvalidInputError(name, nodes, f"node indices must be in [0, {n_nodes})")
+    return arr.astype(np.int64)
+
+
+def node_vector(name: str, values: ArrayLike, n_nodes: int | None = None) -> NDArray[np.float64]:
+    """``values`` as a finite ``(n,)`` float array (a new, read-only copy; ``n ≥ 1``)."""
+    arr = np.array(values, dtype=np.float64, copy=True)
+    if arr.ndim != 1 or arr.size == 0 or (n_nodes is not None and arr.size != n_nodes):
+        shape = "(n,)" if n_nodes is None else f"({n_nodes},)"
+        raise InvalidInputError(name, values, f"must have shape {shape}")
+    if not np.all(np.isfinite(arr)):
+        raise InvalidInputError(name, values, "must be finite")
+    arr.setflags(write=False)
+    return arr

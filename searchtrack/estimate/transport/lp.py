@@ -17,9 +17,10 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from searchtrack.plan.result import Result, Sense, Status
-from searchtrack.plan.transport.plan import FloatArray, GraphFlow, TransportPlan
-from searchtrack.plan.transport.problem import GraphProblem, TransportProblem, is_balanced
+from searchtrack.core.result import Result, Sense, Status
+from searchtrack.core.types import FloatArray
+from searchtrack.estimate.transport.plan import GraphFlow, TransportPlan
+from searchtrack.estimate.transport.problem import GraphProblem, TransportProblem, is_balanced
 
 BACKEND = "lp"
 

@@ -14,8 +14,8 @@ Per pair, ``method`` chooses the exact solver:
 
 * ``"transport"`` (default, the faster at these sizes): distances between the two truncated
   supports only, then the transportation LP (4.3)–(4.7) by the network simplex of
-  :func:`~searchtrack.plan.transport.emd`;
-* ``"graph"``: :func:`~searchtrack.plan.transport.emd_on_graph`, a min-cost flow on the whole
+  :func:`~searchtrack.estimate.transport.emd`;
+* ``"graph"``: :func:`~searchtrack.estimate.transport.emd_on_graph`, a min-cost flow on the whole
   road graph with the truncated signatures (no distances, but ~10 ms per pair on 8602 nodes).
 
 Gate pruning. A pair whose EMD is *proven* ≥ ``gate_m`` is never solved and gets ``+inf`` (it
@@ -41,20 +41,19 @@ from dataclasses import dataclass
 from typing import Any, Literal, get_args
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.deadline import Deadline, check_time_limit
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Status
+from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate.transport import emd, emd_on_graph
+from searchtrack.estimate.transport.simplex import warm_up
+from searchtrack.models.road_metric import RoadMetric, SourceDistances
 from searchtrack.models.roads import RoadNetwork
-from searchtrack.plan.result import Result, Status
-from searchtrack.plan.road_metric import RoadMetric, SourceDistances
-from searchtrack.plan.stop import Deadline, check_time_limit
-from searchtrack.plan.transport import emd, emd_on_graph
-from searchtrack.plan.transport.simplex import warm_up
 
-log = logging.getLogger("searchtrack.plan.emd_matrix")
+log = logging.getLogger("searchtrack.estimate.emd_matrix")
 
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 
 Method = Literal["transport", "graph"]
 METHODS: tuple[str, ...] = get_args(Method)

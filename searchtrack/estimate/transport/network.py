@@ -18,11 +18,12 @@ from typing import Any
 
 import numpy as np
 
-from searchtrack.plan.result import Result, Sense, Status
-from searchtrack.plan.stop import Deadline
-from searchtrack.plan.transport.plan import FloatArray, GraphFlow, IntArray, TransportPlan
-from searchtrack.plan.transport.problem import GraphProblem, TransportProblem, is_balanced
-from searchtrack.plan.transport.simplex import FlowSolution, min_cost_flow
+from searchtrack.core.deadline import Deadline
+from searchtrack.core.result import Result, Sense, Status
+from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate.transport.plan import GraphFlow, TransportPlan
+from searchtrack.estimate.transport.problem import GraphProblem, TransportProblem, is_balanced
+from searchtrack.estimate.transport.simplex import FlowSolution, min_cost_flow
 
 BACKEND = "network"
 

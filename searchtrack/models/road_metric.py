@@ -29,13 +29,12 @@ import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
 from scipy.sparse import csgraph
 
-from searchtrack.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.models.roads import RoadNetwork
 
-log = logging.getLogger("searchtrack.plan.road_metric")
+log = logging.getLogger("searchtrack.models.road_metric")
 
-FloatArray = NDArray[np.float64]
-IntArray = NDArray[np.int64]
 
 
 def _readonly(a: NDArray[np.generic]) -> NDArray[np.generic]:

@@ -12,10 +12,9 @@ import pytest
 import scipy.sparse as sp
 from scipy.sparse import csgraph
 
-from searchtrack.errors import InvalidInputError
-from searchtrack.models.roads import RoadNetwork
-from searchtrack.plan.result import Result, Sense, Status
-from searchtrack.plan.transport import (
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Sense, Status
+from searchtrack.estimate.transport import (
     EMD_BACKENDS,
     GRAPH_EMD_BACKENDS,
     TransportPlan,
@@ -23,11 +22,12 @@ from searchtrack.plan.transport import (
     emd,
     emd_on_graph,
 )
-from searchtrack.plan.transport.lp import map_status as lp_status
-from searchtrack.plan.transport.lp import solve_transport_lp
-from searchtrack.plan.transport.network import map_status as network_status
-from searchtrack.plan.transport.simplex import FlowSolution
-from searchtrack.plan.transport.solve import _auto, transport_violations
+from searchtrack.estimate.transport.lp import map_status as lp_status
+from searchtrack.estimate.transport.lp import solve_transport_lp
+from searchtrack.estimate.transport.network import map_status as network_status
+from searchtrack.estimate.transport.simplex import FlowSolution
+from searchtrack.estimate.transport.solve import _auto, transport_violations
+from searchtrack.models.roads import RoadNetwork
 
 RTOL = 1e-9
 BACKENDS = ["network", "lp"]

@@ -1,0 +1,41 @@
+"""searchtrack.core: what every layer shares — the one result type, backend registries, time
+limits, boundary checks, errors, array types and angle utilities. It imports nothing else of
+searchtrack."""
+
+from __future__ import annotations
+
+from searchtrack.core.deadline import Deadline, check_time_limit
+from searchtrack.core.errors import InvalidInputError, ParseError, SearchtrackError
+from searchtrack.core.registry import (
+    Backend,
+    Registry,
+    SolveFn,
+    Stage,
+    fallback_chain,
+    heuristic_then_exact,
+    relabel,
+)
+from searchtrack.core.result import Result, Sense, Status, merge_answers
+from searchtrack.core.types import BoolArray, FloatArray, IntArray
+
+__all__ = [
+    "Backend",
+    "BoolArray",
+    "Deadline",
+    "FloatArray",
+    "IntArray",
+    "InvalidInputError",
+    "ParseError",
+    "Registry",
+    "Result",
+    "SearchtrackError",
+    "Sense",
+    "SolveFn",
+    "Stage",
+    "Status",
+    "check_time_limit",
+    "fallback_chain",
+    "heuristic_then_exact",
+    "merge_answers",
+    "relabel",
+]

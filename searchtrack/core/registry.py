@@ -1,0 +1,212 @@
+"""Backends looked up by name, each declaring whether it is exact and what it can solve, and the
+two ways an ``auto`` backend composes them: :func:`heuristic_then_exact` (answer at once, then
+improve or prove within the time left) and :func:`fallback_chain` (try each in turn until one
+answers)."""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any, Generic, Protocol, TypeVar
+
+from searchtrack.core.deadline import Deadline, check_time_limit
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Status, merge_answers
+
+ProblemT = TypeVar("ProblemT", contravariant=True)
+PlanT = TypeVar("PlanT")
+P = TypeVar("P")
+Q = TypeVar("Q")
+
+log = logging.getLogger("searchtrack.core.registry")
+
+
+class SolveFn(Protocol[ProblemT, PlanT]):
+    """Signature every backend implements."""
+
+    def __call__(
+        self, problem: ProblemT, /, *, time_limit_s: float, seed: int
+    ) -> Result[PlanT]: ...
+
+
+@dataclass(frozen=True)
+class Backend(Generic[P, Q]):
+    """One way of solving a problem.
+
+    Parameters
+    ----------
+    name
+        Registry key, e.g. ``"ils"``.
+    solve
+        ``solve(problem, time_limit_s=..., seed=...) -> Result``.
+    exact
+        Whether the backend can prove optimality.
+    description
+        One line for ``--help`` texts.
+    supports
+        Returns ``None`` when the backend can take ``problem``, else the reason it cannot.
+    """
+
+    name: str
+    solve: SolveFn[P, Q]
+    exact: bool
+    description: str
+    supports: Callable[[P], str | None] = lambda _problem: None
+
+
+class Registry(Generic[P, Q]):
+    """A name → backend table for one problem type."""
+
+    def __init__(self, problem: str) -> None:
+        self.problem = problem
+        self._backends: dict[str, Backend[P, Q]] = {}
+
+    def register(self, backend: Backend[P, Q]) -> Backend[P, Q]:
+        """Add ``backend``; names are unique."""
+        if backend.name in self._backends:
+            raise ValueError(f"{self.problem} backend {backend.name!r} is already registered")
+        self._backends[backend.name] = backend
+        return backend
+
+    def names(self) -> list[str]:
+        """Registered names, in registration order."""
+        return list(self._backends)
+
+    def get(self, name: str) -> Backend[P, Q]:
+        """The backend called ``name``; an error lists the valid names."""
+        try:
+            return self._backends[name]
+        except KeyError:
+            raise InvalidInputError(
+                "backend", name, f"unknown {self.problem} backend; choose one of {self.names()}"
+            ) from None
+
+    def checked(self, name: str, problem: P, time_limit_s: float, seed: int) -> Backend[P, Q]:
+        """The backend called ``name`` after the checks every ``solve()`` makes: a valid time
+        limit, a non-negative integer seed, a known backend that can take ``problem``."""
+        check_time_limit(time_limit_s)
+        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+            raise InvalidInputError("seed", seed, "must be a non-negative integer")
+        chosen = self.get(name)
+        reason = chosen.supports(problem)
+        if reason is not None:
+            raise InvalidInputError("backend", name, reason)
+        return chosen
+
+
+def relabel(result: Result[Q], deadline: Deadline, message: str,
+            stats: dict[str, float] | None = None) -> Result[Q]:
+    """``result`` as the answer of a composed backend: its runtime is the composite's
+    (``deadline.elapsed()``), ``message`` replaces the message, ``stats`` are added."""
+    return dataclasses.replace(result, runtime_s=deadline.elapsed(), message=message,
+                               stats={**result.stats, **(stats or {})})
+
+
+#: ``exact(problem, heuristic_answer, time_limit_s, seed)``: the exact stage of
+#: :func:`heuristic_then_exact`, which may warm-start from the heuristic's plan; ``None`` when no
+#: exact solver applies to this problem.
+ExactStage = Callable[[P, Result[Q], float, int], Result[Q]]
+
+
+def heuristic_then_exact(
+    problem: P, heuristic: SolveFn[P, Q], exact: ExactStage[P, Q] | None, *,
+    time_limit_s: float, seed: int, heuristic_limit_s: float, tol: float = 1e-6,
+) -> Result[Q]:
+    """``auto`` for a maximisation: the heuristic answers within ``heuristic_limit_s``, then the
+    exact stage gets the rest of ``time_limit_s`` to improve or prove it.
+
+    The answer carries the better plan, the tighter bound and ``OPTIMAL`` once they meet within
+    ``tol`` (relative to ``max(1, objective)``); ``backend`` names the stage whose plan it is,
+    ``stats`` hold ``heuristic_objective`` and ``heuristic_s``. The heuristic's answer is
+    returned alone when it is already optimal, when ``exact`` is ``None`` or when no time is
+    left.
+    """
+    deadline = Deadline(time_limit_s)
+    first = heuristic(problem, time_limit_s=min(heuristic_limit_s, time_limit_s), seed=seed)
+    if first.status is Status.OPTIMAL or exact is None or deadline.remaining() < 1e-3:
+        return relabel(first, deadline, f"auto: {first.backend} answered ({first.message})")
+    second = exact(problem, first, max(1e-3, deadline.remaining()), seed)
+    merged = merge_answers(first, second, deadline.elapsed(), tol,
+                           {"heuristic_objective": first.objective or 0.0,
+                            "heuristic_s": first.runtime_s})
+    if merged is None:
+        return relabel(second, deadline, f"auto: no plan ({second.message})")
+    note = (f"auto: {first.backend} {first.objective:g} in {first.runtime_s:.2f} s; "
+            f"{second.backend} {second.status.name}"
+            + (f" {second.objective:g}" if second.objective is not None else "")
+            + f"; {merged.backend} answered")
+    return dataclasses.replace(merged, message=note)
+
+
+def _has_plan(result: Result[Any]) -> bool:
+    return result.status.has_plan
+
+
+@dataclass(frozen=True)
+class Stage(Generic[P, Q]):
+    """One link of a :func:`fallback_chain`.
+
+    Parameters
+    ----------
+    name
+        Shown in the composite's message.
+    solve
+        The backend.
+    share
+        Fraction of the chain's whole time limit this stage may use; ``None``: what is left.
+    min_s
+        Least time limit the stage is given, even when the chain's time is nearly spent.
+    supports
+        ``None`` when the stage can take the problem, else the reason it is skipped.
+    check
+        Turns the stage's answer into the one the chain judges (e.g. a validator that makes a
+        rejected plan an ``ERROR``); the identity by default.
+    """
+
+    name: str
+    solve: SolveFn[P, Q]
+    share: float | None = None
+    min_s: float = 1e-3
+    supports: Callable[[P], str | None] = lambda _problem: None
+    check: Callable[[P, Result[Q]], Result[Q]] = lambda _problem, result: result
+
+
+def fallback_chain(
+    problem: P, stages: Sequence[Stage[P, Q]], *, time_limit_s: float, seed: int,
+    accept: Callable[[Result[Q]], bool] = _has_plan,
+) -> Result[Q]:
+    """``auto`` as a chain: each stage in turn until one's answer is accepted (by default, one
+    with a plan), all within ``time_limit_s``.
+
+    The answer is the accepted stage's, relabelled: ``message`` says which stages failed and
+    why, ``stats["fallbacks"]`` counts them. When no stage is accepted, the last answer comes
+    back with every reason. Every stage gets at least its ``min_s``, so a last-resort stage
+    (a closed-form law) answers even when the earlier ones spent the whole limit.
+    """
+    if not stages:
+        raise ValueError("fallback_chain needs at least one stage")
+    deadline = Deadline(time_limit_s)
+    notes: list[str] = []
+    last: Result[Q] | None = None
+    tried = 0
+    for stage in stages:
+        reason = stage.supports(problem)
+        if reason is not None:
+            notes.append(f"{stage.name} skipped ({reason})")
+            continue
+        limit = deadline.remaining() if stage.share is None else stage.share * time_limit_s
+        answer = stage.check(problem, stage.solve(problem, time_limit_s=max(stage.min_s, limit),
+                                                  seed=seed))
+        if accept(answer):
+            return relabel(answer, deadline, "auto: " + "".join(f"{n}; " for n in notes)
+                           + f"{stage.name} answered", {"fallbacks": float(tried)})
+        notes.append(f"{stage.name} failed ({answer.message})")
+        last = answer
+        tried += 1
+    if last is None:
+        raise InvalidInputError("backend", "auto", "; ".join(notes))
+    log.warning("auto: no stage answered: %s", "; ".join(notes))
+    return relabel(last, deadline, "auto: " + "; ".join(notes),
+                   {"fallbacks": float(max(0, tried - 1))})
