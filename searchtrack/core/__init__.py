@@ -1,11 +1,12 @@
 """searchtrack.core: what every layer shares — the one result type, backend registries, time
-limits, boundary checks, errors, array types and angle utilities. It imports nothing else of
-searchtrack."""
+limits and the stop flag Ctrl-C sets, boundary checks, errors, array types and angle utilities.
+It imports nothing else of searchtrack."""
 
 from __future__ import annotations
 
 from searchtrack.core.deadline import Deadline, check_time_limit
 from searchtrack.core.errors import InvalidInputError, ParseError, SearchtrackError
+from searchtrack.core.interrupt import clear_stop, request_stop, sigint_stops, stop_requested
 from searchtrack.core.registry import (
     Backend,
     Registry,
@@ -15,7 +16,7 @@ from searchtrack.core.registry import (
     heuristic_then_exact,
     relabel,
 )
-from searchtrack.core.result import Result, Sense, Status, merge_answers
+from searchtrack.core.result import Result, Sense, Status, interrupted, merge_answers
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
 
 __all__ = [
@@ -34,8 +35,13 @@ __all__ = [
     "Stage",
     "Status",
     "check_time_limit",
+    "clear_stop",
     "fallback_chain",
     "heuristic_then_exact",
+    "interrupted",
     "merge_answers",
     "relabel",
+    "request_stop",
+    "sigint_stops",
+    "stop_requested",
 ]

@@ -1,4 +1,8 @@
-"""Stopping rules: a wall-clock deadline that every solver loop and backend call honours."""
+"""Stopping rules: a wall-clock deadline that every solver loop and backend call honours.
+
+A deadline also expires as soon as a stop is requested (:mod:`searchtrack.core.interrupt`), so
+every loop that honours its time limit honours Ctrl-C too.
+"""
 
 from __future__ import annotations
 
@@ -7,6 +11,7 @@ import time
 from dataclasses import dataclass, field
 
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.interrupt import stop_requested
 
 
 def check_time_limit(time_limit_s: float) -> float:
@@ -40,12 +45,14 @@ class Deadline:
         return time.perf_counter() - self.started
 
     def remaining(self) -> float:
-        """Seconds left (never negative)."""
+        """Seconds left (never negative; 0 once a stop is requested)."""
+        if stop_requested():
+            return 0.0
         return max(0.0, self.end - time.perf_counter())
 
     def expired(self) -> bool:
-        """True once the time is up."""
-        return time.perf_counter() >= self.end
+        """True once the time is up or a stop is requested."""
+        return time.perf_counter() >= self.end or stop_requested()
 
     def sub(self, fraction: float) -> Deadline:
         """A deadline for a stage: at most ``fraction`` of the remaining time, at least 1 ms."""

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 import math
 from dataclasses import dataclass, field
 from typing import Generic, TypeVar
+
+from searchtrack.core.interrupt import stop_requested
 
 PlanT = TypeVar("PlanT")
 
@@ -17,11 +20,12 @@ class Status(enum.Enum):
     FEASIBLE = "FEASIBLE"  # a valid plan, optimality not proven
     INFEASIBLE = "INFEASIBLE"  # proven that no valid plan exists
     NO_SOLUTION = "NO_SOLUTION"  # no plan found within the limits, nothing proven
+    INTERRUPTED = "INTERRUPTED"  # stopped on request; may carry the best plan and bound so far
     ERROR = "ERROR"  # the backend failed; see the message
 
     @property
     def has_plan(self) -> bool:
-        """True for the statuses that carry a plan."""
+        """True for the statuses that always carry a plan (an ``INTERRUPTED`` result may)."""
         return self in (Status.OPTIMAL, Status.FEASIBLE)
 
 
@@ -71,7 +75,10 @@ class Result(Generic[PlanT]):
             raise ValueError(f"runtime_s={self.runtime_s!r}: must be finite and non-negative")
         if self.status.has_plan and (self.plan is None or self.objective is None):
             raise ValueError(f"status={self.status.name} needs a plan and an objective")
-        if not self.status.has_plan and self.plan is not None:
+        if self.status is Status.INTERRUPTED:
+            if self.plan is not None and self.objective is None:
+                raise ValueError("an INTERRUPTED result with a plan needs its objective")
+        elif not self.status.has_plan and self.plan is not None:
             raise ValueError(f"status={self.status.name} must not carry a plan")
 
     @property
@@ -102,3 +109,13 @@ def merge_answers(heuristic: Result[PlanT], exact: Result[PlanT], runtime_s: flo
     optimal = bound is not None and bound - objective <= tol * max(1.0, objective)
     return Result(Status.OPTIMAL if optimal else best.status, objective, bound, runtime_s,
                   best.backend, best.plan, stats=dict(stats or {}))
+
+
+def interrupted(result: Result[PlanT]) -> Result[PlanT]:
+    """``result`` marked ``INTERRUPTED`` when a stop was requested and it is not proven:
+    a ``FEASIBLE`` answer keeps its plan and bound, a ``NO_SOLUTION`` has none. Proven answers
+    (``OPTIMAL``, ``INFEASIBLE``) and errors are returned as they are."""
+    if not stop_requested() or result.status not in (Status.FEASIBLE, Status.NO_SOLUTION):
+        return result
+    note = "interrupted" + (f": {result.message}" if result.message else "")
+    return dataclasses.replace(result, status=Status.INTERRUPTED, message=note)

@@ -1,6 +1,6 @@
 """The trackers × measurements EMD matrix of Algorithm 1 under the road metric (thesis §4.3).
 
-Signatures (digest §10 item 6). A diffused tracker or a Gaussian measurement density is
+Signatures. A diffused tracker or a Gaussian measurement density is
 nonzero on almost every node, so each is *truncated*: keep the smallest set of nodes holding at
 least ``support_mass`` (default 0.999) of its mass — the heaviest nodes, ties to the lower
 index — and renormalise it to 1. By the triangle inequality for W1, the EMD between truncated
@@ -10,16 +10,21 @@ distance from a dropped node to the kept ones, per side; in practice far less
 
 Ground distance: road shortest-path distances in metres, exact (:class:`RoadMetric`).
 
-Per pair, ``method`` chooses the exact solver:
+The matrix is a solver family (:data:`EMD_MATRIX_BACKENDS`, :func:`solve_emd_matrix`); the
+backend chooses the exact solver of each pair:
 
-* ``"transport"`` (default, the faster at these sizes): distances between the two truncated
+* ``"transport"`` (and ``"auto"``, the faster at these sizes): distances between the two truncated
   supports only, then the transportation LP (4.3)–(4.7) by the network simplex of
   :func:`~searchtrack.estimate.transport.emd`;
 * ``"graph"``: :func:`~searchtrack.estimate.transport.emd_on_graph`, a min-cost flow on the whole
   road graph with the truncated signatures (no distances, but ~10 ms per pair on 8602 nodes).
 
 Gate pruning. A pair whose EMD is *proven* ≥ ``gate_m`` is never solved and gets ``+inf`` (it
-could not be associated anyway). Two lower bounds, both exact for the truncated signatures
+could not be associated anyway). A pair left unsolved (time limit, solver failure) also reads
+``+inf`` in the cost matrix, but the result says so: :attr:`EMDMatrix.unsolved` marks it and the
+status is ``FEASIBLE`` instead of ``OPTIMAL``.
+
+Two lower bounds, both exact for the truncated signatures
 ``p`` (nodes ``i``) and ``q`` (nodes ``j``) and any optimal flow ``f`` (``Σ f = 1``):
 
 * centroid bound, before any distance is computed: with ``κ`` =
@@ -38,15 +43,16 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
-from typing import Any, Literal, get_args
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from searchtrack.core.deadline import Deadline, check_time_limit
+from searchtrack.core.deadline import Deadline
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.core.result import Result, Status
-from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.core.registry import Backend, Registry
+from searchtrack.core.result import Result, Sense, Status
+from searchtrack.core.types import BoolArray, FloatArray, IntArray
 from searchtrack.estimate.transport import emd, emd_on_graph
 from searchtrack.estimate.transport.simplex import warm_up
 from searchtrack.models.road_metric import RoadMetric, SourceDistances
@@ -54,9 +60,6 @@ from searchtrack.models.roads import RoadNetwork
 
 log = logging.getLogger("searchtrack.estimate.emd_matrix")
 
-
-Method = Literal["transport", "graph"]
-METHODS: tuple[str, ...] = get_args(Method)
 
 _SLACK = 1e-9  # relative round-off allowance before a lower bound may skip a pair
 _MASS_RTOL = 1e-9  # per-component masses must agree to this for a finite EMD
@@ -155,6 +158,83 @@ def _truncate(w: FloatArray, mass: float) -> Signature:
     return Signature(nodes, kept)
 
 
+@dataclass(frozen=True, eq=False)
+class EMDMatrixProblem:
+    """The ``(k, q)`` EMD matrix to compute: tracker rows against measurement-density rows.
+
+    Build it with :meth:`build` (validates); the fields are the validated arrays.
+    """
+
+    metric: RoadMetric
+    trackers: FloatArray
+    measured: FloatArray
+    support_mass: float = 0.999
+    gate_m: float = math.inf
+
+    @classmethod
+    def build(cls, network: RoadNetwork | RoadMetric, bank_probabilities: ArrayLike,
+              densities: ArrayLike, *, support_mass: float = 0.999,
+              gate_m: float = math.inf) -> EMDMatrixProblem:
+        """Validate the inputs of :func:`emd_matrix` (same parameters) into a problem."""
+        if not isinstance(network, (RoadNetwork, RoadMetric)):
+            raise InvalidInputError("network", network, "must be a RoadNetwork or a RoadMetric")
+        metric = network if isinstance(network, RoadMetric) else RoadMetric(network)
+        n = metric.n_nodes
+        return cls(metric, distributions("bank_probabilities", bank_probabilities, n),
+                   distributions("densities", densities, n), check_support_mass(support_mass),
+                   check_gate(gate_m, inf_ok=True))
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(k, q)``: trackers × measurements."""
+        return (self.trackers.shape[0], self.measured.shape[0])
+
+
+@dataclass(frozen=True, eq=False)
+class EMDMatrix:
+    """The plan: ``costs[i, j]`` is the EMD (m) of tracker ``i`` and measurement ``j``, ``+inf``
+    where proven ≥ the gate, where mass cannot cross between road components, or where
+    ``unsolved[i, j]`` (the pair was not solved: time limit or solver failure)."""
+
+    costs: FloatArray
+    unsolved: BoolArray
+
+
+def _solver(name: str) -> Any:
+    def solve(problem: EMDMatrixProblem, *, time_limit_s: float,
+              seed: int) -> Result[EMDMatrix]:
+        return _solve(problem, name, time_limit_s)
+
+    return solve
+
+
+EMD_MATRIX_BACKENDS: Registry[EMDMatrixProblem, EMDMatrix] = Registry("emd_matrix")
+EMD_MATRIX_BACKENDS.register(Backend("auto", _solver("transport"), True,
+                                     "the transport backend (the faster at road sizes)"))
+EMD_MATRIX_BACKENDS.register(Backend(
+    "transport", _solver("transport"), True,
+    "distances between the truncated supports, then the network simplex per pair"))
+EMD_MATRIX_BACKENDS.register(Backend(
+    "graph", _solver("graph"), True, "a min-cost flow on the whole road graph per pair"))
+
+
+def solve_emd_matrix(problem: EMDMatrixProblem, *, backend: str = "auto",
+                     time_limit_s: float = 10.0, seed: int = 0) -> Result[EMDMatrix]:
+    """The EMD matrix of ``problem`` with the named backend within ``time_limit_s``.
+
+    ``OPTIMAL`` when every pair is exact or proven ≥ the gate; ``FEASIBLE`` when some pair was
+    left unsolved or is only an upper bound (the message counts them). ``objective`` is the sum
+    of the finite entries (m), ``sense`` minimise.
+
+    Raises
+    ------
+    InvalidInputError
+        Unknown backend, bad time limit or seed.
+    """
+    chosen = EMD_MATRIX_BACKENDS.checked(backend, problem, time_limit_s, seed)
+    return chosen.solve(problem, time_limit_s=time_limit_s, seed=seed)
+
+
 def emd_matrix(
     network: RoadNetwork | RoadMetric,
     bank_probabilities: ArrayLike,
@@ -162,10 +242,12 @@ def emd_matrix(
     *,
     support_mass: float = 0.999,
     gate_m: float = math.inf,
-    method: str = "transport",
+    backend: str = "auto",
     time_limit_s: float = 10.0,
 ) -> FloatArray:
     """``(k, q)`` EMD (m) between each tracker and each measurement density (Algorithm 1, ``DA``).
+
+    The cost matrix of :func:`solve_emd_matrix`, for callers that only want the numbers.
 
     Parameters
     ----------
@@ -182,8 +264,8 @@ def emd_matrix(
     gate_m
         Pairs proven to have EMD ≥ ``gate_m`` are skipped and get ``+inf``; ``inf`` (default)
         computes every pair.
-    method
-        ``"transport"`` or ``"graph"`` (module docstring).
+    backend
+        A name of :data:`EMD_MATRIX_BACKENDS`: ``"auto"``, ``"transport"`` or ``"graph"``.
     time_limit_s
         Wall-clock limit for the whole matrix; pairs not solved in time get ``+inf`` (logged).
 
@@ -196,44 +278,67 @@ def emd_matrix(
     ------
     InvalidInputError
         A bad shape or entry (naming ``bank_probabilities`` or ``densities``), ``support_mass``,
-        ``gate_m``, ``method``, ``time_limit_s`` or ``network``.
+        ``gate_m``, ``backend``, ``time_limit_s`` or ``network``.
     """
-    metric = network if isinstance(network, RoadMetric) else RoadMetric(network)
-    n = metric.n_nodes
-    trackers = distributions("bank_probabilities", bank_probabilities, n)
-    measured = distributions("densities", densities, n)
-    mass = check_support_mass(support_mass)
-    gate = check_gate(gate_m, inf_ok=True)
-    if method not in METHODS:
-        raise InvalidInputError("method", method, f"choose one of {list(METHODS)}")
-    return checked_emd_matrix(metric, trackers, measured, mass, gate, method,
-                              check_time_limit(time_limit_s))
+    problem = EMDMatrixProblem.build(network, bank_probabilities, densities,
+                                     support_mass=support_mass, gate_m=gate_m)
+    result = solve_emd_matrix(problem, backend=backend, time_limit_s=time_limit_s)
+    if result.plan is None:
+        return np.full(problem.shape, math.inf)
+    return result.plan.costs
+
+
+def _solve(problem: EMDMatrixProblem, method: str, time_limit_s: float) -> Result[EMDMatrix]:
+    """Every pair of ``problem`` with the ``method`` pair solver (``"transport"``/``"graph"``)."""
+    warm_up()
+    deadline = Deadline(time_limit_s)
+    metric, gate_m = problem.metric, problem.gate_m
+    sig_t = [_truncate(row, problem.support_mass) for row in problem.trackers]
+    sig_q = [_truncate(row, problem.support_mass) for row in problem.measured]
+    out = np.full((len(sig_t), len(sig_q)), math.inf)
+    unsolved = np.zeros(out.shape, dtype=bool)
+    pairs = np.argwhere(centroid_bound(metric, sig_t, sig_q) < gate_m * (1.0 + _SLACK))
+    pair_solver = (None if pairs.size == 0 else _GraphPairs(metric) if method == "graph"
+                   else _TransportPairs(metric, sig_t, sig_q, pairs))
+    inexact = 0
+    for i, j in pairs:
+        if deadline.expired():
+            unsolved[i, j] = True
+            continue
+        assert pair_solver is not None
+        value, exact = pair_solver(int(i), int(j), sig_t[i], sig_q[j], gate_m, deadline)
+        out[i, j] = value
+        unsolved[i, j] = exact is None
+        inexact += exact is False
+    late = int(unsolved.sum())
+    if late:
+        log.warning("emd_matrix: %d of %d pairs left unsolved at +inf (time limit %.3g s or "
+                    "solver failure)", late, len(pairs), time_limit_s)
+    out.setflags(write=False)
+    unsolved.setflags(write=False)
+    finite = out[np.isfinite(out)]
+    total = float(finite.sum())
+    proven = late == 0 and inexact == 0
+    note = f"{len(pairs)} of {out.size} pairs solved within the gate"
+    if late or inexact:
+        note += f"; {late} unsolved, {inexact} only upper bounds"
+    return Result(Status.OPTIMAL if proven else Status.FEASIBLE, total,
+                  total if proven else None, deadline.elapsed(), method,
+                  EMDMatrix(out, unsolved), sense=Sense.MINIMIZE, message=note,
+                  stats={"pairs": float(len(pairs)), "unsolved": float(late)})
 
 
 def checked_emd_matrix(metric: RoadMetric, trackers: FloatArray, measured: FloatArray,
-                       support_mass: float, gate_m: float, method: str,
+                       support_mass: float, gate_m: float, backend: str,
                        time_limit_s: float) -> FloatArray:
     """:func:`emd_matrix` for arguments the caller has already validated."""
-    warm_up()
-    deadline = Deadline(time_limit_s)
-    sig_t = [_truncate(row, support_mass) for row in trackers]
-    sig_q = [_truncate(row, support_mass) for row in measured]
-    out = np.full((len(sig_t), len(sig_q)), math.inf)
-    pairs = np.argwhere(centroid_bound(metric, sig_t, sig_q) < gate_m * (1.0 + _SLACK))
-    if pairs.size == 0:
-        return out
-    solve = (_GraphPairs(metric) if method == "graph"
-             else _TransportPairs(metric, sig_t, sig_q, pairs))
-    late = 0
-    for i, j in pairs:
-        if deadline.expired():
-            late += 1
-            continue
-        out[i, j] = solve(int(i), int(j), sig_t[i], sig_q[j], gate_m, deadline)
-    if late:
-        log.warning("emd_matrix: time limit %.3g s reached, %d of %d pairs left at +inf",
-                    time_limit_s, late, len(pairs))
-    return out
+    problem = EMDMatrixProblem(metric, trackers, measured, support_mass, gate_m)
+    result = solve_emd_matrix(problem, backend=backend, time_limit_s=time_limit_s)
+    return result.plan.costs if result.plan is not None else np.full(problem.shape, math.inf)
+
+
+#: Names of the pair solvers (the backends of :data:`EMD_MATRIX_BACKENDS`).
+METHODS: tuple[str, ...] = tuple(EMD_MATRIX_BACKENDS.names())
 
 
 def centroid_bound(metric: RoadMetric, left: list[Signature],
@@ -254,19 +359,21 @@ def nearest_support_bound(cost: FloatArray, p: FloatArray, q: FloatArray) -> flo
     return float(max(p @ cost.min(axis=1), q @ cost.min(axis=0)))
 
 
-def _value(result: Result[Any], what: str) -> float:
-    """The EMD of a solve: the objective when a plan exists, ``inf`` when infeasible."""
+def _value(result: Result[Any], what: str) -> tuple[float, bool | None]:
+    """The EMD of a solve and whether it is exact: ``(objective, True)`` when optimal,
+    ``(inf, True)`` when infeasible (mass cannot cross components), ``(objective, False)`` for
+    an unproven plan, ``(inf, None)`` when the solve gave nothing (the pair is unsolved)."""
     if result.status is Status.INFEASIBLE:
-        return math.inf
+        return math.inf, True
     if result.status is Status.FEASIBLE and result.objective is not None:
         log.warning("%s: EMD not proven optimal (%s); using the upper bound", what,
                     result.message)
-        return float(result.objective)
+        return float(result.objective), False
     if result.status is Status.OPTIMAL and result.objective is not None:
-        return float(result.objective)
-    log.warning("%s: no EMD (%s: %s); pair left at +inf", what, result.status.name,
+        return float(result.objective), True
+    log.warning("%s: no EMD (%s: %s); pair left unsolved", what, result.status.name,
                 result.message)
-    return math.inf
+    return math.inf, None
 
 
 @dataclass(frozen=True, eq=False)
@@ -276,7 +383,7 @@ class _GraphPairs:
     metric: RoadMetric
 
     def __call__(self, i: int, j: int, p: Signature, q: Signature, gate: float,
-                 deadline: Deadline) -> float:
+                 deadline: Deadline) -> tuple[float, bool | None]:
         n = self.metric.n_nodes
         pv, qv = np.zeros(n), np.zeros(n)
         pv[p.nodes], qv[q.nodes] = p.weights, q.weights
@@ -327,10 +434,10 @@ class _TransportPairs:
         return dist[:, cols].T if self.from_measurements else dist[:, cols]
 
     def __call__(self, i: int, j: int, p: Signature, q: Signature, gate: float,
-                 deadline: Deadline) -> float:
+                 deadline: Deadline) -> tuple[float, bool | None]:
         cost = self.block(i, j)
         if nearest_support_bound(cost, p.weights, q.weights) >= gate * (1.0 + _SLACK):
-            return math.inf
+            return math.inf, True
         what = f"emd (tracker {i}, measurement {j})"
         if np.isfinite(cost).all():
             return _value(emd(p.weights, q.weights, cost,
@@ -338,7 +445,7 @@ class _TransportPairs:
         return self._by_component(cost, p, q, deadline, what)
 
     def _by_component(self, cost: FloatArray, p: Signature, q: Signature, deadline: Deadline,
-                      what: str) -> float:
+                      what: str) -> tuple[float, bool | None]:
         """EMD when the supports span several components: finite only if every component
         holds the same mass on both sides, then the mass-weighted sum of per-component EMDs."""
         cp, cq = self.metric.component[p.nodes], self.metric.component[q.nodes]
@@ -346,12 +453,14 @@ class _TransportPairs:
         mp = np.bincount(cp, weights=p.weights, minlength=size)
         mq = np.bincount(cq, weights=q.weights, minlength=size)
         if np.abs(mp - mq).max() > _MASS_RTOL:
-            return math.inf
-        total = 0.0
+            return math.inf, True
+        total, exact = 0.0, True
         for c in np.flatnonzero(mp > 0.0):
             rows, cols = cp == c, cq == c
-            total += float(mp[c]) * _value(emd(p.weights[rows], q.weights[cols],
-                                               cost[np.ix_(rows, cols)],
-                                               time_limit_s=max(deadline.remaining(), 1e-3)),
-                                           what)
-        return total
+            value, ok = _value(emd(p.weights[rows], q.weights[cols], cost[np.ix_(rows, cols)],
+                                   time_limit_s=max(deadline.remaining(), 1e-3)), what)
+            if ok is None:
+                return math.inf, None
+            total += float(mp[c]) * value
+            exact = exact and ok
+        return total, exact

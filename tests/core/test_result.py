@@ -6,8 +6,8 @@ import math
 
 import pytest
 
-from searchtrack.core.errors import InvalidInputError
 from searchtrack.core import Backend, Deadline, Registry, Result, Sense, Status
+from searchtrack.core.errors import InvalidInputError
 
 
 def test_result_gap_for_max_and_min() -> None:

@@ -8,10 +8,14 @@ import numpy as np
 import pytest
 
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Sense, Status
 from searchtrack.estimate.emd_matrix import (
+    EMD_MATRIX_BACKENDS,
+    EMDMatrixProblem,
     centroid_bound,
     emd_matrix,
     nearest_support_bound,
+    solve_emd_matrix,
     truncate_signature,
 )
 from searchtrack.estimate.transport import emd, emd_on_graph
@@ -90,7 +94,7 @@ def test_line_matches_the_cdf_formula(method: str) -> None:
     lengths = rng.uniform(5.0, 20.0, size=11).tolist()
     net = line_network(lengths)
     p, q = _rows(rng, 3, net.n_nodes, 0.6), _rows(rng, 2, net.n_nodes, 0.6)
-    got = emd_matrix(net, p, q, support_mass=1.0, method=method)
+    got = emd_matrix(net, p, q, support_mass=1.0, backend=method)
     cdf_gap = np.abs(np.cumsum(p, axis=1)[:, None, :-1] - np.cumsum(q, axis=1)[None, :, :-1])
     np.testing.assert_allclose(got, cdf_gap @ np.array(lengths), rtol=1e-9)
 
@@ -101,7 +105,7 @@ def test_random_network_matches_emd_on_graph(method: str) -> None:
     net = random_network(8, 300.0, seed=4)
     rng = np.random.default_rng(4)
     p, q = _rows(rng, 3, net.n_nodes, 0.3), _rows(rng, 2, net.n_nodes, 0.3)
-    got = emd_matrix(net, p, q, support_mass=1.0, method=method)
+    got = emd_matrix(net, p, q, support_mass=1.0, backend=method)
     want = [[emd_on_graph(net.adjacency, pi, qj, backend="lp").objective for qj in q] for pi in p]
     np.testing.assert_allclose(got, np.array(want, dtype=float), rtol=1e-7)
 
@@ -113,7 +117,7 @@ def test_truncated_matrix_is_the_emd_of_the_truncated_signatures() -> None:
     rng = np.random.default_rng(5)
     p, q = _rows(rng, 2, net.n_nodes), _rows(rng, 2, net.n_nodes)
     got = emd_matrix(metric, p, q, support_mass=0.9)
-    np.testing.assert_allclose(emd_matrix(metric, p, q, support_mass=0.9, method="graph"), got,
+    np.testing.assert_allclose(emd_matrix(metric, p, q, support_mass=0.9, backend="graph"), got,
                                rtol=1e-7)
     for i, j in np.ndindex(2, 2):
         a, b = truncate_signature(p[i], 0.9), truncate_signature(q[j], 0.9)
@@ -172,7 +176,7 @@ def test_disconnected_supports() -> None:
     p = np.array([[0.5, 0.0, 0.0, 0.5, 0.0], [1.0, 0.0, 0.0, 0.0, 0.0]])
     q = np.array([[0.0, 0.0, 0.5, 0.0, 0.5]])
     for method in ("transport", "graph"):
-        got = emd_matrix(net, p, q, support_mass=1.0, method=method)
+        got = emd_matrix(net, p, q, support_mass=1.0, backend=method)
         assert got[0, 0] == pytest.approx(0.5 * 20.0 + 0.5 * 10.0)
         assert math.isinf(got[1, 0])
 
@@ -187,6 +191,29 @@ def test_empty_sides_and_expired_time_limit() -> None:
     assert math.isinf(emd_matrix(net, one, np.eye(5)[[0]], time_limit_s=1e-9)[0, 0])
 
 
+@pytest.mark.parametrize("backend", EMD_MATRIX_BACKENDS.names())
+def test_catalogue_every_backend_proves_a_known_matrix(backend: str) -> None:
+    """Each backend returns the known EMDs on a line as an OPTIMAL minimisation, nothing
+    unsolved; the gate proves the far pair without solving it."""
+    net = line_network([10.0] * 4)
+    problem = EMDMatrixProblem.build(net, np.eye(5)[[0, 4]], np.eye(5)[[1, 2]], support_mass=1.0,
+                                     gate_m=25.0)
+    result = solve_emd_matrix(problem, backend=backend)
+    assert result.status is Status.OPTIMAL and result.sense is Sense.MINIMIZE
+    assert result.plan is not None and not result.plan.unsolved.any()
+    np.testing.assert_allclose(result.plan.costs, [[10.0, 20.0], [math.inf, 20.0]])
+    assert result.objective == pytest.approx(50.0)
+
+
+def test_unsolved_pairs_are_reported_not_hidden() -> None:
+    """A matrix cut off by its time limit is FEASIBLE, and marks the pairs it left at +inf."""
+    net = line_network([10.0] * 4)
+    problem = EMDMatrixProblem.build(net, np.eye(5)[[2]], np.eye(5)[[0]])
+    result = solve_emd_matrix(problem, time_limit_s=1e-9)
+    assert result.status is Status.FEASIBLE and result.plan is not None
+    assert result.plan.unsolved.tolist() == [[True]] and "unsolved" in result.message
+
+
 @pytest.mark.parametrize(("change", "field"), [
     ({"bank_probabilities": np.ones((2, 4))}, "bank_probabilities"),
     ({"bank_probabilities": np.ones(5)}, "bank_probabilities"),
@@ -197,7 +224,7 @@ def test_empty_sides_and_expired_time_limit() -> None:
     ({"support_mass": 0.0}, "support_mass"),
     ({"gate_m": 0.0}, "gate_m"),
     ({"gate_m": math.nan}, "gate_m"),
-    ({"method": "simplex"}, "method"),
+    ({"backend": "simplex"}, "backend"),
     ({"time_limit_s": 0.0}, "time_limit_s"),
     ({"network": "roads"}, "network"),
 ])

@@ -18,7 +18,6 @@ from typing import Any, TypeVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from searchtrack.core.deadline import check_time_limit
 from searchtrack.core.registry import Backend, Registry, SolveFn, Stage, fallback_chain
 from searchtrack.core.result import Result, Status
 from searchtrack.core.types import FloatArray
@@ -163,10 +162,9 @@ def emd(
         Wrong shapes, negative or non-finite weights or costs, unequal masses with
         ``mass="equal"``, an unknown ``mass`` or ``backend``, a bad time limit.
     """
-    check_time_limit(time_limit_s)
-    warm_up()
-    chosen = EMD_BACKENDS.get(backend)
     problem = TransportProblem.build(p, q, cost, mass)
+    chosen = EMD_BACKENDS.checked(backend, problem, time_limit_s, 0)
+    warm_up()
     result = chosen.solve(problem, time_limit_s=time_limit_s, seed=0)
     if result.plan is not None:
         result = _checked(result, transport_violations(problem, result.plan))
@@ -212,12 +210,11 @@ def emd_on_graph(
     InvalidInputError
         As for :func:`emd`, for ``adjacency`` instead of ``cost``.
     """
-    check_time_limit(time_limit_s)
-    warm_up()
-    chosen = GRAPH_EMD_BACKENDS.get(backend)
     if isinstance(adjacency, RoadNetwork):
         adjacency = adjacency.adjacency  # edge lengths (m), both ways
     problem = GraphProblem.build(adjacency, p, q, mass)
+    chosen = GRAPH_EMD_BACKENDS.checked(backend, problem, time_limit_s, 0)
+    warm_up()
     result = chosen.solve(problem, time_limit_s=time_limit_s, seed=0)
     if result.plan is not None:
         result = _checked(result, graph_violations(problem, result.plan))

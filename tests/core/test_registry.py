@@ -1,0 +1,95 @@
+"""The two ways an ``auto`` backend composes others: heuristic then exact, and a fallback chain."""
+
+from __future__ import annotations
+
+import pytest
+
+from searchtrack.core import Result, Stage, Status, fallback_chain, heuristic_then_exact
+
+Calls = list[tuple[str, float]]
+
+
+def _backend(name: str, status: Status, objective: float | None, bound: float | None,
+             calls: Calls):
+    """A toy backend that records its time limit and answers with fixed numbers."""
+    def solve(problem: int, /, *, time_limit_s: float, seed: int) -> Result[str]:
+        calls.append((name, time_limit_s))
+        plan = f"{name}-plan" if status.has_plan else None
+        return Result(status, objective, bound, 0.0, name, plan, message=f"{name} says hi")
+    return solve
+
+
+def test_heuristic_then_exact_merges_and_proves() -> None:
+    """The exact stage gets the heuristic's answer and the time left; the answer has the better
+    plan, the tighter bound, OPTIMAL when they meet, and the heuristic's numbers in stats."""
+    calls: Calls = []
+    seen: list[Result[str]] = []
+
+    def exact(problem: int, first: Result[str], limit_s: float, seed: int) -> Result[str]:
+        seen.append(first)
+        return _backend("exact", Status.OPTIMAL, 5.0, 5.0, calls)(problem, time_limit_s=limit_s,
+                                                                     seed=seed)
+
+    out = heuristic_then_exact(1, _backend("heur", Status.FEASIBLE, 5.0, None, calls), exact,
+                               time_limit_s=2.0, seed=0, heuristic_limit_s=0.5)
+    assert calls[0] == ("heur", 0.5) and 1.0 < calls[1][1] <= 2.0
+    assert seen[0].plan == "heur-plan"
+    assert out.status is Status.OPTIMAL and out.bound == 5.0 and out.objective == 5.0
+    assert out.stats["heuristic_objective"] == 5.0 and "answered" in out.message
+
+
+def test_heuristic_then_exact_keeps_a_better_heuristic_plan() -> None:
+    """A heuristic plan better than the exact stage's (cut off early) is the answer, with the
+    exact stage's bound."""
+    calls: Calls = []
+    out = heuristic_then_exact(
+        1, _backend("heur", Status.FEASIBLE, 7.0, None, calls),
+        lambda p, first, limit, seed: _backend("exact", Status.FEASIBLE, 6.0, 9.0, calls)(
+            p, time_limit_s=limit, seed=seed),
+        time_limit_s=1.0, seed=0, heuristic_limit_s=0.1)
+    assert (out.plan, out.bound, out.status, out.backend) == ("heur-plan", 9.0, Status.FEASIBLE,
+                                                              "heur")
+
+
+def test_heuristic_then_exact_without_an_exact_stage() -> None:
+    """With no exact stage the heuristic's answer comes back, its runtime the composite's."""
+    calls: Calls = []
+    out = heuristic_then_exact(1, _backend("heur", Status.FEASIBLE, 3.0, None, calls), None,
+                               time_limit_s=1.0, seed=0, heuristic_limit_s=5.0)
+    assert calls == [("heur", 1.0)] and out.plan == "heur-plan"
+    assert out.message.startswith("auto: heur answered")
+
+
+def test_fallback_chain_takes_the_first_answer() -> None:
+    """Stages run in order until one has a plan; the message names the failures and
+    ``stats["fallbacks"]`` counts them; shares scale the whole limit."""
+    calls: Calls = []
+    stages = [Stage("a", _backend("a", Status.NO_SOLUTION, None, None, calls), share=0.5),
+              Stage("b", _backend("b", Status.ERROR, None, None, calls)),
+              Stage("c", _backend("c", Status.FEASIBLE, 1.0, None, calls))]
+    out = fallback_chain(0, stages, time_limit_s=2.0, seed=0)
+    assert [c[0] for c in calls] == ["a", "b", "c"] and calls[0][1] == pytest.approx(1.0)
+    assert out.backend == "c" and out.stats["fallbacks"] == 2.0
+    assert "a failed (a says hi)" in out.message and out.message.endswith("c answered")
+
+
+def test_fallback_chain_skips_unsupported_and_reports_when_nothing_answers() -> None:
+    """An unsupported stage is skipped with its reason; with no answer the last failure comes
+    back; a custom ``accept`` decides what counts as an answer."""
+    calls: Calls = []
+    stages = [Stage("a", _backend("a", Status.INFEASIBLE, None, None, calls)),
+              Stage("b", _backend("b", Status.FEASIBLE, 1.0, None, calls),
+                    supports=lambda problem: "not for this one")]
+    out = fallback_chain(0, stages, time_limit_s=1.0, seed=0)
+    assert out.status is Status.INFEASIBLE and "b skipped (not for this one)" in out.message
+    assert [c[0] for c in calls] == ["a"]
+    calls.clear()
+    done = fallback_chain(0, stages, time_limit_s=1.0, seed=0,
+                          accept=lambda r: r.status is not Status.ERROR)
+    assert done.status is Status.INFEASIBLE and done.stats["fallbacks"] == 0.0
+
+
+def test_fallback_chain_needs_a_stage() -> None:
+    """An empty chain is a programming error."""
+    with pytest.raises(ValueError, match="at least one"):
+        fallback_chain(0, [], time_limit_s=1.0, seed=0)
