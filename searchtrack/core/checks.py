@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from typing import TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -10,6 +11,15 @@ from numpy.typing import ArrayLike, NDArray
 from searchtrack.core.errors import InvalidInputError
 
 _REAL = (int, float, np.integer, np.floating)
+ScalarT = TypeVar("ScalarT", bound=np.generic)
+
+
+def readonly(a: NDArray[ScalarT], *, copy: bool = True) -> NDArray[ScalarT]:
+    """``a`` as an array nobody can write through: a read-only copy, or with ``copy=False``
+    ``a`` itself made read-only (for an array the caller has just built and shares with no one)."""
+    out = np.array(a, copy=True) if copy else a
+    out.setflags(write=False)
+    return out
 
 
 def real(name: str, value: object, *, low: float = -math.inf, high: float = math.inf,

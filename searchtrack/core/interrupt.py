@@ -12,8 +12,10 @@ Library code never installs a signal handler: the command line does, with :func:
 from __future__ import annotations
 
 import contextlib
+import math
 import signal
 import threading
+import time
 from collections.abc import Callable, Iterator
 from types import FrameType
 
@@ -33,6 +35,12 @@ def stop_requested() -> bool:
 def clear_stop() -> None:
     """Forget a stop request (before starting new work)."""
     _STOP.clear()
+
+
+def stop_clock() -> float:
+    """``time.perf_counter()``, or ``+inf`` once a stop is requested: compiled kernels that
+    compare the clock with a deadline read this and so stop on request too."""
+    return math.inf if _STOP.is_set() else time.perf_counter()
 
 
 @contextlib.contextmanager

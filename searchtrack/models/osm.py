@@ -18,7 +18,7 @@ projection about the centre of the roads' bounding box
 
 from __future__ import annotations
 
-import bz2
+import io
 import logging
 import math
 import time
@@ -27,11 +27,12 @@ from collections import Counter
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import IO
+from typing import Any
 
 import numpy as np
 
 from searchtrack.core.errors import ParseError
+from searchtrack.core.files import open_input
 from searchtrack.models.projection import LocalProjection
 from searchtrack.models.road_builder import network_from_polylines
 from searchtrack.models.roads import RoadNetwork, validate_spacing
@@ -58,20 +59,19 @@ NO_CARS: dict[str, frozenset[str]] = {
 Way = tuple[int, list[int]]  # (way id, node ids)
 
 
+#: Largest map read (bytes, after bzip2): a city extract; a country needs a tiler, not this reader.
+MAX_OSM_BYTES = 512 * 2**20
+
+
 @contextmanager
-def _open(path: Path) -> Iterator[IO[bytes]]:
-    """The file as bytes, decompressed when it starts with the bzip2 magic ``BZh``."""
-    if not path.exists():
-        raise ParseError(path, None, None, "no such file")
-    try:
-        with path.open("rb") as raw:
-            magic = raw.read(3)
-        if not magic:
+def _open(path: Path) -> Iterator[io.BufferedReader[Any]]:
+    """The file as bytes, decompressed when it starts with the bzip2 magic ``BZh``, at most
+    :data:`MAX_OSM_BYTES` (errors name the file: see :func:`~searchtrack.core.files.open_input`).
+    """
+    with open_input(path, max_bytes=MAX_OSM_BYTES) as fh:
+        if not fh.peek(1):
             raise ParseError(path, None, None, "empty file: not an OpenStreetMap file")
-        with (bz2.open(path, "rb") if magic == b"BZh" else path.open("rb")) as fh:
-            yield fh
-    except (OSError, EOFError) as exc:
-        raise ParseError(path, None, None, f"cannot read: {exc}") from None
+        yield fh
 
 
 def _coordinate(path: Path, where: str, name: str, text: str | None, bound: float) -> float:

@@ -40,6 +40,7 @@ from ortools.sat.python import cp_model
 
 from searchtrack.core.deadline import Deadline, check_time_limit
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.interrupt import watch
 from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw.arcs import ArcGraph, arc_graph
 from searchtrack.plan.optw.cpsat_model import (
@@ -53,7 +54,7 @@ from searchtrack.plan.optw.cpsat_model import (
     scaled_profit,
 )
 from searchtrack.plan.optw.instance import OPTWInstance, Routes
-from searchtrack.plan.optw.plans import (
+from searchtrack.plan.optw.routes import (
     check_plan,
     idle_routes,
     initial_plan,
@@ -157,7 +158,8 @@ def _run(
         mdl.model.add(objective <= cap)
     solver = cp_model.CpSolver()
     _parameters(solver, max(stop.remaining() - _MARGIN_S, 0.01), seed, workers, form)
-    native = solver.solve(mdl.model)
+    with watch(solver.stop_search):  # Ctrl-C: stop the search, keep what it found
+        native = solver.solve(mdl.model)
     name = solver.status_name(native)
     plan: Routes | None = None
     if native in (cp_model.OPTIMAL, cp_model.FEASIBLE):

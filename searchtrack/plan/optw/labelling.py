@@ -29,6 +29,7 @@ from numpy.typing import NDArray
 
 from searchtrack.core.deadline import Deadline, check_time_limit
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw import labelling_kernels as K
 from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes
@@ -391,7 +392,8 @@ def solve_labelling(
         direction = 1 - direction
     stats = search.stats
     if code is not None and code != K.DONE:
-        message = "time limit" if code == K.TIMEOUT else "label store full"
+        message = ("label store full" if code != K.TIMEOUT
+                   else "stopped on request" if stop_requested() else "time limit")
         if search.route is None:
             return Result(Status.NO_SOLUTION, None, None, deadline.elapsed(), "labelling", None,
                           message=message, stats=stats)

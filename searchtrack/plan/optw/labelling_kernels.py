@@ -15,10 +15,10 @@ that has the same ng-memory (found through a hash table) and with the most recen
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 from numba import njit, objmode
+
+from searchtrack.core.interrupt import stop_clock
 
 DONE = 0  # the pass finished: every label was expanded or pruned
 TIMEOUT = 1  # the deadline passed
@@ -29,8 +29,10 @@ _CHECK_EVERY = 64  # expanded labels between two clock reads
 
 @njit(cache=True)
 def _clock() -> float:
+    """The wall clock, or +inf once a stop is requested (the kernel then stops as at its
+    deadline)."""
     with objmode(now="float64"):
-        now = time.perf_counter()
+        now = stop_clock()
     return now
 
 

@@ -34,10 +34,11 @@ from ortools.linear_solver import pywraplp
 
 from searchtrack.core.deadline import Deadline, check_time_limit
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.interrupt import stop_requested, watch
 from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw.arcs import ArcGraph, arc_graph
 from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes
-from searchtrack.plan.optw.plans import (
+from searchtrack.plan.optw.routes import (
     check_plan,
     idle_routes,
     initial_plan,
@@ -193,6 +194,8 @@ def _status(native: int, has_plan: bool) -> Status:
         return Status.INFEASIBLE
     if native == pywraplp.Solver.NOT_SOLVED:
         return Status.FEASIBLE if has_plan else Status.NO_SOLUTION
+    if native == pywraplp.Solver.ABNORMAL and stop_requested():
+        return Status.FEASIBLE if has_plan else Status.NO_SOLUTION  # interrupted on request
     if native in (pywraplp.Solver.UNBOUNDED, pywraplp.Solver.ABNORMAL,
                   pywraplp.Solver.MODEL_INVALID):
         return Status.ERROR
@@ -262,7 +265,8 @@ def solve_mip(
     solver.SetTimeLimit(max(1, int(deadline.remaining() * 1000) - 50))
     params = pywraplp.MPSolverParameters()
     params.SetDoubleParam(params.RELATIVE_MIP_GAP, 0.0)
-    native = solver.Solve(params)
+    with watch(solver.InterruptSolve):  # Ctrl-C: SCIP stops and keeps its incumbent
+        native = solver.Solve(params)
     name = f"{engine} {_NATIVE.get(native, str(native))}"
     plan: Routes | None = None
     if native in (pywraplp.Solver.OPTIMAL, pywraplp.Solver.FEASIBLE):
@@ -281,7 +285,7 @@ def solve_mip(
     if status.has_plan:
         raw = solver.Objective().BestBound()
         integral = bool(np.all(instance.profit == np.round(instance.profit)))
-        if math.isfinite(raw):
+        if math.isfinite(raw) and abs(raw) < 1e19:  # SCIP reports "none" as ±1e20
             bound = float(math.floor(raw + 1e-6)) if integral else raw
         if status is Status.OPTIMAL and objective is not None:
             bound = max(objective, bound) if bound is not None else objective

@@ -10,7 +10,7 @@ import logging
 import time
 
 from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
-from searchtrack.core.result import Result, Status
+from searchtrack.core.result import Result, Status, interrupted
 from searchtrack.plan.optw.instance import OPTWInstance, Routes
 from searchtrack.plan.optw.validate import validate
 
@@ -132,7 +132,7 @@ def solve(
     chosen = BACKENDS.checked(backend, instance, time_limit_s, seed)
     warm_up(backend)
     started = time.perf_counter()
-    result = chosen.solve(instance, time_limit_s=time_limit_s, seed=seed)
+    result = interrupted(chosen.solve(instance, time_limit_s=time_limit_s, seed=seed))
     log.info("optw %s via %s: %s %s in %.3f s", instance.name, backend, result.status.name,
              result.objective, time.perf_counter() - started)
     return checked(instance, result)

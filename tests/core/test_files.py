@@ -1,0 +1,50 @@
+"""Input files: every failure names the file; nothing is read past the limit."""
+
+from __future__ import annotations
+
+import bz2
+from pathlib import Path
+
+import pytest
+
+from searchtrack.core.errors import ParseError
+from searchtrack.core.files import open_input, read_text
+
+
+def test_plain_and_bzip2_text_read_alike(tmp_path: Path) -> None:
+    """A file and its bzip2 form give the same text."""
+    text = "héllo\nworld\n"
+    (tmp_path / "a.txt").write_text(text, encoding="utf-8")
+    (tmp_path / "a.txt.bz2").write_bytes(bz2.compress(text.encode()))
+    assert read_text(tmp_path / "a.txt") == read_text(tmp_path / "a.txt.bz2") == text
+
+
+@pytest.mark.parametrize(("make", "reason"), [
+    (lambda d: d / "missing", "no such file"),
+    (lambda d: d, "not a regular file"),
+    (lambda d: Path("/dev/zero"), "not a regular file"),
+    (lambda d: _write(d / "t.bz2", bz2.compress(bytes(range(256)) * 3)[:200]),
+     "truncated or corrupt"),
+    (lambda d: _write(d / "b.txt", b"ok\n\xff\xfe"), "line 2: not UTF-8"),
+    (lambda d: _write(d / "big.txt", b"x" * 2000), "larger than the 1000 bytes"),
+    (lambda d: _write(d / "bomb.bz2", bz2.compress(b"x" * 5000)), "larger than the 1000 bytes"),
+])
+def test_bad_files_name_the_file(tmp_path: Path, make, reason: str) -> None:  # type: ignore[no-untyped-def]
+    """Missing, special, truncated, non-UTF-8 and oversized (also once inflated) files raise
+    ParseError naming the file."""
+    path = make(tmp_path)
+    with pytest.raises(ParseError) as err:
+        read_text(path, max_bytes=1000)
+    assert str(path) in str(err.value) and reason in str(err.value)
+
+
+def test_open_input_streams_within_the_limit(tmp_path: Path) -> None:
+    """A stream reads to the end of a file under the limit."""
+    path = _write(tmp_path / "s.bz2", bz2.compress(b"abc" * 100))
+    with open_input(path, max_bytes=300) as stream:
+        assert stream.read() == b"abc" * 100
+
+
+def _write(path: Path, data: bytes) -> Path:
+    path.write_bytes(data)
+    return path
