@@ -8,10 +8,12 @@ from searchtrack.core.deadline import Deadline, check_time_limit
 from searchtrack.core.errors import InvalidInputError, ParseError, SearchtrackError
 from searchtrack.core.interrupt import clear_stop, request_stop, sigint_stops, stop_requested
 from searchtrack.core.registry import (
+    MAX_SEED,
     Backend,
     Registry,
     SolveFn,
     Stage,
+    check_seed,
     fallback_chain,
     heuristic_then_exact,
     relabel,
@@ -20,6 +22,7 @@ from searchtrack.core.result import Result, Sense, Status, interrupted, merge_an
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
 
 __all__ = [
+    "MAX_SEED",
     "Backend",
     "BoolArray",
     "Deadline",
@@ -34,6 +37,7 @@ __all__ = [
     "SolveFn",
     "Stage",
     "Status",
+    "check_seed",
     "check_time_limit",
     "clear_stop",
     "fallback_chain",

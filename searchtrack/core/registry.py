@@ -23,6 +23,18 @@ Q = TypeVar("Q")
 log = logging.getLogger("searchtrack.core.registry")
 
 
+#: Largest seed a solve takes: every backend's native seed (CP-SAT's and SCIP's are 32-bit signed
+#: integers) can hold it, so a seed means the same run whichever backend answers.
+MAX_SEED = 2**31 - 1
+
+
+def check_seed(seed: object) -> int:
+    """``seed`` if it is an integer in ``[0, MAX_SEED]``, else :class:`InvalidInputError`."""
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
+        raise InvalidInputError("seed", seed, f"must be an integer in [0, {MAX_SEED}]")
+    return seed
+
+
 class SolveFn(Protocol[ProblemT, PlanT]):
     """Signature every backend implements."""
 
@@ -85,10 +97,9 @@ class Registry(Generic[P, Q]):
 
     def checked(self, name: str, problem: P, time_limit_s: float, seed: int) -> Backend[P, Q]:
         """The backend called ``name`` after the checks every ``solve()`` makes: a valid time
-        limit, a non-negative integer seed, a known backend that can take ``problem``."""
+        limit, an integer seed in ``[0, MAX_SEED]``, a known backend that can take ``problem``."""
         check_time_limit(time_limit_s)
-        if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-            raise InvalidInputError("seed", seed, "must be a non-negative integer")
+        check_seed(seed)
         chosen = self.get(name)
         reason = chosen.supports(problem)
         if reason is not None:

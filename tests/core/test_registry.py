@@ -93,3 +93,13 @@ def test_fallback_chain_needs_a_stage() -> None:
     """An empty chain is a programming error."""
     with pytest.raises(ValueError, match="at least one"):
         fallback_chain(0, [], time_limit_s=1.0, seed=0)
+
+
+@pytest.mark.parametrize("bad", [-1, 2**31, 3_000_000_000, 1.5, True, "3"])
+def test_seeds_every_backend_can_take(bad: object) -> None:
+    """Seeds outside [0, 2^31 − 1] (what CP-SAT and SCIP take) are refused, naming the seed."""
+    from searchtrack.core import MAX_SEED, InvalidInputError, check_seed
+
+    assert check_seed(0) == 0 and check_seed(MAX_SEED) == MAX_SEED
+    with pytest.raises(InvalidInputError, match=r"seed=.*\[0, 2147483647\]"):
+        check_seed(bad)
