@@ -30,7 +30,7 @@ bench: $(STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,bench]'
 	$(BIN)/python benchmarks/optw.py
 
-# Every issue's benchmark table in turn (about two hours on 2 cores; run on an idle machine).
+# Every benchmark table in turn (about two hours on 2 cores; run on an idle machine).
 bench-all: bench
 	$(BIN)/python benchmarks/emd.py --graph osm
 	$(BIN)/python benchmarks/association.py
@@ -40,11 +40,11 @@ bench-all: bench
 	$(BIN)/python benchmarks/road_missions.py exp2
 	$(BIN)/python benchmarks/phd.py
 	$(BIN)/python benchmarks/assign.py
-	$(BIN)/python benchmarks/assign_experiments.py ideal
-	$(BIN)/python benchmarks/assign_experiments.py search
-	$(BIN)/python benchmarks/assign_experiments.py search --refinement mi
-	$(BIN)/python benchmarks/assign_experiments.py horizon
-	$(BIN)/python benchmarks/assign_experiments.py track
+	$(BIN)/python benchmarks/phd_search_experiments.py ideal
+	$(BIN)/python benchmarks/phd_search_experiments.py search
+	$(BIN)/python benchmarks/phd_search_experiments.py search --refinement mi
+	$(BIN)/python benchmarks/phd_search_experiments.py horizon
+	$(BIN)/python benchmarks/phd_tracking_experiments.py track
 	$(BIN)/python benchmarks/gp_motion.py
 	$(BIN)/python benchmarks/trajectory.py all
 

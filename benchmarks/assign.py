@@ -18,6 +18,7 @@ from threadpoolctl import threadpool_limits
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from searchtrack.estimate.particle_belief import ParticleBelief, WeightedParticles
 from searchtrack.estimate.phd import (
     PHDConfig,
     PHDState,
@@ -29,15 +30,14 @@ from searchtrack.estimate.phd import (
     update,
 )
 from searchtrack.models.camera import DownwardCamera
+from searchtrack.models.footprint import GaussianFieldOfView
 from searchtrack.models.motion import RandomWalk
-from searchtrack.plan.assign.actions import FixedWingPrimitives, fixed_wing_actions
-from searchtrack.plan.assign.bnb import solve_bnb
+from searchtrack.plan.assign import AssignmentProblem, FixedWingPrimitives, fixed_wing_actions
+from searchtrack.plan.assign.branch_and_bound import solve_branch_and_bound
 from searchtrack.plan.assign.brute import solve_brute_force
 from searchtrack.plan.assign.exact import solve_exact
-from searchtrack.plan.assign.footprint import GaussianFieldOfView
 from searchtrack.plan.assign.greedy import solve_greedy, solve_lazy_greedy
 from searchtrack.plan.assign.nlp import NLPLimits, solve_nlp
-from searchtrack.plan.assign.problem import AssignmentProblem
 
 FloatArray = NDArray[np.float64]
 
@@ -71,15 +71,14 @@ class Disc:
         return z
 
 
-def belief(rng: np.random.Generator, n: int, area: float, clusters: int = 8) -> tuple[
-        FloatArray, FloatArray]:
+def belief(rng: np.random.Generator, n: int, area: float, clusters: int = 8) -> WeightedParticles:
     """Particles around random target clusters plus a uniform floor; mass ≈ clusters."""
     centres = rng.uniform(0, area, size=(clusters, 2))
     k = rng.integers(0, clusters, size=n)
     pos = centres[k] + rng.normal(0, area / 25, size=(n, 2))
     uniform = rng.random(n) < 0.3
     pos[uniform] = rng.uniform(0, area, size=(int(uniform.sum()), 2))
-    return pos, np.full(n, clusters / n)
+    return WeightedParticles(pos, np.full(n, clusters / n))
 
 
 def random_actions(rng: np.random.Generator, robots: int, actions: int, steps: int,
@@ -97,8 +96,8 @@ def greedy_vs_optimal(instances: int) -> None:
     for seed in range(instances):
         rng = np.random.default_rng(seed)
         robots = int(rng.integers(2, 5))
-        pos, w = belief(rng, 300, 60.0, clusters=4)
-        p = AssignmentProblem(random_actions(rng, robots, 6, 2, 60.0, 15.0), pos, w, Disc())
+        particles = belief(rng, 300, 60.0, clusters=4)
+        p = AssignmentProblem(random_actions(rng, robots, 6, 2, 60.0, 15.0), particles, Disc())
         opt = solve_brute_force(p).objective or 0.0
         g = solve_greedy(p).objective or 0.0
         lazy_same += abs((solve_lazy_greedy(p).objective or 0.0) - g) < 1e-9
@@ -116,14 +115,14 @@ def greedy_vs_optimal(instances: int) -> None:
 def primitive_problem(seed: int, particles: int = 2000) -> AssignmentProblem:
     """6 fixed-wing UAVs over a 60 m square, 50 primitives x 2 poses each, disc footprints."""
     rng = np.random.default_rng(seed)
-    pos, w = belief(rng, particles, 60.0, clusters=10)
+    particle_belief = belief(rng, particles, 60.0, clusters=10)
     prim = FixedWingPrimitives(speeds_mps=(1.5, 2.5), yaw_rates_rps=tuple(
         np.linspace(-0.3, 0.3, 5)), pitch_rates_rps=(-0.15, -0.1, 0.0, 0.1, 0.15), steps=2,
         euler_dt_s=0.05)
     states = [np.array([*rng.uniform(5, 55, 2), 20.0, rng.uniform(-3, 3), 0.0])
               for _ in range(6)]
     acts = tuple(fixed_wing_actions(s, prim) for s in states)
-    return AssignmentProblem(acts, pos, w, Disc(radius_m=6.0))
+    return AssignmentProblem(acts, particle_belief, Disc(radius_m=6.0))
 
 
 def exact_speed(seeds: int, limit_s: float) -> None:
@@ -138,12 +137,13 @@ def exact_speed(seeds: int, limit_s: float) -> None:
                 p = primitive_problem(seed)
             else:
                 rng = np.random.default_rng(1000 + seed)
-                pos, w = belief(rng, 2000, 100.0)
-                p = AssignmentProblem(random_actions(rng, 6, 50, 2, 100.0, 25.0), pos, w, Disc())
+                particles = belief(rng, 2000, 100.0)
+                p = AssignmentProblem(random_actions(rng, 6, 50, 2, 100.0, 25.0), particles,
+                                      Disc())
             _ = p.log_miss
             g = solve_lazy_greedy(p)
             t0 = time.perf_counter()
-            bb = solve_bnb(p, time_limit_s=limit_s)
+            bb = solve_branch_and_bound(p, time_limit_s=limit_s)
             t1 = time.perf_counter()
             scip = solve_exact(p, time_limit_s=limit_s, initial=g.plan)
             t2 = time.perf_counter()
@@ -203,7 +203,8 @@ def planning_step(repeats: int) -> None:
     """One planning cycle: PHD filter update with 6 camera scans on ~10 000 particles, then
     greedy END over 6 UAVs × 100 fixed-wing primitives on the updated belief."""
     rng = np.random.default_rng(7)
-    pos, w = belief(rng, 10_000, 60.0, clusters=10)
+    start = belief(rng, 10_000, 60.0, clusters=10)
+    pos, w = start.positions, start.weights
     truth = pos[:10] + 0.0  # ten targets at particles of the clusters
     config = PHDConfig(survival_probability=0.99, birth_mass=0.2,
                        birth_particles_per_measurement=50, birth_position_sigma_m=2.0,
@@ -241,11 +242,13 @@ def planning_step(repeats: int) -> None:
                     sensor: object = Disc(radius_m=6.0) if model.startswith("disc") else (
                         cam if "batched" in model else PerPoseCamera(cam))
                     t0 = time.perf_counter()
-                    bpos, bw = state.positions, state.weights
+                    planned: ParticleBelief = state
                     if "subsample" in model:
+                        bw = state.weights
                         idx = systematic_indices(bw, 2000, rng)
-                        bpos, bw = bpos[idx], np.full(2000, bw.sum() / 2000)
-                    p = AssignmentProblem(acts, bpos, bw, sensor)  # type: ignore[arg-type]
+                        planned = WeightedParticles(state.positions[idx],
+                                                    np.full(2000, bw.sum() / 2000))
+                    p = AssignmentProblem(acts, planned, sensor)  # type: ignore[arg-type]
                     _ = p.hit
                     t1 = time.perf_counter()
                     solve_greedy(p)
@@ -269,14 +272,14 @@ def nlp_refinement(seeds: int) -> None:
     print("|---|---|---|---|---|---|")
     for seed in range(seeds):
         rng = np.random.default_rng(seed)
-        pos, w = belief(rng, 1000, 60.0, clusters=10)
+        particles = belief(rng, 1000, 60.0, clusters=10)
         prim = FixedWingPrimitives(speeds_mps=(1.5,), steps=2, euler_dt_s=0.05,
                                    pitch_rates_rps=(0.0,))
         states = [np.array([*rng.uniform(5, 55, 2), 20.0, rng.uniform(-3, 3), 0.0])
                   for _ in range(6)]
         acts = tuple(fixed_wing_actions(s, prim) for s in states)
         origins = np.array([s[:3] for s in states])
-        p = AssignmentProblem(acts, pos, w, GaussianFieldOfView(0.9, 5.0, 60.0),
+        p = AssignmentProblem(acts, particles, GaussianFieldOfView(0.9, 5.0, 60.0),
                               min_separation_m=8.0, origins=origins)
         t0 = time.perf_counter()
         res = solve_nlp(p, NLPLimits(max_step_m=8.0, z_min_m=10.0, z_max_m=30.0),
@@ -285,7 +288,7 @@ def nlp_refinement(seeds: int) -> None:
         if res.objective is None:
             print(f"| {seed} | - | - | - | {dt:.2f} | {res.message} |")
             continue
-        g = res.stats["heuristic_objective"]
+        g = res.stats["greedy_objective"]
         obj = res.objective
         print(f"| {seed} | {g:.4f} | {obj:.4f} | {100 * (obj / g - 1):.1f} | {dt:.2f} | "
               f"{res.message.split(',')[0]} |")

@@ -13,8 +13,8 @@ Scenes (4 trackers × 3 measurements, as one UAV scan of the mission):
 Trackers are point masses diffused ``steps`` times by ``GraphDiffusion.on_network(network,
 alpha=0.447, dt_s=0.3)``; fixes are ``position_log_likelihood`` + ``measurement_density`` with
 noise ``s``. Times are in ms, the best of ``--repeat`` calls after one warm-up (the graph
-column: one call), averaged over the seeds, with one BLAS thread: ``GreedyEMDAssociator`` and
-``OptimalEMDAssociator`` with ``method="transport"`` (the default), and greedy with
+column: one call), averaged over the seeds, with one BLAS thread: ``EMDAssociator`` with the
+``greedy`` and ``optimal`` backends and ``method="transport"`` (the default), and greedy with
 ``method="graph"`` (min-cost flow on the whole road graph). ``|S|`` are mean truncated support
 sizes at ``support_mass=0.999``; ``pairs`` counts the pairs solved (not skipped by a bound).
 
@@ -33,7 +33,7 @@ from threadpoolctl import threadpool_limits
 
 from searchtrack.estimate.association import Associator
 from searchtrack.estimate.diffusion import GraphDiffusion
-from searchtrack.estimate.emd_association import GreedyEMDAssociator, OptimalEMDAssociator
+from searchtrack.estimate.emd_association import EMDAssociator
 from searchtrack.estimate.emd_matrix import emd_matrix, truncate_signature
 from searchtrack.estimate.node_tracker import (
     NodeTracker,
@@ -90,8 +90,8 @@ def best_ms(associator: Associator, bank: TrackerBank, dens: np.ndarray, repeat:
 def timing_table(net: RoadNetwork, args: argparse.Namespace) -> None:
     metric = RoadMetric(net)
     diffusion = GraphDiffusion.on_network(net, alpha=ALPHA, dt_s=DT_S)
-    greedy, optimal = GreedyEMDAssociator(net), OptimalEMDAssociator(net)
-    graph = GreedyEMDAssociator(net, method="graph", time_limit_s=30.0)
+    greedy, optimal = EMDAssociator(net, "greedy"), EMDAssociator(net, "optimal")
+    graph = EMDAssociator(net, "greedy", method="graph", time_limit_s=30.0)
     rows = [["scene", "steps", "s (m)", "|S| trk", "|S| meas", "pairs", "greedy ms",
              "optimal ms", "graph ms", "agree"]]
     for kind in ("spread", "close"):

@@ -121,7 +121,7 @@ def objective(result: object) -> float:
 
 
 def ortools_on_graph(adj: sp.csr_array, p: np.ndarray, q: np.ndarray) -> float:
-    """OR-Tools SimpleMinCostFlow on the graph's arcs, integer-scaled (the issue's baseline)."""
+    """OR-Tools SimpleMinCostFlow on the graph's arcs, integer-scaled (the baseline)."""
     from ortools.graph.python import min_cost_flow
 
     scale = 1e9

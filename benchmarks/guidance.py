@@ -1,15 +1,16 @@
-"""Guidance benchmark on the Aguascalientes map: ms per ``guide`` call and the reacquisition OPTW.
+"""Guidance benchmark on the Aguascalientes map: ms per guidance solve and the reacquisition OPTW.
 
-    python benchmarks/guidance.py                 # 20 calls per strategy
+    python benchmarks/guidance.py                 # 20 calls per backend
     python benchmarks/guidance.py --calls 5
 
 Scene: 3 UAVs, 4 trackers made by diffusing point masses at random nodes ``STEPS`` times with
 ``GraphDiffusion.on_network(network, 0.447, 0.3)`` (unweighted, as the trackers), so their
 peaks straddle ``ϱ`` = 0.3; the UAVs start 300 m from random tracker peaks; the LRT field is
 N(0, 1) noise. Times are the median wall-clock ms of ``--calls`` calls with one BLAS thread.
-``search_and_reacquire`` is timed twice: ``first`` resets the strategy before every call (so each
-call plans its routes: ``T_r`` simulation, instance, OPTW solve within the 30 ms budget) and
-``steady`` keeps its routes (the per-step cost while following them).
+``search_and_reacquire`` is timed twice: ``first`` solves the problem without routes every call
+(so each call plans its routes: ``T_r`` simulation, instance, OPTW solve within the 30 ms
+``time_limit_s``) and ``steady`` passes each answer's routes to the next problem (the per-step
+cost while following them).
 
 The second table solves the reacquisition OPTW of the tracker whose peak is highest below ϱ, from
 a start 300 m and 550 m east of its peak, with 40 and 80 candidate nodes (``support_mass=1``),
@@ -28,15 +29,18 @@ from tables import table_with_header as table
 from threadpoolctl import threadpool_limits
 
 from searchtrack.estimate.diffusion import GraphDiffusion
+from searchtrack.estimate.lrt import LikelihoodField
 from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
 from searchtrack.models import RoadNetwork, read_osm
 from searchtrack.plan.guidance import (
-    STRATEGIES,
+    BACKENDS,
+    GuidanceProblem,
     GuidanceView,
     StrategyConfig,
     reacquire_time,
     reacquisition_instance,
 )
+from searchtrack.plan.guidance import solve as guide
 from searchtrack.plan.optw.solve import solve, warm_up
 from searchtrack.sim.scenario import bundled_map
 
@@ -68,23 +72,26 @@ def scene(net: RoadNetwork, diffusion: GraphDiffusion,
 
 def strategy_table(net: RoadNetwork, diffusion: GraphDiffusion, bank: TrackerBank,
                    uav: np.ndarray, llr: np.ndarray, calls: int) -> None:
-    view = GuidanceView(net, uav, np.zeros(3), np.full(3, 35.76), llr, bank, 0.0)
+    view = GuidanceView(net, uav, np.zeros(3), np.full(3, 35.76), LikelihoodField(llr), bank,
+                        0.0)
+    fresh = GuidanceProblem(view, StrategyConfig(), diffusion)
     rows = [["strategy", "modes", "median ms", "max ms", "plan ms"]]
-    for name in STRATEGIES:
-        strategy = STRATEGIES[name](StrategyConfig(), diffusion)
+    for name in BACKENDS.names():
         variants = ["first", "steady"] if name == "search_and_reacquire" else [""]
         for variant in variants:
-            strategy.reset()
-            rng = np.random.default_rng(0)
-            strategy.guide(view, rng)  # warm-up (gradient structures, numba)
+            answer = guide(fresh, backend=name, time_limit_s=0.03, seed=0).plan  # warm-up
+            assert answer is not None
+            problem = fresh.following(view, answer)
             times, plan = [], []
-            for _ in range(calls):
+            for k in range(calls):
                 if variant == "first":
-                    strategy.reset()
+                    problem = fresh
                 t0 = time.perf_counter()
-                g = strategy.guide(view, rng)
+                g = guide(problem, backend=name, time_limit_s=0.03, seed=k + 1).plan
                 times.append(1e3 * (time.perf_counter() - t0))
+                assert g is not None
                 plan.append(g.plan_ms)
+                problem = problem.following(view, g)
             label = f"{name} ({variant})" if variant else name
             rows.append([label, ",".join(m[0] for m in g.mode), f"{statistics.median(times):.2f}",
                          f"{max(times):.2f}", f"{statistics.median(plan):.2f}"])

@@ -20,8 +20,7 @@ from pathlib import Path
 from threadpoolctl import threadpool_limits
 
 from searchtrack.core.result import Status
-from searchtrack.plan.optw import OPTWInstance, read_optw
-from searchtrack.plan.optw.solve import solve
+from searchtrack.plan.optw import OPTWInstance, read_optw, solve
 
 ROOT = Path(__file__).resolve().parents[2] / "shared" / "benchmarks" / "optw"
 

@@ -10,53 +10,54 @@ UAVs; its spread too). exp2 (§6.2): loiter vs search-and-loiter vs search-and-r
 PVT and PVA at the four altitudes for 1 UAV / 4 targets and 3 UAVs / 2 targets (claims: loiter ≥
 search-and-loiter on MOC; PVT ≈ 97 %; MOC ≈ 25 % at ratio 0.25 and ≈ 100 % at 1.5). step: the
 filter-and-plan time of one step on Aguascalientes with 3 UAVs, by number of trackers (< 50 ms).
+The scenarios and per-run scores are :mod:`searchtrack.sim.experiments.road_missions`; this script
+loops over them, times and prints.
 """
 
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import itertools
-import math
 import sys
 import time
 
 import numpy as np
 from tables import table
 
-from searchtrack.models import DubinsLimits, SensorModel
-from searchtrack.models.sensors import THESIS_ALTITUDES_M, AltitudeModel
+from searchtrack.models.lrt_sensor import THESIS_ALTITUDES_M
 from searchtrack.sim.campaign import estimate, fly_seeds
-from searchtrack.sim.mission import Mission, World
+from searchtrack.sim.experiments.road_missions import (
+    MAPS,
+    TRACKING_FLEETS,
+    TRACKING_STRATEGIES,
+    detection_scenario,
+    detection_time_s,
+    step_samples,
+    step_scenario,
+    tracking_base,
+    tracking_run,
+    tracking_scenario,
+    with_fleet,
+    with_strategy,
+)
+from searchtrack.sim.mission import World
 from searchtrack.sim.record import PHASES
-from searchtrack.sim.scenario import FilterSpec, GuidanceSpec, MapSpec, Scenario, bundled_map
-
-MAPS = {
-    "aguascalientes": MapSpec("osm", bundled_map("aguascalientes")),
-    "West-Oakland": MapSpec("osm", bundled_map("West-Oakland")),
-    "grid-dense": MapSpec("grid", rows=16, cols=16, block_m=65.0),
-}
 
 
 def exp1(args: argparse.Namespace) -> None:
     """Time to detect all targets vs number of UAVs (detection only, Table 6.2)."""
-    sensor = SensorModel(pd=0.95, pf=0.10, footprint_radius_m=120.0, position_noise_m=5.0)
     header = ["map", "int/mi²", "hull km²", "UAVs", "runs", "all found", "time s (95 % CI)",
               "median s", "s.d. s", "wall s"]
     rows = []
     for name in args.maps:
-        spec = MAPS[name]
-        base = Scenario(name, spec, target_count=8, sensor=sensor, altitude_m=None,
-                        limits=DubinsLimits(turn_rate_max_rps=math.radians(50.0)),
-                        guidance=GuidanceSpec(strategy="search"), mode="detect",
-                        duration_s=args.max_duration, uav_start="random",
-                        filter=FilterSpec(llr_floor=args.llr_floor))
+        base = detection_scenario(name, max_duration_s=args.max_duration,
+                                  llr_floor=args.llr_floor)
         world = World.build(base)
         net = world.network
         for o in args.uavs:
             started = time.perf_counter()
-            logs = fly_seeds(dataclasses.replace(base, uav_count=o), range(args.seeds), world)
-            found = [lg.score.time_to_detect_all_s for lg in logs]
+            logs = fly_seeds(with_fleet(base, o), range(args.seeds), world)
+            found = [detection_time_s(lg) for lg in logs]
             ok = [t for t in found if t is not None]
             est = estimate(ok)
             rows.append([name, f"{net.intersection_density_per_mi2:.0f}",
@@ -85,26 +86,22 @@ def exp2(args: argparse.Namespace) -> None:
     header = ["UAVs/targets", "altitude m", "strategy", "runs", "MOC mean", "MOC last third",
               "PVT %", "PVA %", "plan ms p95", "wall s"]
     rows = []
-    configs = [(1, 4), (3, 2)]
-    altitude = AltitudeModel()
-    base = Scenario("exp2", MAPS[args.map], duration_s=args.duration, mode="track")
+    base = tracking_base(args.map, duration_s=args.duration)
     world = World.build(base)
-    for uavs, targets in configs:
+    for uavs, targets in TRACKING_FLEETS:
         for h in THESIS_ALTITUDES_M:
             for strategy in args.strategies:
                 started = time.perf_counter()
-                sc = dataclasses.replace(base, uav_count=uavs, target_count=targets,
-                                         sensor=altitude.sensor(h), altitude_m=h,
-                                         guidance=GuidanceSpec(strategy=strategy))
-                logs = fly_seeds(sc, range(args.seeds), world)
-                third = [float(lg.moc[2 * len(lg.moc) // 3:].mean()) for lg in logs]
+                sc = tracking_scenario(base, uavs=uavs, targets=targets, altitude_m=h,
+                                       strategy=strategy)
+                runs = [tracking_run(lg) for lg in fly_seeds(sc, range(args.seeds), world)]
                 rows.append([
-                    f"{uavs}/{targets}", f"{h:g}", strategy, str(len(logs)),
-                    str(estimate([lg.score.moc_mean for lg in logs])),
-                    str(estimate(third)),
-                    str(estimate([100 * lg.score.pvt for lg in logs if lg.score.pvt is not None])),
-                    str(estimate([100 * lg.score.pva for lg in logs if lg.score.pva is not None])),
-                    f"{max(float(np.percentile(lg.plan_ms, 95)) for lg in logs):.1f}",
+                    f"{uavs}/{targets}", f"{h:g}", strategy, str(len(runs)),
+                    str(estimate([r.moc_mean for r in runs])),
+                    str(estimate([r.moc_last_third for r in runs])),
+                    str(estimate([r.pvt_pct for r in runs if r.pvt_pct is not None])),
+                    str(estimate([r.pva_pct for r in runs if r.pva_pct is not None])),
+                    f"{max(r.plan_ms_p95 for r in runs):.1f}",
                     f"{time.perf_counter() - started:.0f}"])
                 print(f"  done {uavs}/{targets} h={h} {strategy}", file=sys.stderr, flush=True)
     print(f"\nExperiment 2 on {args.map}: {args.duration:g} s per run, mean ± 95 % half-width "
@@ -114,7 +111,7 @@ def exp2(args: argparse.Namespace) -> None:
           " MOC ≈ 25 % at ratio 0.25 (1 UAV/4 targets) and ≈ 100 % at 1.5 (3 UAVs/2 targets);"
           " search-and-reacquire was never simulated")
     moc = {(r[0], r[1], r[2]): float(r[4].split(" ")[0]) for r in rows if r[4] != "-"}
-    for uavs, targets in configs:
+    for uavs, targets in TRACKING_FLEETS:
         for h in THESIS_ALTITUDES_M:
             key = (f"{uavs}/{targets}", f"{h:g}")
             got = {st: moc.get((*key, st)) for st in args.strategies}
@@ -130,20 +127,14 @@ def exp2(args: argparse.Namespace) -> None:
 
 def step(args: argparse.Namespace) -> None:
     """Filter-and-plan milliseconds per step by number of live trackers."""
-    altitude = AltitudeModel()
     header = ["strategy", "trackers", "steps", "median ms", "p95 ms", "max ms"] + [
         f"{p} ms" for p in PHASES[2:]]
     rows = []
-    base = Scenario("step", MAPS["aguascalientes"], uav_count=3, target_count=4,
-                    sensor=altitude.sensor(1828.8), altitude_m=1828.8,
-                    duration_s=args.duration, mode="track")
+    base = step_scenario(duration_s=args.duration)
     world = World.build(base)
     for strategy in args.strategies:
-        logs = [Mission(dataclasses.replace(base, seed=s, guidance=GuidanceSpec(strategy=strategy)),
-                        world).run() for s in range(args.seeds)]
-        counts = np.concatenate([[st.trackers for st in lg.steps] for lg in logs])
-        ms = np.concatenate([lg.step_ms for lg in logs])
-        phases = np.concatenate([lg.phase_ms for lg in logs])
+        logs = fly_seeds(with_strategy(base, strategy), range(args.seeds), world)
+        counts, ms, phases = step_samples(logs)
         for k in sorted(set(counts.tolist())):
             sel = counts == k
             rows.append([strategy, str(k), str(int(sel.sum())), f"{np.median(ms[sel]):.1f}",
@@ -167,7 +158,7 @@ def main() -> None:
     p1.add_argument("--llr-floor", type=float, default=-20.0,
                     help="lowest LRT value where sensed (-inf: none, the thesis)")
     p1.set_defaults(run=exp1)
-    strategies = ["loiter", "search_and_loiter", "search_and_reacquire"]
+    strategies = list(TRACKING_STRATEGIES)
     p2 = sub.add_parser("exp2")
     p2.add_argument("--seeds", type=int, default=10)
     p2.add_argument("--duration", type=float, default=300.0)

@@ -1,4 +1,4 @@
-"""Trajectory tracking (issue 5): NMPC / OSQP solve times and closed-loop quality on two courses.
+"""Trajectory tracking: NMPC / OSQP solve times and closed-loop quality on two courses.
 
     python benchmarks/trajectory.py solve     # NMPC option variants + OSQP, warm-started, N = 20
     python benchmarks/trajectory.py courses   # lawnmower + random-waypoint courses, all controllers
@@ -7,7 +7,7 @@
 
 solve: median / 95th-percentile warm-started solve along a closed-loop run (Dubins, i.e. the
 unicycle at a constant 10 m/s, with 5 obstacles; fixed wing and 7-state UAV with 3), per CasADi
-option variant, and the OSQP LTV-MPC, against the issue's targets (NMPC ≤ 10 ms, OSQP ≤ 2 ms
+option variant, and the OSQP LTV-MPC, against the real-time targets (NMPC ≤ 10 ms, OSQP ≤ 2 ms
 median). A linear solver Ipopt cannot load (ma27 without HSL) is reported as unavailable.
 courses: collisions, RMS tracking error, input effort, min clearance and fallback counts per
 controller, with wind (1, −0.5) m/s and process noise; ``auto`` gets 50 ms per step. routes: the
@@ -44,10 +44,10 @@ from searchtrack.plan.trajectory import (
     waypoint_path,
 )
 from searchtrack.plan.trajectory.symbolic import step_function
+from searchtrack.sim.experiments.flight_e7 import E7Setup, fly_e7
 from searchtrack.sim.flight import FlightConfig, FlightLog, fly
-from searchtrack.sim.flight_routes import (
-    E7Setup,
-    fly_e7,
+from searchtrack.sim.mission import Mission
+from searchtrack.sim.route_flights import (
     fly_optw_route,
     fly_xy_path,
     plan_optw_route,
@@ -55,7 +55,6 @@ from searchtrack.sim.flight_routes import (
     route_deviation_m,
     route_waypoints,
 )
-from searchtrack.sim.mission import Mission
 from searchtrack.sim.scenario import GuidanceSpec, MapSpec, Scenario
 
 Solver = Callable[[TrackingProblem], Result[ControlPlan]]
@@ -126,7 +125,7 @@ def _cells(run: tuple[np.ndarray, np.ndarray, np.ndarray, str], target_ms: float
             f"<= {target_ms:g}", verdict]
 
 
-NMPC_TARGET_MS, QP_TARGET_MS = 10.0, 2.0  # issue 5: median solve targets (ms)
+NMPC_TARGET_MS, QP_TARGET_MS = 10.0, 2.0  # real-time targets: median solve time (ms)
 
 NMPC_VARIANTS: list[tuple[str, NmpcOptions]] = [
     ("ipopt exact, tol 1e-4, mu_init 1e-2 (default)", NmpcOptions()),
@@ -163,7 +162,7 @@ def linear_solver_missing(options: NmpcOptions) -> str | None:
 
 
 def bench_solve(steps: int) -> None:
-    """NMPC variants and the OSQP QP, warm-started, horizon 20, against the issue's targets."""
+    """NMPC variants and the OSQP QP, warm-started, horizon 20, against the real-time targets."""
     ref, obs = square_course()
     start = np.array([0.0, -5.0, 0.0])
     rows = []
@@ -202,7 +201,7 @@ def bench_solve(steps: int) -> None:
             rows.append([f"{m.name} {label}", *_cells(timed_run(m, x0, ref3, obs3, solver,
                                                                  steps), None)])
     print(f"\nWarm-started solve time, horizon 20, {steps} receding-horizon steps "
-          "(Dubins/unicycle: 5 obstacles; 3-D models: 3); targets from issue 5")
+          "(Dubins/unicycle: 5 obstacles; 3-D models: 3); real-time targets")
     table(["controller / options", "median ms", "p95 ms", "median CPU ms", "median iters",
            "fails", "target ms", "verdict"], rows)
 

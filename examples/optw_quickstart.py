@@ -4,8 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from searchtrack.plan.optw import read_optw, validate
-from searchtrack.plan.optw.solve import solve
+from searchtrack.plan.optw import read_optw, solve, validate
 
 DATA = Path(__file__).resolve().parents[1] / "searchtrack" / "data" / "optw"
 

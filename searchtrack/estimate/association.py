@@ -1,20 +1,40 @@
 """The association seam: which tracker, if any, each position measurement belongs to.
 
-estimate/ defines the protocol; the associators themselves (the thesis's greedy gated EMD,
-Algorithm 1, and an optimal assignment) live in ``searchtrack.plan`` and are injected into
-:class:`~searchtrack.estimate.scan.ScanUpdater`.
+:class:`Association` is the answer and :class:`Associator` the role
+(:class:`~searchtrack.estimate.scan.ScanUpdater` is given one). Pairing trackers with
+measurements on a cost matrix is a solver family: an :class:`AssociationProblem` (a
+trackers × measurements cost matrix and a gate) solved by name from :data:`BACKENDS`:
+
+- ``greedy``: Algorithm 1 (§4.3), the global minimum first while it is below the gate;
+- ``optimal``: the exact gated assignment, a linear assignment problem
+  (:func:`scipy.optimize.linear_sum_assignment`);
+- ``auto``: greedy at once, then the exact solver within the time left
+  (:func:`~searchtrack.core.registry.heuristic_then_exact`).
+
+Every backend maximises the *gated saving* ``Σ (gate − c_ij)`` over its pairs, the cost saved
+against leaving each paired measurement unassociated at the gate; equivalently it minimises
+``Σ (c_ij − gate)`` (:func:`gated_objective`). The EMD costs of the thesis are built by
+:class:`~searchtrack.estimate.emd_association.EMDAssociator`.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Protocol
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import linear_sum_assignment
 
+from searchtrack.core.deadline import Deadline
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
+from searchtrack.core.result import Result, Status
+from searchtrack.core.types import FloatArray
 from searchtrack.estimate.node_tracker import TrackerBank
+
+Pairs = tuple[tuple[int, int], ...]
 
 
 @dataclass(frozen=True)
@@ -24,7 +44,7 @@ class Association:
     Indices refer to the bank's tracker order and the rows of the measurement densities.
     """
 
-    pairs: tuple[tuple[int, int], ...] = ()
+    pairs: Pairs = ()
 
     def __post_init__(self) -> None:
         pairs = tuple((int(t), int(q)) for t, q in self.pairs)
@@ -49,3 +69,163 @@ class Associator(Protocol):
         """Associate the rows of ``densities`` — ``(q, n)`` normalized measurement densities
         ``Û_k^j`` (§4.3) — with the trackers of ``bank`` (at least one of each)."""
         ...
+
+
+def _check_gate(gate_m: object) -> float:
+    """``gate_m`` as a float, or :class:`InvalidInputError` unless positive and finite."""
+    ok = isinstance(gate_m, (int, float, np.integer, np.floating)) and not isinstance(
+        gate_m, bool) and math.isfinite(float(gate_m)) and float(gate_m) > 0.0
+    if not ok:
+        raise InvalidInputError("gate_m", gate_m, "must be a positive finite distance (m)")
+    return float(gate_m)  # type: ignore[arg-type]
+
+
+def _cost_matrix(costs: ArrayLike) -> FloatArray:
+    """``costs`` as a read-only 2-D float copy, finite or ``+inf`` (never associable)."""
+    try:
+        c = np.array(costs, dtype=np.float64, copy=True)
+    except (TypeError, ValueError):
+        raise InvalidInputError("costs", costs, "must be a 2-D array of numbers") from None
+    if c.ndim != 2:
+        raise InvalidInputError("costs", costs, "must be a 2-D (trackers × measurements) array")
+    if np.isnan(c).any() or np.isneginf(c).any():
+        raise InvalidInputError("costs", costs, "must not contain NaN or -inf")
+    c.setflags(write=False)
+    return c
+
+
+@dataclass(frozen=True, eq=False)
+class AssociationProblem:
+    """Gated one-to-one pairing of trackers with measurements (§4.3).
+
+    Parameters
+    ----------
+    costs
+        ``(k, q)`` cost of pairing tracker ``i`` with measurement ``j`` (the EMD in metres for
+        Algorithm 1); ``+inf`` for a pair that may never associate. Stored as a read-only copy.
+    gate_m
+        The gate ``𝓔`` (300 m in the thesis): only pairs with ``c_ij < gate_m`` may associate.
+    """
+
+    costs: FloatArray
+    gate_m: float = 300.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "costs", _cost_matrix(self.costs))
+        object.__setattr__(self, "gate_m", _check_gate(self.gate_m))
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(k, q)``: trackers × measurements."""
+        return (int(self.costs.shape[0]), int(self.costs.shape[1]))
+
+    def saving(self, pairs: Pairs) -> float:
+        """The gated saving ``Σ (gate − c_ij)`` of ``pairs``, the objective every backend
+        maximises (positive for pairs under the gate)."""
+        return float(sum(self.gate_m - self.costs[i, j] for i, j in pairs))
+
+
+def greedy_pairs(costs: ArrayLike, gate_m: float) -> Pairs:
+    """Algorithm 1's greedy gated matching on a ``(k, q)`` cost matrix, in the order chosen.
+
+    Repeatedly take the smallest entry while it is ``< gate_m``, then remove its row and column.
+    Ties go to the lowest tracker index, then the lowest measurement index.
+    """
+    c = np.array(_cost_matrix(costs), copy=True)
+    gate = _check_gate(gate_m)
+    pairs: list[tuple[int, int]] = []
+    while c.size:
+        i, j = divmod(int(np.argmin(c)), c.shape[1])  # first minimum in row-major order
+        if not c[i, j] < gate:
+            break
+        pairs.append((i, j))
+        c[i, :] = math.inf
+        c[:, j] = math.inf
+    return tuple(pairs)
+
+
+def optimal_pairs(costs: ArrayLike, gate_m: float) -> Pairs:
+    """The optimal gated assignment on a ``(k, q)`` cost matrix, sorted by tracker.
+
+    Minimises ``Σ (c_ij − gate)`` over one-to-one sets of pairs with ``c_ij < gate``;
+    equivalently every measurement either pairs with a tracker at cost ``c_ij`` or stays
+    unassociated at cost ``gate``. As a linear assignment problem: pad the matrix with one
+    "unassociated" dummy per measurement and per tracker at cost 0 after subtracting the gate;
+    because a dummy is always free, this collapses to the rectangular problem on
+    ``min(c − gate, 0)`` (an entry at 0 is a dummy in disguise and is dropped afterwards).
+    The assignment LP has an integral optimum, which ``linear_sum_assignment`` finds exactly.
+    """
+    c = _cost_matrix(costs)
+    gate = _check_gate(gate_m)
+    if c.size == 0:
+        return ()
+    rows, cols = linear_sum_assignment(np.minimum(c - gate, 0.0))
+    keep = c[rows, cols] < gate
+    return tuple(sorted(zip(rows[keep].tolist(), cols[keep].tolist(), strict=True)))
+
+
+def gated_objective(costs: ArrayLike, pairs: Pairs, gate_m: float) -> float:
+    """``Σ (c_ij − gate)`` over ``pairs``: the objective :func:`optimal_pairs` minimises."""
+    c = _cost_matrix(costs)
+    gate = _check_gate(gate_m)
+    return float(sum(c[i, j] - gate for i, j in pairs))
+
+
+def solve_greedy(problem: AssociationProblem, *, time_limit_s: float,
+                 seed: int) -> Result[Association]:
+    """Algorithm 1 (:func:`greedy_pairs`): ``FEASIBLE``, no bound. Deterministic and
+    ``O(min(k, q) · k q)``; ``time_limit_s`` and ``seed`` are not needed."""
+    deadline = Deadline(time_limit_s)
+    pairs = greedy_pairs(problem.costs, problem.gate_m)
+    return Result(Status.FEASIBLE, problem.saving(pairs), None, deadline.elapsed(), "greedy",
+                  Association(pairs), message=f"{len(pairs)} pairs, global minimum first")
+
+
+def solve_optimal(problem: AssociationProblem, *, time_limit_s: float,
+                  seed: int) -> Result[Association]:
+    """The exact gated assignment (:func:`optimal_pairs`): ``OPTIMAL``, bound = objective.
+    A linear assignment in ``O((k + q)³)``; ``time_limit_s`` and ``seed`` are not needed."""
+    deadline = Deadline(time_limit_s)
+    pairs = optimal_pairs(problem.costs, problem.gate_m)
+    saving = problem.saving(pairs)
+    return Result(Status.OPTIMAL, saving, saving, deadline.elapsed(), "optimal",
+                  Association(pairs), message=f"{len(pairs)} pairs, linear assignment")
+
+
+def _exact_stage(problem: AssociationProblem, first: Result[Association], limit_s: float,
+                 seed: int) -> Result[Association]:
+    return solve_optimal(problem, time_limit_s=limit_s, seed=seed)
+
+
+def solve_auto(problem: AssociationProblem, *, time_limit_s: float,
+               seed: int) -> Result[Association]:
+    """Greedy at once, then the exact assignment within the time left; the better plan wins
+    (the exact one on ties), ``OPTIMAL`` once the exact solve has run."""
+    return heuristic_then_exact(problem, solve_greedy, _exact_stage, time_limit_s=time_limit_s,
+                                seed=seed, heuristic_limit_s=time_limit_s)
+
+
+#: The association backends by name: ``BACKENDS.get(name).solve(problem, ...)``.
+BACKENDS: Registry[AssociationProblem, Association] = Registry("association")
+BACKENDS.register(Backend("greedy", solve_greedy, False,
+                          "Algorithm 1 (§4.3): the global minimum under the gate first"))
+BACKENDS.register(Backend("optimal", solve_optimal, True,
+                          "the gated assignment, exact by linear_sum_assignment"))
+BACKENDS.register(Backend("auto", solve_auto, True,
+                          "greedy at once, then the exact assignment in the time left"))
+
+
+def solve(problem: AssociationProblem, *, backend: str = "greedy", time_limit_s: float = 1.0,
+          seed: int = 0) -> Result[Association]:
+    """Pair the trackers and measurements of ``problem`` with the named backend.
+
+    ``objective`` is the gated saving ``Σ (gate − c_ij)`` (maximised, ≥ 0); ``plan`` the
+    :class:`Association`.
+
+    Raises
+    ------
+    InvalidInputError
+        Unknown backend, a bad time limit or seed.
+    """
+    chosen = BACKENDS.checked(backend, problem, time_limit_s, seed)
+    return chosen.solve(problem, time_limit_s=time_limit_s, seed=seed)

@@ -1,16 +1,32 @@
 """The belief seam between estimation and planning: what a planner may ask of a belief on nodes.
 
 Planners score candidate actions with a reward that takes a belief (the Stone Soup sensor-manager
-seam). Every estimate in this package — the likelihood-ratio field, one node tracker, a bank of
-trackers — satisfies :class:`NodeBelief`, so a reward can be written once against it.
+seam), so they are written against these protocols, never against the concrete estimators:
+
+- :class:`NodeBelief`: a mass over the road nodes. The likelihood-ratio field, one node tracker
+  and a bank of trackers all satisfy it.
+- :class:`TrackBelief`: one target's location, a :class:`NodeBelief` of mass 1 with a stable
+  ``track_id`` (a :class:`~searchtrack.estimate.node_tracker.NodeTracker`).
+- :class:`BeliefBank`: the live track beliefs, indexed ``0 .. len − 1``
+  (a :class:`~searchtrack.estimate.node_tracker.TrackerBank`).
+- :class:`SearchField`: the per-node score a search law climbs, the log-likelihood ratio ``φ``
+  of the undetected targets for the gradient force (5.6)–(5.7)
+  (a :class:`~searchtrack.estimate.lrt.LikelihoodField`).
+- :class:`NodePredictor`: one prediction step of a node belief over ``dt_s`` seconds, and
+  :class:`SparseNodePredictor`, which also exposes its one-step matrix so that a local belief can
+  be propagated on its support only (a :class:`~searchtrack.estimate.diffusion.GraphDiffusion`).
+
+All are ``runtime_checkable``: a planner checks its inputs with ``isinstance`` against them.
 """
 
 from __future__ import annotations
 
-from typing import Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
+
+from searchtrack.core.types import FloatArray
 
 
 @runtime_checkable
@@ -41,6 +57,85 @@ class NodeBelief(Protocol):
 
     def entropy(self) -> float:
         """Shannon entropy (nats) of the normalized distribution; 0 when the mass is 0."""
+        ...
+
+
+@runtime_checkable
+class TrackBelief(NodeBelief, Protocol):
+    """One tracked target's location: a :class:`NodeBelief` of mass 1 and its identity."""
+
+    @property
+    def track_id(self) -> int:
+        """The track's identity: stable while it lives, unique within its bank."""
+        ...
+
+
+@runtime_checkable
+class BeliefBank(Protocol):
+    """The live track beliefs on one road network, in a fixed order (index ``0 .. len − 1``)."""
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of road nodes ``n`` every belief of the bank is on."""
+        ...
+
+    def __len__(self) -> int:
+        """Number of live tracks."""
+        ...
+
+    def __getitem__(self, index: int) -> TrackBelief:
+        """Track ``index`` (``0 ≤ index < len``)."""
+        ...
+
+
+@runtime_checkable
+class SearchField(Protocol):
+    """The per-node score a search law climbs: for the LRT, the log-likelihood ratio ``φ``
+    (3.3) whose edge differences ``Bᵀφ`` drive the gradient force (5.6)–(5.7)."""
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of road nodes ``n``."""
+        ...
+
+    def node_score(self) -> FloatArray:
+        """``(n,)`` finite score per node, higher where a target is more likely (read-only)."""
+        ...
+
+
+@runtime_checkable
+class NodePredictor(Protocol):
+    """One prediction step of a node belief, ``Δt = dt_s`` seconds ahead (e.g. (4.2))."""
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of road nodes ``n``."""
+        ...
+
+    @property
+    def dt_s(self) -> float:
+        """The step ``Δt`` (s)."""
+        ...
+
+    def propagate(self, values: FloatArray) -> FloatArray:
+        """``(n,)`` values one step later (a new array; the input is unchanged)."""
+        ...
+
+
+@runtime_checkable
+class SparseNodePredictor(NodePredictor, Protocol):
+    """A :class:`NodePredictor` whose step is ``decay_factor · A x`` for a symmetric sparse
+    ``A`` (``e^{−αLΔt}``, (3.8) and (4.2)), so a local belief can be propagated on its support:
+    ``A`` symmetric means the columns the support needs are its rows."""
+
+    @property
+    def operator(self) -> Any:
+        """The symmetric sparse ``(n, n)`` matrix ``A`` (CSR), or ``None`` when not built."""
+        ...
+
+    @property
+    def decay_factor(self) -> float:
+        """The scalar each step multiplies by besides ``A`` (1 without decay)."""
         ...
 
 

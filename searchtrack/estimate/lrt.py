@@ -32,12 +32,14 @@ BirthWeighting = Literal["llr", "likelihood_ratio"]
 
 @dataclass(frozen=True, eq=False)
 class LikelihoodField:
-    """The LRT state ``φ ∈ ℝⁿ``, the log-likelihood ratio (3.3) on each node; a NodeBelief.
+    """The LRT state ``φ ∈ ℝⁿ``, the log-likelihood ratio (3.3) on each node; a
+    :class:`~searchtrack.estimate.belief.NodeBelief` and a
+    :class:`~searchtrack.estimate.belief.SearchField`.
 
     As a belief it is the location of one undetected target under a uniform prior: since
     ``φ(v)`` is the log ratio of the data's likelihood with the target at ``v`` to that with no
-    target, ``node_probability() ∝ exp(φ)`` (a softmax), with mass 1. Planners that need the
-    likelihood surface itself (the gradient force (5.6)–(5.7)) read :attr:`llr`.
+    target, ``node_probability() ∝ exp(φ)`` (a softmax), with mass 1. As a search field its
+    :meth:`node_score` is ``φ`` itself, the surface the gradient force (5.6)–(5.7) climbs.
     """
 
     llr: NDArray[np.float64]
@@ -56,6 +58,10 @@ class LikelihoodField:
     def n_nodes(self) -> int:
         """Number of road nodes ``n``."""
         return int(self.llr.size)
+
+    def node_score(self) -> NDArray[np.float64]:
+        """``φ`` (read-only, not a copy): the search score of the gradient force (5.6)."""
+        return self.llr
 
     def node_probability(self) -> NDArray[np.float64]:
         """``exp(φ) / Σ exp(φ)``, computed without overflow."""
@@ -160,7 +166,8 @@ class LRTInitiator:
         ``φ_max`` (10 in Tables 6.2 and 6.4), > 0.
     weighting
         ``"llr"`` (the thesis read literally: probabilities ∝ ``φ`` on the component) or
-        ``"likelihood_ratio"`` (∝ ``exp φ``, which peaks more sharply; digest ambiguity 5).
+        ``"likelihood_ratio"`` (∝ ``exp φ``, which peaks more sharply; §4.1's "their
+        likelihood" reads either way).
     merge_radius_m
         A component whose peak node lies within this distance of an existing tracker's peak is
         suppressed without a birth: its evidence is the tracked target's (the thesis has no such

@@ -28,7 +28,8 @@ _MASS_TOL = 1e-6
 
 @dataclass(frozen=True, eq=False)
 class NodeTracker:
-    """One target's location distribution over the road nodes; a :class:`NodeBelief`.
+    """One target's location distribution over the road nodes; a
+    :class:`~searchtrack.estimate.belief.TrackBelief`.
 
     Parameters
     ----------
@@ -82,7 +83,8 @@ class NodeTracker:
 
 @dataclass(frozen=True, eq=False)
 class TrackerBank:
-    """The live trackers, in birth order; a :class:`NodeBelief` whose mass is their number.
+    """The live trackers, in birth order: a :class:`~searchtrack.estimate.belief.BeliefBank`,
+    and a :class:`~searchtrack.estimate.belief.NodeBelief` whose mass is their number.
 
     ``node_probability()`` is the sum of the trackers' distributions (the expected number of
     tracked targets on each node). ``next_id`` is the identity the next born tracker gets.

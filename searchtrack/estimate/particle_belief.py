@@ -3,14 +3,20 @@
 A planner scoring actions on a particle belief (expected number of detections, mutual
 information, exploration bonus) only reads positions and weights. The weights are PHD masses:
 they sum to the expected number of targets ``λ``, not to 1 (paper 003, eq. 2 and §PHD Filter).
+The SMC-PHD filter's :class:`~searchtrack.estimate.phd.PHDState` is one such belief;
+:class:`WeightedParticles` is the plain one for callers holding raw arrays.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
+
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 
 
 @runtime_checkable
@@ -30,3 +36,36 @@ class ParticleBelief(Protocol):
     def expected_count(self) -> float:
         """Expected number of targets ``λ = Σ w_i``."""
         ...
+
+
+@dataclass(frozen=True, eq=False)
+class WeightedParticles:
+    """A particle belief from raw arrays: read-only copies, checked finite, ``w ≥ 0``.
+
+    Parameters
+    ----------
+    positions
+        ``(N, p)`` particle positions (m), ``p`` = 2 or 3.
+    weights
+        ``(N,)`` non-negative PHD masses.
+    """
+
+    positions: FloatArray
+    weights: FloatArray
+
+    def __post_init__(self) -> None:
+        pos = np.array(self.positions, dtype=np.float64, copy=True)
+        if pos.ndim != 2 or pos.shape[1] not in (2, 3) or not np.all(np.isfinite(pos)):
+            raise InvalidInputError("positions", pos.shape, "must be a finite (N, 2|3) array")
+        w = np.array(self.weights, dtype=np.float64, copy=True)
+        if w.shape != (pos.shape[0],) or not np.all(np.isfinite(w)) or np.any(w < 0.0):
+            raise InvalidInputError("weights", w.shape,
+                                    f"must be {pos.shape[0]} finite non-negative numbers")
+        pos.setflags(write=False)
+        w.setflags(write=False)
+        object.__setattr__(self, "positions", pos)
+        object.__setattr__(self, "weights", w)
+
+    def expected_count(self) -> float:
+        """Expected number of targets ``λ = Σ w_i``."""
+        return float(self.weights.sum())

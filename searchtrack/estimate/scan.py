@@ -44,8 +44,8 @@ class ScanUpdate:
 class ScanUpdater:
     """Route a scan per Algorithm 1, with the associator injected.
 
-    Rule for the LRT (Algorithm 1 lines 15–17, read with the digest's erratum "unused
-    *measurements*", plus §3.3's negative information). With one scalar ``ζ`` (the thesis) the
+    Rule for the LRT (Algorithm 1 lines 15–17, whose "unused trackers" can only mean unused
+    *measurements*, plus §3.3's negative information). With one scalar ``ζ`` (the thesis) the
     footprint gets ``m(ζ − m/2)`` when the scan has no position measurement or at least one went
     unassociated; when every position measurement updated a tracker the LRT is left alone, so a
     tracked target does not raise the LRT a second time. With one ``ζ`` per footprint node the
@@ -149,7 +149,7 @@ class ScanUpdater:
     def _negative_information(self, bank: TrackerBank, footprint: NDArray[np.int64],
                               associated: set[int]) -> TrackerBank:
         """Trackers this scan did not update saw nothing in the footprint: ``P ∝ P (1 − p_d)``
-        there (digest §10 item 7; the thesis applies none). A tracker wholly inside the
+        there (a rule of this library; the thesis applies none). A tracker wholly inside the
         footprint is left as it is (no mass outside to move to)."""
         keep = 1.0 - self.detection_probability
         trackers = list(bank.trackers)

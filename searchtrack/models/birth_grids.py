@@ -11,7 +11,7 @@ on top of pseudo-counts of 10 births, 9 survivals and 1 death per cell (so ``p_s
 births are uniform where there are no data). Then ``p_s(cell) = S / (S + D)`` and the birth PHD
 is the normalised birth counts times the total birth rate.
 
-Our choices (digest 003 §6, items 4–5):
+Our choices (the paper leaves them open):
 
 - ``count_same_cell=True`` (default) also counts a sample whose predecessor was in the *same*
   cell as a survival, so that ``p_s`` is a per-sample probability whatever the cell size (with
@@ -211,7 +211,7 @@ class BirthSurvivalGrid:
 
     def sample_births(self, count: int, rng: np.random.Generator) -> FloatArray:
         """``(count, 2)`` birth positions: a cell drawn by its birth count, then a uniform point
-        in it (digest 003 §2.2, step 2)."""
+        in it (paper 003, *PHD Filter*)."""
         k = checks.count("count", count)
         rng = checks.generator("rng", rng)
         cdf = np.cumsum(self.birth_counts.ravel())

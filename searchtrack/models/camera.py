@@ -5,8 +5,9 @@ Pose layout
 ``pose = [x, y, z, yaw, (pitch, (roll))]``: the camera centre in metres (``z`` = height above
 the flat ground ``z = 0``), then radians. ``yaw`` is the heading, counter-clockwise from the world
 ``x`` axis; ``pitch`` is nose-up positive and ``roll`` right-wing-down positive (both default
-to 0). With ``gimballed=True`` (the default, the digest's choice) the camera stays nadir and only
-``yaw`` turns the image; with ``gimballed=False`` it is fixed to the airframe and tilts with it.
+to 0). With ``gimballed=True`` (the default; the paper does not say) the camera stays nadir and
+only ``yaw`` turns the image; with ``gimballed=False`` it is fixed to the airframe and tilts with
+it.
 
 Camera frame
 ------------
@@ -20,7 +21,7 @@ projection of a point with camera coordinates ``(X_c, Y_c, Z_c)``, ``Z_c > 0``, 
 Detection and measurement
 -------------------------
 - Pixels on target, eq. (6): ``n_px = (W / hfov) · arctan(L / d)`` with ``L`` the target length
-  and ``d`` the 3-D camera-to-target distance (pixels per radian ``W / hfov``, digest §2.1).
+  and ``d`` the 3-D camera-to-target distance (pixels per radian ``W / hfov``).
 - Detection probability, eq. (7): ``p_d = p_d0 + (p_dmax − p_d0) / (1 + exp(−k (n_px − n_px0)))``
   inside the image, 0 outside it.
 - Measurement ``z = [r, c]`` (pixels), eq. (8): ``g(z | x) = N(z; [r_x, c_x], σ² I)``.

@@ -9,8 +9,12 @@ or below, where (5.3) divides by ``S``. Here the speed is clamped to ``[S_min, S
 ``S_min > 0``. Over one step the turn rate and speed are held, and the state advances along the
 resulting arc in closed form (``method="exact"``), by classical RK4 (``"rk4"``), or by the
 thesis's explicit Euler step (``"euler"``: position from the heading at the start of the step,
-with the commanded speed; the digest's reading of (5.4) uses the previous speed, the same thing
-for the thesis's constant-speed UAV).
+with the commanded speed; reading (5.4) with the previous speed is the same thing for the
+thesis's constant-speed UAV).
+
+The kinematics (5.1) are written once, as
+:class:`~searchtrack.models.vehicles.unicycle.UnicycleDynamics` (no wind here); the RK4 and Euler
+steps integrate them, the closed-form arc solves them.
 """
 
 from __future__ import annotations
@@ -23,8 +27,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from searchtrack.core import checks
+from searchtrack.core.angles import wrap_angle
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
+from searchtrack.models.vehicles.model import VehicleModel, rk4_step
+from searchtrack.models.vehicles.namespace import NUMPY
+from searchtrack.models.vehicles.unicycle import UnicycleDynamics, unicycle
 
 Method = Literal["exact", "rk4", "euler"]
 MPS_PER_MPH = 0.44704
@@ -134,12 +142,8 @@ def force_to_controls(
     return sat(turn, limits.turn_rate_max_rps), limits.clamp_speed(state.speed_mps + accel * dt)
 
 
-def _wrap(angle: FloatArray) -> FloatArray:
-    return np.asarray((angle + np.pi) % (2.0 * np.pi) - np.pi)
-
-
-def _rates(theta: FloatArray, speed: FloatArray, turn: FloatArray) -> tuple[FloatArray, ...]:
-    return speed * np.cos(theta), speed * np.sin(theta), turn
+_KINEMATICS = UnicycleDynamics()
+_NO_WIND = np.zeros(2)
 
 
 def propagate(
@@ -182,20 +186,16 @@ def propagate(
         chord = v * dt * np.sinc(half / np.pi)  # arc of angle 2·half: chord = S Δt sin(h)/h
         x_new, y_new = x + chord * np.cos(th + half), y + chord * np.sin(th + half)
         th_new = th + u * dt
-    elif method == "rk4":
-        k1 = _rates(th, v, u)
-        k2 = _rates(th + 0.5 * dt * k1[2], v, u)
-        k3 = _rates(th + 0.5 * dt * k2[2], v, u)
-        k4 = _rates(th + dt * k3[2], v, u)
-        x_new, y_new, th_new = (
-            base + dt / 6.0 * (a + 2.0 * b + 2.0 * c + d)
-            for base, a, b, c, d in zip((x, y, th), k1, k2, k3, k4, strict=True)
-        )
-    elif method == "euler":
-        x_new, y_new, th_new = x + v * np.cos(th) * dt, y + v * np.sin(th) * dt, th + u * dt
+    elif method in ("rk4", "euler"):
+        pose, inputs = np.stack([x, y, th]), np.stack([v, u])
+        if method == "rk4":
+            pose = rk4_step(_KINEMATICS, pose, inputs, _NO_WIND, dt)
+        else:
+            pose = pose + dt * _KINEMATICS(pose, inputs, _NO_WIND, NUMPY)
+        x_new, y_new, th_new = pose
     else:
         raise InvalidInputError("method", method, "must be 'exact', 'rk4' or 'euler'")
-    return UavState(x_m=x_new, y_m=y_new, heading_rad=_wrap(th_new), speed_mps=v)
+    return UavState(x_m=x_new, y_m=y_new, heading_rad=wrap_angle(np.asarray(th_new)), speed_mps=v)
 
 
 def step_force(
@@ -210,3 +210,12 @@ def step_force(
     :func:`propagate`."""
     turn, speed = force_to_controls(state, force, dt_s, limits)
     return propagate(state, turn, speed, dt_s, limits, method=method)
+
+
+def unicycle_from_limits(limits: DubinsLimits, *, accel_max_mps2: float = 5.0,
+                         turn_accel_max_rps2: float = 4.0) -> VehicleModel:
+    """The unicycle vehicle model (for the trajectory controllers) with the speed and turn-rate
+    limits of a :class:`DubinsLimits`; a Dubins car when ``speed_min_mps == speed_max_mps``."""
+    return unicycle(speed_min_mps=limits.speed_min_mps, speed_max_mps=limits.speed_max_mps,
+                    turn_rate_max_rps=limits.turn_rate_max_rps, accel_max_mps2=accel_max_mps2,
+                    turn_accel_max_rps2=turn_accel_max_rps2)

@@ -1,16 +1,17 @@
-"""Learned target motion: a Gaussian-process velocity field over the ground (paper 003, §1.3).
+"""Learned target motion: a Gaussian-process velocity field over the ground (paper 003, *Target
+Parameterization*).
 
 Paper 003 learns velocity as a function of position from taxi traces with two zero-mean
 Matérn 3/2 GPs and moves each particle by ``x' = ξ + Δt·v``, ``v ~ N(μ(ξ), diag σ²(ξ))``, the GP
-posterior mean and variance at the particle (digest 003 §1.3). :class:`GPVelocityField` fits the
-GP (see :mod:`searchtrack.models.gp_regression`) and tabulates ``μ`` and ``σ²`` on a regular grid
-so that a lookup during propagation is O(1) (bilinear interpolation); outside the grid the field
-is the GP prior, zero mean and variance ``σ_f²``. :class:`GPMotion` is the motion model.
+posterior mean and variance at the particle. :class:`GPVelocityField` fits the GP (see
+:mod:`searchtrack.models.gp_regression`) and tabulates ``μ`` and ``σ²`` on a regular grid so that
+a lookup during propagation is O(1) (bilinear interpolation); outside the grid the field is the
+GP prior, zero mean and variance ``σ_f²``. :class:`GPMotion` is the motion model.
 
-Whether the paper's ``σ²(ξ)`` includes the observation noise ``σ_n²`` is not said (digest 003
-§6, item 6). The latent variance alone is tiny near data even where vehicles go both ways along a
-road (the mean there is ~0 and the spread is in ``σ_n``), so :class:`GPMotion` adds ``σ_n²`` by
-default (``include_noise=True``): the velocity drawn is that of a new observation.
+Whether the paper's ``σ²(ξ)`` includes the observation noise ``σ_n²`` is not said. The latent
+variance alone is tiny near data even where vehicles go both ways along a road (the mean there is
+~0 and the spread is in ``σ_n``), so :class:`GPMotion` adds ``σ_n²`` by default
+(``include_noise=True``): the velocity drawn is that of a new observation.
 """
 
 from __future__ import annotations

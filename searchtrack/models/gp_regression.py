@@ -5,8 +5,8 @@ zero-mean GPs (one per ground axis), a Matérn ν = 3/2 kernel and Gaussian nois
 
     k(r) = σ_f² (1 + √3 r / ℓ) exp(−√3 r / ℓ),      y = f(x) + ε,  ε ~ N(0, σ_n²)
 
-Our choices (digest 003 §6, item 6): both axes share ``(ℓ, σ_f, σ_n)``, fitted by maximising the
-summed log marginal likelihood (Rasmussen & Williams 2006, eq. 2.30, gradient eq. 5.9) with
+Our choices (the paper gives no details): both axes share ``(ℓ, σ_f, σ_n)``, fitted by maximising
+the summed log marginal likelihood (Rasmussen & Williams 2006, eq. 2.30, gradient eq. 5.9) with
 L-BFGS-B on a random subsample of the data; predictions use all data through a nearest-neighbour
 GP (the exact posterior given the nearest ``n_neighbours`` samples of each query point), which
 stays accurate when the learned length scale is short next to the extent of the road network,

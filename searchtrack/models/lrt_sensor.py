@@ -1,4 +1,5 @@
-"""The UAV sensor: detection statistics and the altitude model (thesis 001, §3.3, §4.1, §6.2).
+"""The UAV sensor of the log-likelihood-ratio tracker: detection statistics and the altitude model
+(thesis 001, §3.3, §4.1, §6.2).
 
 A sensor sees the disc of radius ``ρ`` under the UAV. It is summed up by its probability of
 detection ``P_d`` and of false alarm ``P_f`` per time step, which fix the sensitivity

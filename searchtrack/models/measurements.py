@@ -23,8 +23,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from searchtrack.core import checks
 from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.models.lrt_sensor import SensorModel
 from searchtrack.models.roads import RoadNetwork
-from searchtrack.models.sensors import SensorModel
 
 FALSE_ALARM = -1
 """The ``target`` index of a false position measurement."""

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from searchtrack.core.angles import wrap_angle
 from searchtrack.core.errors import InvalidInputError
 
 WGS84_A_M = 6378137.0
@@ -83,7 +84,7 @@ class LocalProjection:
         lat = np.asarray(lat_rad, dtype=np.float64).reshape(-1)
         lon = np.asarray(lon_rad, dtype=np.float64).reshape(-1)
         kx, ky = self._scales
-        dlon = (lon - self.lon0_rad + math.pi) % (2.0 * math.pi) - math.pi
+        dlon = wrap_angle(lon - self.lon0_rad)
         return np.column_stack([kx * dlon, ky * (lat - self.lat0_rad)])
 
     def inverse(self, xy_m: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -4,14 +4,14 @@ Detection probability, eq. (1)::
 
     π(x, q) = G · exp(−‖ζ‖ / 2),   ζ = ((x − q_x)/F_x, (y − q_y)/F_y, (z − q_z)/F_z)
 
-printed with the norm *not* squared (digest 004, ambiguity A1); ``squared=True`` uses
-``exp(−‖ζ‖² / 2)``, a Gaussian field of view. Measurement, eq. (2)::
+printed with the norm *not* squared; ``squared=True`` uses ``exp(−‖ζ‖² / 2)``, a Gaussian field
+of view. Measurement, eq. (2)::
 
     h(x) = [d, θ, ϖ],  d = ‖x − q‖,  θ = atan2(y − q_y, x − q_x),  ϖ = arcsin((z − q_z) / d)
 
-with noise ``N(0, diag(σ_d², σ_θ², σ_ϖ²))`` (the paper prints one ``σ`` for metres and radians,
-ambiguity A4; a scalar ``sigma`` gives that). Likelihood, eq. (3): ``g(z | x) = N(z; h(x), R)``
-with the bearing residual wrapped to ``[−π, π)``. The inverse map (not printed; standard
+with noise ``N(0, diag(σ_d², σ_θ², σ_ϖ²))`` (the paper prints one ``σ`` for metres and radians;
+a scalar ``sigma`` gives that). Likelihood, eq. (3): ``g(z | x) = N(z; h(x), R)`` with the
+bearing residual wrapped to ``[−π, π)``. The inverse map (not printed; standard
 spherical to Cartesian) is ``h⁻¹(z) = q + d [cos ϖ cos θ, cos ϖ sin θ, sin ϖ]``.
 
 The paper has no clutter; ``clutter_rate > 0`` adds Poisson clutter uniform over the measurement
@@ -28,6 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from searchtrack.core import checks
+from searchtrack.core.angles import wrap_angle
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 
@@ -54,11 +55,6 @@ def _triple(name: str, value: ArrayLike) -> FloatArray:
     if not np.all(arr > 0.0):
         raise InvalidInputError(name, value, "must be > 0")
     return arr
-
-
-def wrap_angle(a: FloatArray) -> FloatArray:
-    """Angles wrapped to ``[−π, π)``."""
-    return np.asarray((np.asarray(a) + math.pi) % (2.0 * math.pi) - math.pi)
 
 
 @dataclass(frozen=True)

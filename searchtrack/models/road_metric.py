@@ -29,17 +29,13 @@ import scipy.sparse as sp
 from numpy.typing import ArrayLike, NDArray
 from scipy.sparse import csgraph
 
+from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.models.roads import RoadNetwork
 
 log = logging.getLogger("searchtrack.models.road_metric")
 
-
-
-def _readonly(a: NDArray[np.generic]) -> NDArray[np.generic]:
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,19 +102,19 @@ class RoadMetric:
         junctions = np.flatnonzero(_junction_mask(net, label)).astype(np.int64)
         end_a, end_b, off_a, off_b, chain, (ju, jv, jl) = _chains(net, junctions)
         set_ = object.__setattr__
-        set_(self, "junctions", _readonly(junctions))
-        set_(self, "end_a", _readonly(end_a))
-        set_(self, "end_b", _readonly(end_b))
-        set_(self, "off_a", _readonly(off_a))
-        set_(self, "off_b", _readonly(off_b))
-        set_(self, "chain", _readonly(chain))
-        set_(self, "component", _readonly(label))
+        set_(self, "junctions", checks.readonly(junctions, copy=False))
+        set_(self, "end_a", checks.readonly(end_a, copy=False))
+        set_(self, "end_b", checks.readonly(end_b, copy=False))
+        set_(self, "off_a", checks.readonly(off_a, copy=False))
+        set_(self, "off_b", checks.readonly(off_b, copy=False))
+        set_(self, "chain", checks.readonly(chain, copy=False))
+        set_(self, "component", checks.readonly(label, copy=False))
         graph = _junction_graph(ju, jv, jl, junctions.size)
         set_(self, "junction_graph", graph)
         dense = None
         if junctions.size <= limit:
-            dense = _readonly(np.asarray(csgraph.dijkstra(graph, directed=False),
-                                         dtype=np.float64))
+            dense = checks.readonly(np.asarray(csgraph.dijkstra(graph, directed=False),
+                                               dtype=np.float64), copy=False)
         set_(self, "junction_distances", dense)
         set_(self, "lower_bound_factor", _lower_bound_factor(net))
         log.debug("road metric: %d nodes, %d junctions, %d junction-graph edges", net.n_nodes,

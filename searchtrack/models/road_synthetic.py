@@ -8,26 +8,10 @@ from scipy.sparse import coo_array
 from scipy.sparse.csgraph import minimum_spanning_tree
 from scipy.spatial import Delaunay
 
+from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.road_builder import network_from_polylines
 from searchtrack.models.roads import RoadNetwork
-
-
-def _positive(name: str, value: object) -> float:
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, (int, float, np.integer, np.floating))
-        or not np.isfinite(value)
-        or value <= 0
-    ):
-        raise InvalidInputError(name, value, "must be a finite number > 0")
-    return float(value)
-
-
-def _count(name: str, value: object, least: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
-        raise InvalidInputError(name, value, f"must be an integer ≥ {least}")
-    return int(value)
 
 
 def grid_network(
@@ -41,11 +25,11 @@ def grid_network(
     ``block_m/k``, where ``b = rows·(cols−1) + cols·(rows−1)`` blocks; the nodes of degree ≥ 3
     are the ``rows·cols − 4`` non-corner intersections when ``rows, cols ≥ 3``.
     """
-    r = _count("rows", rows, 1)
-    c = _count("cols", cols, 1)
+    r = checks.count("rows", rows, 1)
+    c = checks.count("cols", cols, 1)
     if r * c < 2:
         raise InvalidInputError("rows", rows, "a grid needs at least 2 intersections")
-    block = _positive("block_m", block_m)
+    block = checks.positive("block_m", block_m)
     polylines: list[NDArray[np.float64]] = []
     for i in range(r):
         for j in range(c):
@@ -86,8 +70,8 @@ def random_network(
     seed
         A seed or a ``numpy.random.Generator``.
     """
-    n = _count("n_junctions", n_junctions, 3)
-    extent = _positive("extent_m", extent_m)
+    n = checks.count("n_junctions", n_junctions, 3)
+    extent = checks.positive("extent_m", extent_m)
     p = float(extra_road_fraction)
     if not 0.0 <= p <= 1.0:
         raise InvalidInputError("extra_road_fraction", extra_road_fraction, "must be in [0, 1]")

@@ -20,17 +20,12 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.sparse import csgraph
 from scipy.spatial import ConvexHull, QhullError, cKDTree
 
+from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.projection import LocalProjection
 
 M2_PER_KM2 = 1.0e6
 M2_PER_MI2 = 1609.344**2
-
-
-def _readonly(a: NDArray[np.generic]) -> NDArray[np.generic]:
-    a = np.array(a, copy=True)
-    a.setflags(write=False)
-    return a
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,9 +90,9 @@ class RoadNetwork:
         if self.spacing_m is not None:
             validate_spacing(self.spacing_m)
         set_ = object.__setattr__
-        set_(self, "coords", _readonly(coords))
-        set_(self, "edges", _readonly(edges))
-        set_(self, "lengths_m", _readonly(lengths))
+        set_(self, "coords", checks.readonly(coords))
+        set_(self, "edges", checks.readonly(edges))
+        set_(self, "lengths_m", checks.readonly(lengths))
         set_(self, "spacing_m", None if self.spacing_m is None else float(self.spacing_m))
 
     # ----- sizes -----------------------------------------------------------------------------
@@ -200,7 +195,8 @@ class RoadNetwork:
 
     @cached_property
     def intersections(self) -> NDArray[np.int64]:
-        """Indices of the intersection nodes, those of degree ≥ 3 (the digest's assumption)."""
+        """Indices of the intersection nodes, those of degree ≥ 3 (the thesis does not define an
+        intersection)."""
         idx = np.flatnonzero(self.degree >= 3).astype(np.int64)
         idx.setflags(write=False)
         return idx

@@ -2,7 +2,7 @@
 
 The thesis says only that targets "are constrained to remain on the road network at all times
 and stop and start randomly to mimic courier behavior", at up to ``V_max`` = 50 mph (Tables 6.2,
-6.4). The rest is our design (digest §10.12), kept simple and stated here:
+6.4). The rest is our design, kept simple and stated here:
 
 * A target alternates *drives* and *stops*. A drive lasts an exponential time (mean
   ``mean_drive_s``), so stops come as a Poisson process while driving; a stop (dwell) lasts a

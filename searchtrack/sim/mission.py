@@ -1,16 +1,23 @@
 """The closed loop of thesis 001: targets drive, UAVs sense, the graph filter updates, the
 guidance strategy flies the UAVs.
 
-One step, in the order the digest suggests (§10, item 8): move the targets; sense; per UAV
-associate and update (Algorithm 1); detect and instantiate trackers; dissolve; guide and move
-the UAVs; predict the LRT and the trackers.
+One step: move the targets; sense; per UAV associate and update (Algorithm 1); detect and
+instantiate trackers; dissolve; guide and move the UAVs; predict the LRT and the trackers. The
+thesis fixes the order of the filter (Ch. 3–4) but not where guidance and prediction sit; here
+the UAVs are guided on the posterior beliefs and the prediction comes last.
 
-Sensing (a decision the thesis leaves open, digest §10 items 3–5): every road node in a UAV's
-footprint gets its own ``ζ`` (``N(m, 1)`` where a target is, ``N(0, 1)`` elsewhere), so the
-LRT evidence is local and a detection's super-threshold component is the target's
-neighbourhood, not the whole disc (read literally, one ``ζ`` for the disc makes the born tracker
-nearly uniform over hundreds of nodes, below ``P_min`` at once). A position measurement enters
-association only when the node nearest to it measured ``ζ > c = m/2`` (§4.1).
+Sensing (the thesis leaves it open): every road node in a UAV's footprint gets its own ``ζ``
+(``N(m, 1)`` where a target is, ``N(0, 1)`` elsewhere), so the LRT evidence is local and a
+detection's super-threshold component is the target's neighbourhood, not the whole disc (read
+literally, one ``ζ`` for the disc makes the born tracker nearly uniform over hundreds of nodes,
+below ``P_min`` at once). A position measurement enters association only when the node nearest
+to it measured ``ζ > c = m/2`` (§4.1).
+
+Association and guidance are chosen by name from their registries
+(:data:`searchtrack.estimate.association.BACKENDS`,
+:data:`searchtrack.plan.guidance.BACKENDS`). The guidance of each step is seeded with an
+integer drawn from the mission's generator, and the search-and-reacquire routes pass from one
+step's answer to the next step's problem.
 """
 
 from __future__ import annotations
@@ -36,7 +43,7 @@ from searchtrack.estimate import (
     TrackerDeleter,
     TrackerPredictor,
 )
-from searchtrack.estimate.emd_association import GreedyEMDAssociator, OptimalEMDAssociator
+from searchtrack.estimate.emd_association import EMDAssociator
 from searchtrack.models import (
     CourierMotion,
     RoadNetwork,
@@ -46,7 +53,9 @@ from searchtrack.models import (
     step_force,
 )
 from searchtrack.models.measurements import FALSE_ALARM
-from searchtrack.sim.guidance_setup import make_strategy, view
+from searchtrack.plan.guidance import Guidance, GuidanceProblem
+from searchtrack.plan.guidance import solve as solve_guidance
+from searchtrack.sim.guidance_setup import next_problem, strategy_config, view
 from searchtrack.sim.metrics import StepScore, match_trackers
 from searchtrack.sim.record import MissionLog, PairRecord, Recorder, StepTimes
 from searchtrack.sim.scenario import Scenario
@@ -125,9 +134,7 @@ class Mission:
         self.world = world if world is not None else World.build(scenario)
         net = self.world.network
         f = scenario.filter
-        self.associator = TimedAssociator(
-            GreedyEMDAssociator(net, gate_m=f.gate_m) if f.associator == "greedy"
-            else OptimalEMDAssociator(net, gate_m=f.gate_m))
+        self.associator = TimedAssociator(EMDAssociator(net, f.associator, gate_m=f.gate_m))
         detect = (scenario.sensor.pd * scenario.sensor.hit_rate if f.negative_information
                   else 0.0)
         self.updater = ScanUpdater(net, self.associator, scenario.sensor.cell_radius_m,
@@ -143,7 +150,8 @@ class Mission:
         sc = self.scenario
         net = self.world.network
         rng = np.random.default_rng(sc.seed)
-        strategy = make_strategy(sc, self.world.tracker_diffusion)
+        config = strategy_config(sc)
+        previous: tuple[GuidanceProblem, Guidance] | None = None
         targets = self.motion.spawn(sc.target_count, rng)
         uavs = initial_uavs(sc, net, rng)
         field = LikelihoodField.neutral(net.n_nodes)
@@ -204,7 +212,15 @@ class Mission:
             times.initiate = time.perf_counter() - tic
 
             tic = time.perf_counter()
-            guidance = strategy.guide(view(net, uavs, field, bank, t_now), rng)
+            problem = next_problem(previous, view(net, uavs, field, bank, t_now), config,
+                                   self.world.tracker_diffusion)
+            answer = solve_guidance(problem, backend=sc.guidance.strategy,
+                                    time_limit_s=sc.guidance.optw_budget_s,
+                                    seed=int(rng.integers(0, 2**31 - 1)))
+            if answer.plan is None:
+                raise RuntimeError(f"guidance {answer.backend} gave no plan: {answer.message}")
+            guidance = answer.plan
+            previous = (problem, guidance)
             uavs = step_force(uavs, guidance.force, sc.dt_s, sc.limits)
             times.guide = time.perf_counter() - tic
 

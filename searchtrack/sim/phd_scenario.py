@@ -1,4 +1,4 @@
-"""The standard multi-target scenario for particle-PHD benchmarks (issue 4).
+"""The standard multi-target scenario for particle-PHD benchmarks.
 
 Ten nearly-constant-velocity targets (``q = 0.5`` m²/s³, as Stone Soup's
 ``ConstantVelocity(0.5)``) in a 1000 m × 1000 m area, 100 scans 1 s apart, a position sensor with

@@ -1,25 +1,19 @@
-"""Planner routes flown by the trajectory controllers (issue 5, "connect them to the planners").
+"""Planner routes flown closed loop by the trajectory controllers.
 
 * Road map (thesis 001): an OPTW route (a sequence of :class:`RoadNetwork` node indices, e.g.
   from :func:`plan_optw_route`) or a potential-field trajectory (the ``xy`` path a road mission
   recorded) becomes a constant-speed reference (:func:`waypoint_path`) flown by a Dubins unicycle
-  (``v_min = v_max``, :func:`unicycle_from_limits`) with :func:`~searchtrack.sim.flight.fly`.
-* Paper 004 experiment E7: the receding-horizon exploration planner (τ = 1, 12 m lattice moves,
-  no filter: a target counts as found at its first detection, as in the idealised benchmark)
-  produces 3-D search waypoints; the 7-state UAV flies them in NED with wind ``(3, 0, 0)`` m/s
-  past three spheres, by default with the closed-form backstepping law (eq. 13, obstacle term
-  eqs. 14–15 with ``d_l = 6`` m, ``k_obs = 5``: the :class:`ClosedFormGains` defaults).
-
-The 004 planner ignores obstacles (digest §1.1), and their placement in E7 is not given: here
-each sphere sits beside the planned path, its surface ``obstacle_standoff_m`` from the nearest
-path segment, so the avoidance term acts without a waypoint lying inside an obstacle.
+  (``v_min = v_max``, :func:`~searchtrack.models.dubins.unicycle_from_limits`) with
+  :func:`~searchtrack.sim.flight.fly`; :func:`road_obstacles` puts buildings beside the roads.
+* 3-D waypoints (e.g. a lattice search planner's, paper 004): :func:`fixed_wing_path` turns them
+  into a reference a fixed wing can fly; :func:`route_deviation_m` measures the cross-track
+  error of a flight. Paper 004's experiment E7 is :mod:`searchtrack.sim.experiments.flight_e7`.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import itertools
-import logging
 import math
 
 import numpy as np
@@ -28,21 +22,13 @@ from numpy.typing import ArrayLike
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
-from searchtrack.models.dubins import DubinsLimits
-from searchtrack.models.range_sensor import RangeBearingElevationSensor
+from searchtrack.models.dubins import DubinsLimits, unicycle_from_limits
 from searchtrack.models.roads import RoadNetwork
-from searchtrack.models.vehicles import VehicleModel, uav7, unicycle_from_limits
-from searchtrack.plan.assign.exploration import ExplorationBonus
+from searchtrack.models.vehicles import VehicleModel
 from searchtrack.plan.guidance.reacquire import plan_reacquisition, reacquisition_instance
-from searchtrack.plan.search.receding import RecedingConfig, plan_search_step
 from searchtrack.plan.trajectory import Obstacles, SampledPath, waypoint_path
 from searchtrack.sim.flight import FlightConfig, FlightLog, fly
 
-log = logging.getLogger("searchtrack.sim.flight_routes")
-
-
-
-# ----- road map: OPTW and potential-field routes ------------------------------------------------
 
 def route_waypoints(network: RoadNetwork, route_nodes: ArrayLike, *,
                     along_roads: bool = False) -> FloatArray:
@@ -115,13 +101,14 @@ def fly_dubins(waypoints_m: ArrayLike, *, limits: DubinsLimits | None = None,
         raise InvalidInputError("waypoints_m", waypoints_m, "needs two distinct waypoints")
     lead = reference.positions_m[1] - reference.positions_m[0]
     start = np.array([*reference.positions_m[0], math.atan2(lead[1], lead[0])])
-    return fly(dubins_model(lim), start, reference, obstacles, _until_end(config, reference),
-               rng=rng)
+    return fly(dubins_model(lim), start, reference, obstacles,
+               until_reference_end(config, reference), rng=rng)
 
 
-def _until_end(config: FlightConfig | None, reference: SampledPath) -> FlightConfig:
-    """``config`` flying until the reference ends (a vehicle with a minimum speed cannot hold
-    the end point, so the 2 s hold of :func:`fly` would only measure its overshoot)."""
+def until_reference_end(config: FlightConfig | None, reference: SampledPath) -> FlightConfig:
+    """``config`` flying until the reference ends, unless it sets ``duration_s`` (a vehicle with
+    a minimum speed cannot hold the end point, so the 2 s hold of :func:`fly` would only measure
+    its overshoot)."""
     cfg = FlightConfig() if config is None else config
     if cfg.duration_s is not None:
         return cfg
@@ -199,91 +186,7 @@ def road_obstacles(network: RoadNetwork, count: int, *, radius_m: float, clearan
     return Obstacles(centers_m=np.reshape(centres, (k, 2)), radii_m=np.full(k, radius))
 
 
-# ----- paper 004, experiment E7 -------------------------------------------------------------
-
-@dataclasses.dataclass(frozen=True)
-class E7Setup:
-    """Experiment E7 of paper 004 (§5, digest §3.1) as flown here.
-
-    Parameters
-    ----------
-    steps
-        Planner steps (200 in E7); each is one 12 m lattice move.
-    targets
-        Static targets, uniform in the box (E7's manual placement is not given).
-    box_m
-        The cube ``[lo, hi]³`` searched (planner frame, ``z`` up; flown in NED, down = −z).
-    speed_mps
-        Ground speed of the reference along horizontal legs.
-    max_slope
-        Largest climb or descent gradient of the reference (:func:`fixed_wing_path`).
-    wind_mps
-        True wind (NED), known to the controller.
-    obstacle_radius_m, obstacle_standoff_m
-        Sphere radius and the gap between its surface and the nearest planned leg.
-    resolution_m
-        Spacing of the exploration-bonus grid ι.
-    """
-
-    steps: int = 200
-    targets: int = 12
-    box_m: tuple[float, float] = (-20.0, 260.0)
-    speed_mps: float = 15.0
-    max_slope: float = 0.25
-    wind_mps: tuple[float, float, float] = (3.0, 0.0, 0.0)
-    obstacle_radius_m: float = 5.0
-    obstacle_standoff_m: float = 3.0
-    resolution_m: float = 10.0
-
-    def __post_init__(self) -> None:
-        checks.count("steps", self.steps, least=1)
-        checks.count("targets", self.targets, least=1)
-        lo, hi = (checks.real("box_m", v) for v in self.box_m)
-        if not lo < 0.0 < hi:
-            raise InvalidInputError("box_m", self.box_m, "must contain the start 0 (lo < 0 < hi)")
-        for name in ("speed_mps", "max_slope", "obstacle_radius_m", "resolution_m"):
-            checks.positive(name, getattr(self, name))
-        checks.non_negative("obstacle_standoff_m", self.obstacle_standoff_m)
-        checks.finite_array("wind_mps", self.wind_mps, (3,))
-
-
-@dataclasses.dataclass(frozen=True)
-class E7Flight:
-    """One E7 run: the flight, the planner's NED waypoints, the flown reference, the
-    obstacles, and the search outcome."""
-
-    flight: FlightLog
-    waypoints_m: FloatArray
-    reference: SampledPath
-    obstacles: Obstacles
-    targets_found: int
-    all_found_step: int | None
-
-
-SENSOR_004 = RangeBearingElevationSensor(gain=0.98, fov_m=25.0, sigma=1.0)
-
-
-def e7_waypoints(setup: E7Setup, rng: np.random.Generator) -> tuple[FloatArray, int, int | None]:
-    """Run the exploration planner for ``setup.steps`` steps (filter-free, targets found at
-    first detection); the ``(steps + 1, 3)`` planner-frame waypoints from the origin, the
-    number of targets found and the step all were found (``None`` if not)."""
-    gen = checks.generator("rng", rng)
-    box = np.array([setup.box_m] * 3, dtype=np.float64)
-    targets = gen.uniform(box[:, 0], box[:, 1], size=(setup.targets, 3))
-    found = np.zeros(setup.targets, dtype=bool)
-    bonus = ExplorationBonus(box, setup.resolution_m)
-    config = RecedingConfig(step_m=12.0, horizon=1, refinement="none")
-    position = np.zeros(3)
-    path, all_found = [position], None
-    for k in range(setup.steps):
-        found |= gen.random(setup.targets) < SENSOR_004.detection_probability(position, targets)
-        if all_found is None and found.all():
-            all_found = k
-        bonus.update(SENSOR_004, position)
-        position = plan_search_step(position, box, bonus, SENSOR_004, config).waypoint
-        path.append(position)
-    return np.asarray(path, dtype=np.float64), int(found.sum()), all_found
-
+# ----- 3-D waypoints -------------------------------------------------------------------------
 
 def fixed_wing_path(waypoints_m: ArrayLike, speed_mps: float, max_slope: float,
                     *, sample_m: float = 2.0) -> SampledPath:
@@ -321,8 +224,9 @@ def fixed_wing_path(waypoints_m: ArrayLike, speed_mps: float, max_slope: float,
     return SampledPath(times_s=s / speed, positions_m=flat)
 
 
-def _segment_distance(points: FloatArray, path: FloatArray) -> FloatArray:
-    """``(n,)`` distance from each point to the polyline ``path`` ``(k, d)``."""
+def polyline_distance_m(points: FloatArray, path: FloatArray) -> FloatArray:
+    """``(n,)`` distance (m) from each of the ``(n, d)`` points to the polyline ``path``
+    ``(k, d)``."""
     if path.shape[0] == 1:
         return np.asarray(np.linalg.norm(points - path[0], axis=1))
     a, b = path[:-1], path[1:]
@@ -338,55 +242,4 @@ def route_deviation_m(flight: FlightLog, waypoints_m: ArrayLike) -> FloatArray:
     cross-track error, blind to lagging behind the timed reference)."""
     pos = flight.states[:, list(flight.model.position_indices)]
     path = checks.finite_array("waypoints_m", waypoints_m, (None, pos.shape[1]))
-    return _segment_distance(pos, path)
-
-
-def e7_obstacles(waypoints_m: FloatArray, setup: E7Setup, count: int = 3) -> Obstacles:
-    """``count`` spheres spread along the (densely sampled) NED path, each centre offset
-    sideways (horizontally, across the local leg) so that its surface is
-    ``obstacle_standoff_m`` from the nearest leg; :class:`InvalidInputError` if there is no room.
-    """
-    path = checks.finite_array("waypoints_m", waypoints_m, (None, 3))
-    r, gap = setup.obstacle_radius_m, setup.obstacle_standoff_m
-    n = path.shape[0]
-    centres: list[FloatArray] = []
-    for j in range(1, count + 1):
-        for i in [*range(j * n // (count + 1), n - 1), *range(j * n // (count + 1) - 1, 0, -1)]:
-            lead = path[i + 1, :2] - path[i - 1, :2] if i > 0 else path[1, :2] - path[0, :2]
-            if np.linalg.norm(lead) < 1e-9:
-                continue
-            side = np.array([-lead[1], lead[0]]) / np.linalg.norm(lead)
-            options = [path[i] + np.array([*(s * (r + gap) * side), 0.0]) for s in (1.0, -1.0)]
-            ok = [c for c in options if _segment_distance(c[None], path)[0] >= r + gap - 1e-6
-                  and all(np.linalg.norm(c - o) > 2.0 * r + gap for o in centres)]
-            if ok:
-                centres.append(ok[0])
-                break
-    if len(centres) < count:
-        raise InvalidInputError("waypoints_m", waypoints_m.shape,
-                                f"no room for {count} obstacles beside the path")
-    return Obstacles(centers_m=np.asarray(centres), radii_m=np.full(count, r),
-                     cylinder=np.zeros(count, dtype=bool))
-
-
-def fly_e7(seed: int, *, setup: E7Setup | None = None, config: FlightConfig | None = None
-           ) -> E7Flight:
-    """Plan E7's search waypoints with seed ``seed`` and fly them with the 7-state UAV.
-
-    ``config`` defaults to the closed-form controller with the setup's wind (its ``wind_mps``
-    is replaced by the setup's). The UAV starts at the origin at 15 m/s, heading π/4, level
-    (digest §3.1).
-    """
-    s = E7Setup() if setup is None else setup
-    gen = np.random.default_rng(checks.count("seed", seed))
-    planned, found, all_found = e7_waypoints(s, gen)
-    ned = planned * np.array([1.0, 1.0, -1.0])
-    reference = fixed_wing_path(ned, s.speed_mps, s.max_slope)
-    obstacles = e7_obstacles(reference.positions_m, s)
-    cfg = FlightConfig(backend="closed_form") if config is None else config
-    cfg = dataclasses.replace(_until_end(cfg, reference), wind_mps=s.wind_mps)
-    start = np.array([0.0, 0.0, 0.0, 15.0, math.pi / 4.0, 0.0, 0.0])
-    flight = fly(uav7(), start, reference, obstacles, cfg, rng=gen)
-    log.info("E7 seed %d: %d/%d targets found, %d waypoints, min clearance %.2f m", seed, found,
-             s.targets, ned.shape[0], flight.min_clearance_m)
-    return E7Flight(flight, ned, reference, obstacles, found, all_found)
+    return polyline_distance_m(pos, path)

@@ -13,7 +13,9 @@ from importlib import resources
 from pathlib import Path
 from typing import Literal
 
+from searchtrack.core.checks import positive
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.estimate.association import BACKENDS as ASSOCIATION_BACKENDS
 from searchtrack.models import (
     CourierModel,
     DubinsLimits,
@@ -23,12 +25,13 @@ from searchtrack.models import (
     random_network,
     read_osm,
 )
-from searchtrack.plan.guidance import STRATEGIES
+from searchtrack.plan.guidance.solve import BACKENDS as GUIDANCE_BACKENDS
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
 
 Mode = Literal["track", "detect"]
 MODES: tuple[Mode, ...] = ("track", "detect")
-ASSOCIATORS = ("greedy", "optimal")
+ASSOCIATORS: tuple[str, ...] = tuple(ASSOCIATION_BACKENDS.names())
+STRATEGIES: tuple[str, ...] = tuple(GUIDANCE_BACKENDS.names())
 STARTS = ("random", "center", "edge")
 BUNDLED_MAPS = ("aguascalientes", "West-Oakland")
 
@@ -41,9 +44,6 @@ def bundled_map(name: str) -> Path:
     return Path(str(resources.files("searchtrack") / "data" / "osm" / f"{name}.osm.bz2"))
 
 
-def _positive(name: str, value: float) -> None:
-    if not (math.isfinite(value) and value > 0.0):
-        raise InvalidInputError(name, value, "must be finite and > 0")
 
 
 @dataclass(frozen=True)
@@ -80,7 +80,7 @@ class MapSpec:
         if self.kind == "osm" and self.osm_path is None:
             raise InvalidInputError("osm_path", None, "an OSM map needs a file")
         for name in ("spacing_m", "block_m", "extent_m"):
-            _positive(name, getattr(self, name))
+            positive(name, getattr(self, name))
         for name in ("rows", "cols", "junctions"):
             if getattr(self, name) < 2:
                 raise InvalidInputError(name, getattr(self, name), "must be ≥ 2")
@@ -122,7 +122,9 @@ class FilterSpec:
     gate_m
         EMD gate ``ℰ`` (m of road distance).
     associator
-        ``"greedy"`` (Algorithm 1) or ``"optimal"`` (gated assignment).
+        The pairing backend of the EMD association, a name of
+        :data:`searchtrack.estimate.association.BACKENDS`: ``"greedy"`` (Algorithm 1),
+        ``"optimal"`` (gated assignment) or ``"auto"``.
     birth_weighting
         ``"llr"`` or ``"likelihood_ratio"`` (see :class:`~searchtrack.estimate.LRTInitiator`).
     merge_radius_m
@@ -137,7 +139,7 @@ class FilterSpec:
         :func:`~searchtrack.estimate.lrt.update_likelihood_field`).
     negative_information
         Trackers a UAV covers without an associated fix lose ``P_d`` of their probability on
-        the footprint (renormalised; digest §10 item 7; the thesis has none). On by default:
+        the footprint (renormalised; a rule of this library, the thesis has none). On by default:
         with the floor, a tracker that lost its target spreads and dissolves instead of lingering
         as a spurious track while the target is found again (demo, 4 seeds: MOC 36 % → 53 %,
         PVT 85 % → 92 %).
@@ -156,7 +158,7 @@ class FilterSpec:
 
     def __post_init__(self) -> None:
         for name in ("alpha", "decay_c", "phi_max", "gate_m"):
-            _positive(name, getattr(self, name))
+            positive(name, getattr(self, name))
         if math.isnan(self.llr_floor) or self.llr_floor >= 0.0:
             raise InvalidInputError("llr_floor", self.llr_floor, "must be < 0 (or -inf: none)")
         if not (math.isfinite(self.merge_radius_m) and self.merge_radius_m >= 0.0):
@@ -178,13 +180,15 @@ class GuidanceSpec:
     Parameters
     ----------
     strategy
+        The guidance backend, a name of :data:`searchtrack.plan.guidance.BACKENDS`:
         ``"search"``, ``"loiter"``, ``"search_and_loiter"`` or ``"search_and_reacquire"``.
     spring_k, loiter_k
         Spring constants of ∇Q and of ∇L/∇W; ``None`` keeps the planner's defaults.
     revisit_threshold
         ``ϱ``: an assigned UAV searches while its tracker's peak exceeds it (0.3).
     optw_backend, optw_budget_s
-        Solver and per-solve time budget of the reacquisition OPTW.
+        Solver of the reacquisition OPTW, and the time limit of each step's guidance solve
+        (shared by the OPTW solves of the UAVs that re-plan in that step).
     """
 
     strategy: str = "search_and_loiter"
@@ -197,18 +201,18 @@ class GuidanceSpec:
     def __post_init__(self) -> None:
         if self.strategy not in STRATEGIES:
             raise InvalidInputError("strategy", self.strategy,
-                                    f"must be one of {list(STRATEGIES)}")
+                                    f"must be one of {GUIDANCE_BACKENDS.names()}")
         if self.optw_backend not in OPTW_BACKENDS.names():
             raise InvalidInputError("optw_backend", self.optw_backend,
                                     f"must be one of {OPTW_BACKENDS.names()}")
         for name in ("spring_k", "loiter_k"):
             value = getattr(self, name)
             if value is not None:
-                _positive(name, value)
+                positive(name, value)
         if not 0.0 < self.revisit_threshold < 1.0:
             raise InvalidInputError("revisit_threshold", self.revisit_threshold,
                                     "must be in (0, 1)")
-        _positive("optw_budget_s", self.optw_budget_s)
+        positive("optw_budget_s", self.optw_budget_s)
 
 
 @dataclass(frozen=True)
@@ -262,7 +266,7 @@ class Scenario:
         if self.uav_start not in STARTS:
             raise InvalidInputError("uav_start", self.uav_start, f"must be one of {list(STARTS)}")
         for name in ("duration_s", "dt_s", "valid_distance_m"):
-            _positive(name, getattr(self, name))
+            positive(name, getattr(self, name))
         if self.dt_s > self.duration_s:
             raise InvalidInputError("dt_s", self.dt_s, f"exceeds duration_s={self.duration_s}")
         if self.sensor.position_noise_m <= 0.0:

@@ -9,14 +9,14 @@ from pathlib import Path
 
 from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.models import CourierModel, DubinsLimits, SensorModel
-from searchtrack.models.sensors import AltitudeModel
-from searchtrack.plan.guidance import STRATEGIES
+from searchtrack.models.lrt_sensor import AltitudeModel
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
 from searchtrack.sim.scenario import (
     ASSOCIATORS,
     BUNDLED_MAPS,
     MODES,
     STARTS,
+    STRATEGIES,
     FilterSpec,
     GuidanceSpec,
     MapSpec,
@@ -196,7 +196,7 @@ def _floor(t: Table) -> float:
 
 def _guidance(t: Table) -> GuidanceSpec:
     spec = GuidanceSpec(
-        strategy=t.string("strategy", "search_and_loiter", choices=tuple(STRATEGIES)),
+        strategy=t.string("strategy", "search_and_loiter", choices=STRATEGIES),
         spring_k=t.optional_number("spring_k"),
         loiter_k=t.optional_number("loiter_k"),
         revisit_threshold=t.number("revisit_threshold", 0.3),

@@ -1,4 +1,6 @@
-"""``searchtrack track SCANS.json``: run the SMC-PHD filter on recorded 2-D detections.
+"""Recorded 2-D detections filtered offline: SCANS.json read and validated into a
+:class:`TrackJob`, run through the SMC-PHD filter, the estimates written to EST.json (the library
+side of ``searchtrack track``).
 
 SCANS.json::
 
@@ -18,18 +20,15 @@ PHD's expected number of targets after each scan.
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
 import json
 import math
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from rich.console import Console
 from threadpoolctl import threadpool_limits
 
 from searchtrack.core.errors import ParseError
@@ -216,37 +215,3 @@ def run_track_file(scans_path: str | Path, out_path: str | Path, particles: int 
     out.write_text(json.dumps(record) + "\n", encoding="utf-8")
     mean_est = float(np.mean([e.shape[0] for e in estimates])) if estimates else 0.0
     return TrackSummary(n, ms, mean_est, counts[-1] if counts else 0.0, out)
-
-
-def _int_at_least(low: int) -> Callable[[str], int]:
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-        if value < low:
-            raise argparse.ArgumentTypeError(f"must be ≥ {low}: {text!r}")
-        return value
-
-    return parse
-
-
-def track_command(args: argparse.Namespace, console: Console) -> int:
-    """Handler of ``searchtrack track``."""
-    summary = run_track_file(args.scans, args.out, args.particles, args.seed)
-    console.print(f"{summary.scans} scans, {summary.ms_per_scan:.2f} ms/scan, "
-                  f"{summary.mean_estimates:.2f} estimates per scan on average, expected "
-                  f"count {summary.final_expected_count:.2f} at the end → {summary.out_path}")
-    return 0
-
-
-def add_track_parser(subparsers: Any) -> None:
-    """Register ``track`` on the main command's subparsers."""
-    p = subparsers.add_parser("track", help="SMC-PHD filter on recorded 2-D detections",
-                              description=__doc__.split("\n\n")[0] if __doc__ else None)
-    p.add_argument("scans", metavar="SCANS.json")
-    p.add_argument("--particles", type=_int_at_least(1), default=None, metavar="N",
-                   help="cap on the number of particles (default 10000)")
-    p.add_argument("--seed", type=_int_at_least(0), default=0)
-    p.add_argument("--out", required=True, metavar="EST.json")
-    p.set_defaults(run=track_command)

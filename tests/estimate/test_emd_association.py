@@ -1,4 +1,5 @@
-"""Gated EMD association: Algorithm 1 (greedy) and the optimal gated assignment."""
+"""Gated EMD association: Algorithm 1 (greedy), the optimal gated assignment and ``auto``, by
+backend name."""
 
 from __future__ import annotations
 
@@ -11,19 +12,20 @@ import pytest
 from numpy.typing import NDArray
 
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Status
 from searchtrack.estimate import LikelihoodField, ScanUpdater, TrackerBank
-from searchtrack.estimate.association import Associator
-from searchtrack.estimate.emd_association import (
-    GreedyEMDAssociator,
-    OptimalEMDAssociator,
+from searchtrack.estimate.association import (
+    Associator,
     gated_objective,
     greedy_pairs,
     optimal_pairs,
 )
+from searchtrack.estimate.emd_association import EMDAssociator
 from searchtrack.estimate.node_tracker import measurement_density, position_log_likelihood
 from searchtrack.models import RoadNetwork, random_network
 
 GATE = 300.0
+BACKENDS = ["greedy", "optimal", "auto"]
 INF = math.inf
 
 
@@ -128,21 +130,21 @@ def test_rules_bad_input(costs: object, gate: float, field: str) -> None:
 
 # ----- associators on road scenes ------------------------------------------------------------
 
-@pytest.mark.parametrize("cls", [GreedyEMDAssociator, OptimalEMDAssociator])
-def test_trackers_at_the_two_ends(cls: type[GreedyEMDAssociator]) -> None:
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_trackers_at_the_two_ends(backend: str) -> None:
     """Fixes near each end of a road pair with the tracker at that end."""
     net = road(1000.0)
-    associator: Associator = cls(net)
+    associator: Associator = EMDAssociator(net, backend)
     out = associator.associate(bank_at(net, [50.0, 950.0]), fixes(net, [940.0, 65.0]))
     assert sorted(out.pairs) == [(0, 1), (1, 0)]
 
 
-@pytest.mark.parametrize("cls", [GreedyEMDAssociator, OptimalEMDAssociator])
-def test_fix_beyond_the_gate_stays_unassociated(cls: type[GreedyEMDAssociator]) -> None:
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_fix_beyond_the_gate_stays_unassociated(backend: str) -> None:
     """A fix 450 m from the only tracker is not associated; one 20 m away is."""
     net = road(1000.0)
     bank = bank_at(net, [100.0])
-    out, costs = cls(net).associate_with_costs(bank, fixes(net, [550.0, 120.0]))
+    out, costs = EMDAssociator(net, backend).associate_with_costs(bank, fixes(net, [550.0, 120.0]))
     assert out.pairs == ((0, 1),)
     assert out.unassociated(2) == (0,)
     assert costs[0, 1] == pytest.approx(20.0, abs=1.0)
@@ -154,12 +156,15 @@ def test_scene_where_greedy_and_optimal_differ() -> None:
     optimal pairs (T0, M0) and (T1, M1), a lower Σ(EMD − gate)."""
     net = road(500.0)
     bank, dens = bank_at(net, [50.0, 200.0], sd_m=5.0), fixes(net, [150.0, 400.0])
-    greedy, costs = GreedyEMDAssociator(net).associate_with_costs(bank, dens)
-    optimal, costs2 = OptimalEMDAssociator(net).associate_with_costs(bank, dens)
+    greedy, costs = EMDAssociator(net, "greedy").associate_with_costs(bank, dens)
+    optimal, costs2 = EMDAssociator(net, "optimal").associate_with_costs(bank, dens)
     np.testing.assert_array_equal(costs, costs2)
     assert greedy.pairs == ((1, 0),)
     assert optimal.pairs == ((0, 0), (1, 1))
     assert gated_objective(costs, optimal.pairs, GATE) < gated_objective(costs, greedy.pairs, GATE)
+    auto, costs3 = EMDAssociator(net, "auto").solve_with_costs(bank, dens)
+    np.testing.assert_array_equal(costs, costs3)
+    assert auto.status is Status.OPTIMAL and auto.plan == optimal
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -167,7 +172,7 @@ def test_random_scenes(seed: int) -> None:
     """Random trackers and fixes on random roads: optimal = brute force ≤ greedy on the costs."""
     net = random_network(12, 800.0, seed=seed)
     rng = np.random.default_rng(seed)
-    greedy, optimal = GreedyEMDAssociator(net), OptimalEMDAssociator(net)
+    greedy, optimal = EMDAssociator(net, "greedy"), EMDAssociator(net, "optimal")
     for _ in range(3):
         centres = net.coords[rng.choice(net.n_nodes, 3, replace=False)]
         bank = TrackerBank(net.n_nodes)
@@ -188,20 +193,21 @@ def test_graph_method_gives_the_same_association() -> None:
     """method='graph' (min-cost flow on the road) yields the same costs below the gate."""
     net = road(600.0)
     bank, dens = bank_at(net, [50.0, 300.0]), fixes(net, [325.0, 70.0, 580.0])
-    a, ca = GreedyEMDAssociator(net).associate_with_costs(bank, dens)
-    b, cb = GreedyEMDAssociator(net, method="graph").associate_with_costs(bank, dens)
+    a, ca = EMDAssociator(net, "greedy").associate_with_costs(bank, dens)
+    b, cb = EMDAssociator(net, "greedy", method="graph").associate_with_costs(bank, dens)
     assert a.pairs == b.pairs == ((0, 1), (1, 0))
     below = ca < GATE
     np.testing.assert_allclose(cb[below], ca[below], rtol=1e-7)
 
 
-@pytest.mark.parametrize("cls", [GreedyEMDAssociator, OptimalEMDAssociator])
-def test_empty_bank_or_no_measurement(cls: type[GreedyEMDAssociator]) -> None:
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_empty_bank_or_no_measurement(backend: str) -> None:
     """An empty bank or a (0, n) density array gives no pairs and an empty cost matrix."""
     net = road(100.0)
-    out, costs = cls(net).associate_with_costs(TrackerBank(net.n_nodes), fixes(net, [10.0]))
+    associator = EMDAssociator(net, backend)
+    out, costs = associator.associate_with_costs(TrackerBank(net.n_nodes), fixes(net, [10.0]))
     assert out.pairs == () and costs.shape == (0, 1)
-    out, costs = cls(net).associate_with_costs(bank_at(net, [10.0]), np.zeros((0, net.n_nodes)))
+    out, costs = associator.associate_with_costs(bank_at(net, [10.0]), np.zeros((0, net.n_nodes)))
     assert out.pairs == () and costs.shape == (1, 0)
 
 
@@ -209,7 +215,7 @@ def test_scan_updater_updates_the_right_tracker() -> None:
     """Through ScanUpdater, a fix near tracker 1 updates tracker 1 only, not the LRT."""
     net = road(1000.0)
     bank = bank_at(net, [100.0, 800.0], sd_m=30.0)
-    scan = ScanUpdater(net, GreedyEMDAssociator(net))
+    scan = ScanUpdater(net, EMDAssociator(net, "greedy"))
     out = scan.update(LikelihoodField.neutral(net.n_nodes), bank, zeta=3.0,
                       footprint=np.arange(75, 86), sensitivity=2.9, positions_m=[[812.0, 0.0]],
                       noise_sd_m=5.0)
@@ -222,7 +228,7 @@ def test_scan_updater_updates_the_right_tracker() -> None:
 
 def test_associators_are_frozen() -> None:
     """Associators are immutable."""
-    associator = OptimalEMDAssociator(road(100.0))
+    associator = EMDAssociator(road(100.0), "optimal")
     with pytest.raises(dataclasses.FrozenInstanceError):
         associator.gate_m = 10.0  # type: ignore[misc]
 
@@ -238,14 +244,14 @@ def test_associators_are_frozen() -> None:
     ({"support_mass": 1.01}, "support_mass"),
     ({"method": "lp"}, "method"),
     ({"time_limit_s": -1.0}, "time_limit_s"),
+    ({"backend": "hungarian"}, "backend"),
 ])
-@pytest.mark.parametrize("cls", [GreedyEMDAssociator, OptimalEMDAssociator])
-def test_bad_construction(cls: type[GreedyEMDAssociator], kwargs: dict[str, object],
-                          field: str) -> None:
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_bad_construction(backend: str, kwargs: dict[str, object], field: str) -> None:
     """A bad field raises InvalidInputError naming it."""
-    args: dict[str, object] = {"network": road(100.0), **kwargs}
+    args: dict[str, object] = {"network": road(100.0), "backend": backend, **kwargs}
     with pytest.raises(InvalidInputError) as err:
-        cls(**args)  # type: ignore[arg-type]
+        EMDAssociator(**args)  # type: ignore[arg-type]
     assert err.value.field == field
 
 
@@ -263,5 +269,5 @@ def test_bad_associate_input(bank: object, densities: object, field: str) -> Non
     net = road(100.0)
     given = bank_at(net, [20.0]) if bank is None else bank
     with pytest.raises(InvalidInputError) as err:
-        GreedyEMDAssociator(net).associate(given, densities)  # type: ignore[arg-type]
+        EMDAssociator(net, "greedy").associate(given, densities)  # type: ignore[arg-type]
     assert err.value.field == field

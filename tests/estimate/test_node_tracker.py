@@ -75,7 +75,7 @@ def test_dissolution_below_p_min() -> None:
     while len(deleter.delete(bank)):
         bank = pred.predict(bank)
         steps += 1
-    # the digest's estimate for an infinite line: below 0.07 after ≈ 36.9 s
+    # the estimate for an infinite line: below 0.07 after ≈ 36.9 s
     assert 36.0 < steps * 0.3 < 38.0
     kept = deleter.delete(TrackerBank(200).with_birth(sharp).with_birth(np.full(200, 1 / 200)))
     assert [t.track_id for t in kept] == [0]

@@ -71,7 +71,7 @@ def test_pd_zero_leaves_weights_unchanged() -> None:
 
 
 def test_update_mass_identity_without_clutter() -> None:
-    """No clutter: Σw' = Σ(1 − p_d)w + number of measurements with C(z) > 0 (digest 004)."""
+    """No clutter: Σw' = Σ(1 − p_d)w + number of measurements with C(z) > 0 (paper 004)."""
     st = _state(_cloud((100, 100), 300, 0.7), _cloud((500, 500), 300, 1.2))
     z = np.array([[102.0, 98.0], [505.0, 500.0]])
     out = update(st, [SensorScan(_sensor(clutter=0.0), POSE, z)], PHDConfig())

@@ -9,6 +9,7 @@ import pytest
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.camera import DownwardCamera
+from searchtrack.models.footprint import BatchDetectionSensor, detection_matrix
 from searchtrack.models.particle_models import DetectionSensor
 
 CAM = DownwardCamera()
@@ -28,8 +29,6 @@ def test_satisfies_detection_sensor_protocol() -> None:
 def test_batched_detection_matches_one_pose_at_a_time(gimballed: bool) -> None:
     """detection_probabilities over many poses equals detection_probability pose by pose,
     points on and near the image edges included; the planners' detection matrix uses it."""
-    from searchtrack.plan.assign.problem import BatchDetectionSensor, detection_matrix
-
     cam = DownwardCamera(gimballed=gimballed)
     rng = np.random.default_rng(4)
     poses = np.column_stack([rng.uniform(-50, 50, (40, 2)), rng.uniform(20, 150, 40),

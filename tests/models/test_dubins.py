@@ -18,6 +18,7 @@ from searchtrack.models.dubins import (
     propagate,
     sat,
     step_force,
+    unicycle_from_limits,
 )
 
 METHODS = get_args(Method)
@@ -89,6 +90,20 @@ def test_exact_full_circle_returns_to_start() -> None:
     end = _run(_state(5.0, -3.0, 1.0, speed), omega, speed, 0.25, steps, FREE, "exact")
     assert (end.x_m[0], end.y_m[0]) == pytest.approx((5.0, -3.0), abs=1e-9)
     assert end.heading_rad[0] == pytest.approx(1.0, abs=1e-12)
+
+
+def test_rk4_step_is_the_unicycle_models_step() -> None:
+    """One implementation of (5.1): the RK4 step is the unicycle vehicle model's, wind-free."""
+    limits = DubinsLimits(speed_max_mps=40.0, speed_min_mps=10.0, turn_rate_max_rps=1.5)
+    model = unicycle_from_limits(limits)
+    start = UavState(x_m=[1.0, -20.0], y_m=[2.0, 7.0], heading_rad=[0.3, -2.9],
+                     speed_mps=[20.0, 35.0])
+    out = propagate(start, [0.4, -1.2], [25.0, 38.0], 0.7, limits, method="rk4")
+    for i, (turn, speed) in enumerate([(0.4, 25.0), (-1.2, 38.0)]):
+        pose = [start.x_m[i], start.y_m[i], start.heading_rad[i]]
+        x, y, heading = model.step(pose, [speed, turn], 0.7)
+        assert (out.x_m[i], out.y_m[i]) == (x, y)
+        assert out.heading_rad[i] == pytest.approx(math.remainder(heading, 2 * math.pi))
 
 
 def test_turn_rate_saturates_at_the_thesis_radius() -> None:

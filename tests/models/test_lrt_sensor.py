@@ -1,4 +1,4 @@
-"""Sensor model: sensitivity, criterion, altitude model (6.4)–(6.7), and simulated measurements."""
+"""LRT sensor model: sensitivity, criterion, altitude model (6.4)–(6.7), simulated measurements."""
 
 from __future__ import annotations
 
@@ -9,12 +9,7 @@ import pytest
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.models import RoadNetwork, grid_network
-from searchtrack.models.measurements import (
-    FALSE_ALARM,
-    lrt_measurements,
-    position_measurements,
-)
-from searchtrack.models.sensors import (
+from searchtrack.models.lrt_sensor import (
     THESIS_ALTITUDES_M,
     AltitudeModel,
     SensorModel,
@@ -22,10 +17,15 @@ from searchtrack.models.sensors import (
     sensitivity,
     z_score,
 )
+from searchtrack.models.measurements import (
+    FALSE_ALARM,
+    lrt_measurements,
+    position_measurements,
+)
 
 # z(0.95) = 1.644854, z(0.925) = 1.439531, z(0.90) = 1.281552, z(0.875) = 1.150349,
 # z(0.10) = −1.281552, z(0.075) = −1.439531, z(0.05) = −1.644854, z(0.025) = −1.959964
-# (standard normal tables); m = z(Pd) − z(Pf) (3.9), c = m/2 (digest Appendix A).
+# (standard normal tables); m = z(Pd) − z(Pf) (3.9), c = m/2 (§4.1).
 SENSITIVITY = [
     (0.95, 0.10, 2.9264),
     (0.95, 0.05, 3.2897),
@@ -35,7 +35,7 @@ SENSITIVITY = [
     (0.875, 0.10, 2.4319),
 ]
 
-# P(ζ > c | target), P(ζ > c | no target) at c = m/2 (digest Appendix A)
+# P(ζ > c | target), P(ζ > c | no target) at c = m/2 (§4.1)
 EFFECTIVE = [
     (0.95, 0.10, 0.928, 0.072),
     (0.95, 0.025, 0.964, 0.036),
@@ -79,7 +79,7 @@ def test_thesis_example_sensitivity() -> None:
 
 @pytest.mark.parametrize(("pd", "pf", "hit", "false_hit"), EFFECTIVE)
 def test_rates_at_the_criterion(pd: float, pf: float, hit: float, false_hit: float) -> None:
-    """Thresholding ζ at c = m/2 gives the digest's effective hit and false-hit rates."""
+    """Thresholding ζ at c = m/2 gives the effective hit and false-hit rates."""
     sensor = SensorModel(pd=pd, pf=pf, footprint_radius_m=1.0)
     assert sensor.hit_rate == pytest.approx(hit, abs=1e-3)
     assert sensor.false_hit_rate == pytest.approx(false_hit, abs=1e-3)

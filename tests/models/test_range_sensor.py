@@ -7,9 +7,10 @@ import math
 import numpy as np
 import pytest
 
+from searchtrack.core.angles import wrap_angle
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.particle_models import DetectionSensor
-from searchtrack.models.range_sensor import RangeBearingElevationSensor, wrap_angle
+from searchtrack.models.range_sensor import RangeBearingElevationSensor
 
 POSE = np.array([5.0, -3.0, 40.0])
 

@@ -9,14 +9,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.models.dubins import DubinsLimits
-from searchtrack.models.vehicles import (
-    VehicleModel,
-    fixed_wing,
-    uav7,
-    unicycle,
-    unicycle_from_limits,
-)
+from searchtrack.models.dubins import DubinsLimits, unicycle_from_limits
+from searchtrack.models.vehicles import VehicleModel, fixed_wing, uav7, unicycle
 from searchtrack.models.vehicles.uav7 import Uav7Dynamics
 from searchtrack.models.vehicles.unicycle import UnicycleDynamics
 from searchtrack.plan.trajectory.symbolic import dynamics_jacobians, step_function, step_jacobians

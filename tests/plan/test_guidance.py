@@ -1,4 +1,4 @@
-"""Tests of the reacquisition OPTW and the Ch. 5 guidance strategies."""
+"""Tests of the reacquisition OPTW and the Ch. 5 guidance strategies solved by name."""
 
 from __future__ import annotations
 
@@ -7,18 +7,24 @@ import pytest
 from scipy.linalg import expm
 
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Status
 from searchtrack.estimate.diffusion import GraphDiffusion
+from searchtrack.estimate.lrt import LikelihoodField
 from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
 from searchtrack.models.dubins import DubinsLimits, UavState, step_force
 from searchtrack.models.road_synthetic import grid_network
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.guidance import (
-    STRATEGIES,
+    BACKENDS,
+    Guidance,
+    GuidanceProblem,
     GuidanceView,
+    Reacquisition,
     StrategyConfig,
     pauli_force,
     reacquire_time,
     reacquisition_instance,
+    solve,
     spring_force,
 )
 from searchtrack.plan.guidance.reacquire import plan_reacquisition
@@ -41,8 +47,18 @@ def _view(net: RoadNetwork, xy: list[list[float]], trackers: tuple[NodeTracker, 
           llr: np.ndarray | None = None) -> GuidanceView:
     o = len(xy)
     bank = TrackerBank(net.n_nodes, trackers, 1 + max((t.track_id for t in trackers), default=0))
-    return GuidanceView(net, np.array(xy, dtype=float), np.zeros(o), np.full(o, 35.0),
-                        np.zeros(net.n_nodes) if llr is None else llr, bank, 0.0)
+    field = LikelihoodField(np.zeros(net.n_nodes) if llr is None else llr)
+    return GuidanceView(net, np.array(xy, dtype=float), np.zeros(o), np.full(o, 35.0), field,
+                        bank, 0.0)
+
+
+def _guide(backend: str, view: GuidanceView, config: StrategyConfig, diff: GraphDiffusion,
+           seed: int = 0, limit_s: float = 2.0) -> Guidance:
+    result = solve(GuidanceProblem(view, config, diff), backend=backend, time_limit_s=limit_s,
+                   seed=seed)
+    assert result.status is Status.FEASIBLE and result.plan is not None
+    assert result.backend == backend and result.bound is None
+    return result.plan
 
 
 def test_reacquire_time_matches_direct_simulation() -> None:
@@ -128,10 +144,11 @@ def test_search_and_loiter_switches_at_threshold() -> None:
     """A paired UAV loiters when its peak ≤ ϱ and searches above it."""
     net = _path(20)
     diff = GraphDiffusion.on_network(net, 0.447, 0.3)
-    strategy = STRATEGIES["search_and_loiter"](StrategyConfig(sensor_range_m=30.0), diff)
-    rng = np.random.default_rng(0)
-    for peak, mode in [(0.5, "search"), (0.31, "search"), (0.3, "loiter"), (0.1, "loiter")]:
-        g = strategy.guide(_view(net, [[50.0, 0.0], [190.0, 0.0]], (_tracker(20, 4, peak),)), rng)
+    cfg = StrategyConfig(sensor_range_m=30.0)
+    for seed, (peak, mode) in enumerate([(0.5, "search"), (0.31, "search"), (0.3, "loiter"),
+                                         (0.1, "loiter")]):
+        view = _view(net, [[50.0, 0.0], [190.0, 0.0]], (_tracker(20, 4, peak),))
+        g = _guide("search_and_loiter", view, cfg, diff, seed)
         assert g.mode == (mode, "search")
         assert g.pairing.tracker == (0, -1)
 
@@ -143,8 +160,10 @@ def test_loiter_forces_follow_5_15_and_5_14() -> None:
     cfg = StrategyConfig(sensor_range_m=20.0)
     xy = [[115.0, 0.0], [100.0, 5.0], [300.0, 0.0]]
     view = _view(net, xy, (_tracker(30, 12, 0.6, 0), _tracker(30, 29, 0.6, 1)))
-    g = STRATEGIES["loiter"](cfg, diff).guide(view, np.random.default_rng(0))
-    assert g.mode == ("loiter", "search", "loiter")
+    result = solve(GuidanceProblem(view, cfg, diff), backend="loiter", seed=0)
+    g = result.plan
+    assert g is not None and g.mode == ("loiter", "search", "loiter")
+    assert result.objective == pytest.approx(1.2)  # two loiterers over peaks of 0.6
     uav = np.array(xy)
     loiterers = [0, 2]
     pauli_l = pauli_force(uav[loiterers], cfg.sigma)
@@ -159,9 +178,11 @@ def test_search_strategy_ignores_trackers() -> None:
     """`search` puts every UAV in search mode even when trackers exist."""
     net = _path(10)
     diff = GraphDiffusion.on_network(net, 0.447, 0.3)
-    g = STRATEGIES["search"](StrategyConfig(), diff).guide(
-        _view(net, [[0.0, 0.0]], (_tracker(10, 3, 0.1),)), np.random.default_rng(0))
-    assert g.mode == ("search",) and g.route == ((),) and g.plan_ms == 0.0
+    result = solve(GuidanceProblem(_view(net, [[0.0, 0.0]], (_tracker(10, 3, 0.1),)),
+                                   StrategyConfig(), diff), backend="search", seed=0)
+    g = result.plan
+    assert g is not None and g.mode == ("search",) and g.route == ((),) and g.plan_ms == 0.0
+    assert g.reacquisitions == () and result.objective == 0.0
 
 
 def _reacquire_setup() -> tuple[RoadNetwork, GraphDiffusion, TrackerBank]:
@@ -176,77 +197,132 @@ def _reacquire_setup() -> tuple[RoadNetwork, GraphDiffusion, TrackerBank]:
 
 
 def test_reacquire_strategy_follows_its_route() -> None:
-    """A fading tracker's UAV plans a route and closes on the route's next node."""
+    """A fading tracker's UAV plans a route and closes on the route's next node; the route
+    passes from each answer to the next step's problem."""
     net, diff, bank = _reacquire_setup()
-    cfg = StrategyConfig(sensor_range_m=30.0, optw_budget_s=2.0, speed_mps=20.0)
-    strategy = STRATEGIES["search_and_reacquire"](cfg, diff)
+    cfg = StrategyConfig(sensor_range_m=30.0, speed_mps=20.0)
     limits = DubinsLimits(speed_max_mps=20.0, speed_min_mps=20.0)
     uavs = UavState(np.zeros(1), np.zeros(1), np.full(1, np.pi / 4), np.full(1, 20.0))
-    rng = np.random.default_rng(5)
+    field = LikelihoodField(np.zeros(net.n_nodes))
     guides, dists = [], []
-    for _ in range(100):
-        view = GuidanceView(net, uavs.xy_m, uavs.heading_rad, uavs.speed_mps,
-                            np.zeros(net.n_nodes), bank, 0.0)
-        guides.append(strategy.guide(view, rng))
+    problem: GuidanceProblem | None = None
+    for k in range(100):
+        view = GuidanceView(net, uavs.xy_m, uavs.heading_rad, uavs.speed_mps, field, bank, 0.0)
+        problem = (GuidanceProblem(view, cfg, diff) if problem is None
+                   else problem.following(view, guides[-1]))
+        result = solve(problem, backend="search_and_reacquire", time_limit_s=2.0, seed=k)
+        assert result.plan is not None
+        guides.append(result.plan)
         uavs = step_force(uavs, guides[-1].force, 0.3, limits)
         if guides[0].route[0]:
             dists.append(float(np.hypot(*(uavs.xy_m[0] - net.coords[guides[0].route[0][0]]))))
     first = guides[0]
     assert first.mode == ("reacquire",) and len(first.route[0]) > 0 and first.plan_ms > 0.0
+    (kept,) = first.reacquisitions
+    assert kept.track_id == 0 and kept.uav == 0 and kept.remaining() == first.route[0]
     assert dists[10] < dists[0] - 45.0  # closing on the first route node
     assert min(dists) <= cfg.sensor_range_m  # and it gets served
     served = [g for g in guides if g.route[0] and g.route[0][0] != first.route[0][0]]
     assert served and served[0].route[0] == first.route[0][1:]  # then on to the next one
-    strategy.reset()
+    assert served[0].plan_ms == 0.0  # followed, not re-planned
+    assert guides[1].reacquisitions[0].nodes == kept.nodes
 
 
 def test_reacquire_route_dropped_when_reacquired() -> None:
     """A peak back above ϱ returns the UAV to search and forgets the route."""
     net, diff, bank = _reacquire_setup()
-    strategy = STRATEGIES["search_and_reacquire"](StrategyConfig(sensor_range_m=30.0), diff)
-    rng = np.random.default_rng(0)
+    cfg = StrategyConfig(sensor_range_m=30.0)
     xy = [[0.0, 0.0]]
-    assert strategy.guide(_view(net, xy, bank.trackers), rng).mode == ("reacquire",)
-    g = strategy.guide(_view(net, xy, (_tracker(net.n_nodes, 10, 0.9),)), rng)
-    assert g.mode == ("search",) and g.route == ((),)
+    problem = GuidanceProblem(_view(net, xy, bank.trackers), cfg, diff)
+    first = solve(problem, backend="search_and_reacquire", seed=0).plan
+    assert first is not None and first.mode == ("reacquire",) and first.reacquisitions
+    again = problem.following(_view(net, xy, (_tracker(net.n_nodes, 10, 0.9),)), first)
+    g = solve(again, backend="search_and_reacquire", seed=1).plan
+    assert g is not None and g.mode == ("search",) and g.route == ((),)
+    assert g.reacquisitions == ()
 
 
 def test_strategies_are_deterministic_for_a_seed() -> None:
-    """Same seed, same forces, modes and routes, after reset too."""
+    """Same problem and seed, same forces, modes and routes, over a chain of steps."""
     net, diff, bank = _reacquire_setup()
     llr = np.random.default_rng(2).normal(size=net.n_nodes)
-    for name in STRATEGIES:
-        strategy = STRATEGIES[name](StrategyConfig(sensor_range_m=30.0, optw_budget_s=2.0), diff)
+    cfg = StrategyConfig(sensor_range_m=30.0)
+    view = GuidanceView(net, np.array([[0.0, 0.0], [400.0, 0.0]]), np.zeros(2),
+                        np.full(2, 35.0), LikelihoodField(llr), bank, 0.0)
+    for name in BACKENDS.names():
         runs = []
         for _ in range(2):
-            strategy.reset()
-            rng = np.random.default_rng(9)
-            view = GuidanceView(net, np.array([[0.0, 0.0], [400.0, 0.0]]), np.zeros(2),
-                                np.full(2, 35.0), llr, bank, 0.0)
-            runs.append([strategy.guide(view, rng) for _ in range(3)])
+            problem, answers = GuidanceProblem(view, cfg, diff), []
+            for seed in (9, 10, 11):
+                answer = solve(problem, backend=name, time_limit_s=2.0, seed=seed).plan
+                assert answer is not None
+                answers.append(answer)
+                problem = problem.following(view, answer)
+            runs.append(answers)
         for a, b in zip(*runs, strict=True):
             np.testing.assert_array_equal(a.force, b.force)
             assert a.mode == b.mode and a.route == b.route
+            assert a.reacquisitions == b.reacquisitions
+
+
+def test_seed_drives_the_gradient_tie_break() -> None:
+    """On a field with tied edges the chosen edge follows the seed, as the generator it seeds."""
+    net = grid_network(3, 3, 100.0, 50.0)
+    diff = GraphDiffusion.on_network(net, 0.447, 0.3)
+    centre = int(net.nearest_nodes([[100.0, 100.0]])[0])
+    llr = np.zeros(net.n_nodes)
+    llr[centre] = 5.0  # every edge at the centre ties
+    view = _view(net, [[100.0, 100.0]], llr=llr)
+    forces = {tuple(np.round(_guide("search", view, StrategyConfig(), diff, seed).force[0], 9))
+              for seed in range(12)}
+    assert len(forces) > 1
 
 
 def test_bad_inputs() -> None:
-    """Bad configs, views and instance arguments raise InvalidInputError naming the field."""
+    """Bad configs, views, problems and instance arguments raise InvalidInputError naming the
+    field."""
     net = _path(5)
+    diff = GraphDiffusion.on_network(net, 1.0, 0.3)
     with pytest.raises(InvalidInputError, match="p_min"):
         StrategyConfig(p_min=0.5, revisit_threshold=0.3)
     with pytest.raises(InvalidInputError, match="optw_backend"):
         StrategyConfig(optw_backend="nope")
     with pytest.raises(InvalidInputError, match="sensor_range_m"):
         StrategyConfig(sensor_range_m=0.0)
-    with pytest.raises(InvalidInputError, match="llr"):
-        GuidanceView(net, np.zeros((1, 2)), np.zeros(1), np.ones(1), np.zeros(4),
-                     TrackerBank(5), 0.0)
+    with pytest.raises(InvalidInputError, match="field"):
+        GuidanceView(net, np.zeros((1, 2)), np.zeros(1), np.ones(1),
+                     LikelihoodField(np.zeros(4)), TrackerBank(5), 0.0)
+    with pytest.raises(InvalidInputError, match="field"):
+        GuidanceView(net, np.zeros((1, 2)), np.zeros(1), np.ones(1),
+                     np.zeros(5), TrackerBank(5), 0.0)  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="bank"):
+        GuidanceView(net, np.zeros((1, 2)), np.zeros(1), np.ones(1),
+                     LikelihoodField(np.zeros(5)), TrackerBank(4), 0.0)
     with pytest.raises(InvalidInputError, match="uav_heading_rad"):
-        GuidanceView(net, np.zeros((2, 2)), np.zeros(1), np.ones(2), np.zeros(5),
-                     TrackerBank(5), 0.0)
+        GuidanceView(net, np.zeros((2, 2)), np.zeros(1), np.ones(2),
+                     LikelihoodField(np.zeros(5)), TrackerBank(5), 0.0)
+    view = _view(net, [[0.0, 0.0]])
+    with pytest.raises(InvalidInputError, match="predictor"):
+        GuidanceProblem(view, StrategyConfig(), "not a diffusion")  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="predictor"):
+        GuidanceProblem(view, StrategyConfig(), GraphDiffusion.on_network(_path(6), 1.0, 0.3))
+    with pytest.raises(InvalidInputError, match="reacquisitions"):
+        GuidanceProblem(view, StrategyConfig(), diff, (Reacquisition.planned(0, 1, (2,)),))
+    with pytest.raises(InvalidInputError, match="reacquisitions"):
+        GuidanceProblem(view, StrategyConfig(), diff, (Reacquisition.planned(0, 0, (2,)),
+                                                       Reacquisition.planned(0, 0, (3,))))
+    with pytest.raises(InvalidInputError, match="served"):
+        Reacquisition(0, 0, (1, 2), (False,))
+    problem = GuidanceProblem(view, StrategyConfig(), diff)
+    with pytest.raises(InvalidInputError, match="backend"):
+        solve(problem, backend="chase")
+    with pytest.raises(InvalidInputError, match="time_limit_s"):
+        solve(problem, backend="search", time_limit_s=0.0)
+    with pytest.raises(InvalidInputError, match="seed"):
+        solve(problem, backend="search", seed=-1)
     with pytest.raises(InvalidInputError, match="horizon_s"):
         reacquisition_instance(net, np.full(5, 0.2), np.zeros(2), 10.0, -1.0)
     with pytest.raises(InvalidInputError, match="probability"):
-        reacquire_time(GraphDiffusion.on_network(net, 1.0, 0.3), np.ones(4))
-    with pytest.raises(InvalidInputError, match="diffusion"):
-        STRATEGIES["loiter"](StrategyConfig(), "not a diffusion")  # type: ignore[arg-type]
+        reacquire_time(diff, np.ones(4))
+    with pytest.raises(InvalidInputError, match="predictor"):
+        reacquire_time("not a diffusion", np.ones(5))  # type: ignore[arg-type]

@@ -1,16 +1,14 @@
-"""Closed-loop missions: a short seeded mission is deterministic, finds targets, and writes its
-log and figures through the command line."""
+"""Closed-loop missions: a short seeded mission is deterministic, finds targets, and stops once
+all are detected in detect mode."""
 
 from __future__ import annotations
 
 import dataclasses
-import json
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from searchtrack.cli import main
+from searchtrack.estimate.association import BACKENDS as ASSOCIATION_BACKENDS
 from searchtrack.models import SensorModel
 from searchtrack.sim.mission import Mission, World
 from searchtrack.sim.scenario import GuidanceSpec, MapSpec, Scenario
@@ -59,6 +57,17 @@ def test_tracking_strategies_find_targets(world: World, strategy: str) -> None:
         b.track_id for b in log.births}
 
 
+@pytest.mark.parametrize("associator", ASSOCIATION_BACKENDS.names())
+def test_every_associator_flies(world: World, associator: str) -> None:
+    """The mission builds its associator by backend name; each one associates fixes."""
+    sc = small(filter=dataclasses.replace(small().filter, associator=associator))
+    mission = Mission(sc, world)
+    assert mission.associator.inner.backend == associator  # type: ignore[attr-defined]
+    log = mission.run()
+    assert log.score.detected >= 1
+    assert sum(len(a) for a in log.associations) == log.score.nva + log.score.nfa > 0
+
+
 def test_detect_mode_stops_when_all_found(world: World) -> None:
     """Detection-only search ends once every target is found, and each is found once."""
     log = Mission(small("search", mode="detect", duration_s=600.0), world).run()
@@ -66,28 +75,3 @@ def test_detect_mode_stops_when_all_found(world: World) -> None:
     assert log.score.time_to_detect_all_s is not None
     assert log.time_s[-1] == pytest.approx(log.score.time_to_detect_all_s)
     assert sorted(b.target for b in log.births if b.target >= 0) == [0, 1]
-
-
-def test_cli_writes_json_and_figures(tmp_path: Path) -> None:
-    """`searchtrack mission run` writes mission.json, map.png and moc.png."""
-    scenario = tmp_path / "grid.toml"
-    scenario.write_text('name = "cli"\nduration_s = 6.0\nseed = 1\n[map]\n'
-                        'grid = { rows = 4, cols = 4, block_m = 100.0 }\n[uavs]\ncount = 2\n'
-                        '[targets]\ncount = 2\n', encoding="utf-8")
-    out = tmp_path / "out"
-    assert main(["mission", "run", str(scenario), "--out", str(out)]) == 0
-    record = json.loads((out / "mission.json").read_text(encoding="utf-8"))
-    assert record["scenario"]["name"] == "cli"
-    assert len(record["moc"]) == 20
-    assert len(record["tracks"]) == len(record["associations"]) == 20
-    assert record["summary"]["steps"] == 20
-    for png in ("map.png", "moc.png"):
-        assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-
-
-def test_cli_reports_bad_scenarios(tmp_path: Path) -> None:
-    """A malformed scenario exits with status 2 and names the key."""
-    scenario = tmp_path / "bad.toml"
-    scenario.write_text('[map]\ngrid = { rows = 4, cols = 4 }\n[uavs]\ncount = -1\n',
-                        encoding="utf-8")
-    assert main(["mission", "run", str(scenario), "--out", str(tmp_path)]) == 2

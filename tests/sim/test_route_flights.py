@@ -1,9 +1,7 @@
 """Planner routes flown closed loop: OPTW and potential-field routes on the road map with the
-Dubins unicycle, paper 004's E7 with the 7-state UAV, and the adapters' input checks."""
+Dubins unicycle, 3-D waypoints made flyable, and the adapters' input checks."""
 
 from __future__ import annotations
-
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,12 +12,11 @@ from searchtrack.models.dubins import DubinsLimits
 from searchtrack.models.road_synthetic import grid_network
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.trajectory import Obstacles
-from searchtrack.sim.flight import FlightConfig, plot_flight
-from searchtrack.sim.flight_routes import (
-    E7Setup,
+from searchtrack.sim.flight import FlightConfig
+from searchtrack.sim.mission import Mission
+from searchtrack.sim.route_flights import (
     dubins_model,
     fixed_wing_path,
-    fly_e7,
     fly_optw_route,
     fly_xy_path,
     path_waypoints,
@@ -28,7 +25,6 @@ from searchtrack.sim.flight_routes import (
     route_deviation_m,
     route_waypoints,
 )
-from searchtrack.sim.mission import Mission
 from searchtrack.sim.scenario import GuidanceSpec, MapSpec, Scenario
 
 LIMITS = DubinsLimits()
@@ -112,27 +108,6 @@ def test_potential_field_path_is_flown_around_a_building(network: RoadNetwork,
     assert dubins_model(scenario.limits).input_lower[0] == pytest.approx(SPEED_MPS)
 
 
-def test_e7_closed_form_flight_keeps_clear_of_the_spheres() -> None:
-    """E7 with the backstepping law (d_l = 6 m) and 3 m/s wind: no collision, the spheres near."""
-    run = fly_e7(0, setup=E7Setup(steps=40))
-    flight = run.flight
-    assert run.obstacles.k == 3 and not np.any(run.obstacles.is_cylinder)
-    assert flight.collisions == 0 and 0.0 < flight.min_clearance_m < 6.0
-    assert flight.count("closed_form") == len(flight.controllers)
-    assert run.targets_found >= 1 and run.waypoints_m.shape == (41, 3)
-
-
-def test_e7_auto_flight_tracks_closely(tmp_path: Path) -> None:
-    """E7 under ``auto``: no collision, clearance kept, tracking within a few metres; the plot
-    of a 3-D flight (top view and altitude) is a PNG."""
-    run = fly_e7(1, setup=E7Setup(steps=25), config=FlightConfig(backend="auto",
-                                                                 time_limit_s=0.2))
-    assert run.flight.collisions == 0 and run.flight.min_clearance_m > 0.0
-    assert run.flight.rms_error_m < 5.0
-    out = plot_flight(run.flight, tmp_path / "e7.png", run.obstacles)
-    assert out.read_bytes()[:4] == b"\x89PNG"
-
-
 def test_fixed_wing_path_spreads_vertical_moves_into_climbs() -> None:
     """Vertical lattice moves become climbs no steeper than the slope limit along the legs."""
     wps = np.array([[0, 0, 0], [0, 0, -12], [0, 0, -24], [12, 0, -24], [24, 0, -24],
@@ -147,7 +122,7 @@ def test_fixed_wing_path_spreads_vertical_moves_into_climbs() -> None:
 
 
 def test_bad_route_inputs_name_the_field(network: RoadNetwork) -> None:
-    """Empty routes, out-of-range or NaN nodes, NaN paths and bad setups raise InvalidInputError."""
+    """Empty routes, out-of-range or NaN nodes and NaN paths raise InvalidInputError."""
     rng = np.random.default_rng(0)
     with pytest.raises(InvalidInputError, match="route_nodes"):
         fly_optw_route(network, [], rng=rng)
@@ -161,12 +136,6 @@ def test_bad_route_inputs_name_the_field(network: RoadNetwork) -> None:
         fly_xy_path([[0.0, 0.0], [float("nan"), 5.0]], rng=rng)
     with pytest.raises(InvalidInputError, match="xy_m"):
         path_waypoints([[1.0, 0.0], [1.0, 0.0]], min_spacing_m=5.0)
-    with pytest.raises(InvalidInputError, match="steps"):
-        E7Setup(steps=0)
-    with pytest.raises(InvalidInputError, match="max_slope"):
-        E7Setup(max_slope=float("nan"))
-    with pytest.raises(InvalidInputError, match="seed"):
-        fly_e7(-1)
     with pytest.raises(InvalidInputError, match="start_node"):
         plan_optw_route(network, np.ones(network.n_nodes), network.n_nodes, speed_mps=10.0,
                         horizon_s=10.0)

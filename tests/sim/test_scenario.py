@@ -127,12 +127,25 @@ def test_llr_floor_none_means_no_floor(tmp_path: Path) -> None:
 
 def test_spring_constants_reach_the_strategy() -> None:
     """``spring_k`` and ``loiter_k`` from the scenario configure the strategy's force laws."""
-    from searchtrack.estimate import GraphDiffusion
-    from searchtrack.sim.guidance_setup import make_strategy
+    from searchtrack.sim.guidance_setup import strategy_config
 
     grid = MapSpec("grid", rows=3, cols=3)
     sc = Scenario("x", grid, guidance=GuidanceSpec(spring_k=5.0, loiter_k=7.0))
-    net = grid.build()
-    strategy = make_strategy(sc, GraphDiffusion(net.laplacian, alpha=0.447, dt_s=sc.dt_s))
-    assert strategy.config.spring_k == 5.0
-    assert strategy.config.loiter_k == 7.0
+    config = strategy_config(sc)
+    assert config.spring_k == 5.0
+    assert config.loiter_k == 7.0
+
+
+def test_strategy_and_associator_names_come_from_the_registries(tmp_path: Path) -> None:
+    """Every guidance and association backend is a valid scenario choice, in TOML too."""
+    from searchtrack.estimate.association import BACKENDS as ASSOCIATION_BACKENDS
+    from searchtrack.plan.guidance import BACKENDS as GUIDANCE_BACKENDS
+
+    for name in GUIDANCE_BACKENDS.names():
+        assert GuidanceSpec(strategy=name).strategy == name
+        sc = load_scenario(write(tmp_path, GRID + f"[guidance]\nstrategy = '{name}'\n"))
+        assert sc.guidance.strategy == name
+    for name in ASSOCIATION_BACKENDS.names():
+        assert FilterSpec(associator=name).associator == name
+        sc = load_scenario(write(tmp_path, GRID + f"[filter]\nassociator = '{name}'\n"))
+        assert sc.filter.associator == name

@@ -4,8 +4,8 @@ For a Poisson RFS of intensity ``v`` with ``λ = ∫ v`` and single-target densi
 ``H[X] = λ + λ (H[p] − log λ)``; the bracket ``H[p] − log λ`` is the *entropy per target* plotted
 in paper 003. ``H[p]`` is the differential entropy of ``p``, estimated from a weighted histogram
 on a regular grid: ``H[p] ≈ −Σ_k p_k log(p_k / A)`` with cell probability ``p_k`` and cell size
-``A`` (m² or m³). Its value depends on the length unit and the cell size (digest 003, §6 item 12),
-so compare values only at equal settings.
+``A`` (m² or m³). Its value depends on the length unit and the cell size (paper 003 states
+neither), so compare values only at equal settings.
 """
 
 from __future__ import annotations

@@ -5,7 +5,8 @@ target: its centre is saved and all its particles are removed from the PHD, so t
 spending effort on it. Before each update, measurements are gated against the found targets: for
 each found target (in the order they were found) the closest not-yet-removed measurement within
 ``T_z`` of it (in position space, through ``h⁻¹``) is dropped, since a target yields at most one
-measurement per scan. The cluster radius is the weighted RMS distance (digest 004, A12).
+measurement per scan. The cluster radius is the weighted RMS distance to the centre (paper 004
+does not define it).
 """
 
 from __future__ import annotations

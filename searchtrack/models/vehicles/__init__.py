@@ -12,7 +12,7 @@ from searchtrack.models.vehicles.fixed_wing import FixedWingDynamics, fixed_wing
 from searchtrack.models.vehicles.model import Dynamics, VehicleModel, rk4_step
 from searchtrack.models.vehicles.namespace import NUMPY, ArrayNamespace, NumpyNamespace
 from searchtrack.models.vehicles.uav7 import GRAVITY_MPS2, Uav7Dynamics, uav7
-from searchtrack.models.vehicles.unicycle import UnicycleDynamics, unicycle, unicycle_from_limits
+from searchtrack.models.vehicles.unicycle import UnicycleDynamics, unicycle
 
 __all__ = [
     "GRAVITY_MPS2",
@@ -28,5 +28,4 @@ __all__ = [
     "rk4_step",
     "uav7",
     "unicycle",
-    "unicycle_from_limits",
 ]

@@ -8,7 +8,7 @@ roll. Input ``u = (u_Va, u_β, u_γ, u_φ)``. With ``ϑ = (V_a, β, γ, φ)``::
     f = (−D/m − g sin γ, 0, −(g/V_a) cos γ, 0)
     δ̄ = diag(1/m, L/(m V_a cos γ), (g/V_a) cos φ, 1)
 
-Errata (digest 004 §6 A17), each fixed here:
+Errata, each fixed here:
 
 (i) ``y₂`` is printed ``V_a sin β sin γ``; it is ``V_a sin β cos γ`` (the printed form makes
     ``S_y = ∂y/∂ϑ`` singular at γ = 0). (ii) ``y`` is printed with the wind inside while (12) adds

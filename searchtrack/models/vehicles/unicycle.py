@@ -1,8 +1,10 @@
 """Unicycle / Dubins car (thesis 001 §5.1, eq. 5.1) with speed and turn-rate inputs and wind.
 
 ``ẋ = v cos θ + w_x``, ``ẏ = v sin θ + w_y``, ``θ̇ = ω``: states ``(x, y, θ)``, inputs
-``(v, ω)``. A Dubins car is the case ``v_min = v_max``; :func:`unicycle_from_limits` builds one
-from the potential-field model's :class:`~searchtrack.models.dubins.DubinsLimits`.
+``(v, ω)``. A Dubins car is the case ``v_min = v_max``. :class:`UnicycleDynamics` is the one
+implementation of these kinematics: the potential-field UAV of :mod:`searchtrack.models.dubins`
+integrates it too, and :func:`searchtrack.models.dubins.unicycle_from_limits` builds this model
+from that UAV's limits.
 """
 
 from __future__ import annotations
@@ -13,7 +15,6 @@ from typing import Any
 
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.models.dubins import DubinsLimits
 from searchtrack.models.vehicles.model import VehicleModel
 from searchtrack.models.vehicles.namespace import ArrayNamespace
 
@@ -69,10 +70,3 @@ def unicycle(
         angle_indices=(2,),
     )
 
-
-def unicycle_from_limits(limits: DubinsLimits, *, accel_max_mps2: float = 5.0,
-                         turn_accel_max_rps2: float = 4.0) -> VehicleModel:
-    """The unicycle with the speed and turn-rate limits of a :class:`DubinsLimits`."""
-    return unicycle(speed_min_mps=limits.speed_min_mps, speed_max_mps=limits.speed_max_mps,
-                    turn_rate_max_rps=limits.turn_rate_max_rps, accel_max_mps2=accel_max_mps2,
-                    turn_accel_max_rps2=turn_accel_max_rps2)

@@ -1,26 +1,33 @@
-"""Candidate actions: fixed-wing motion primitives (paper 003 §2.3) and the 3-D lattice of 004.
+"""Candidate actions of paper 003 (§2.3): fixed-wing motion primitives.
 
-Fixed-wing kinematics (003 digest §2.3, state ``[x, y, z, ψ, θ]``)::
+The kinematics are the fixed-wing model of :mod:`searchtrack.models.vehicles.fixed_wing`
+(state ``[x, y, z, ψ, θ]``, inputs ``[v, u_ψ, u_θ]``)::
 
     ẋ = v cos θ cos ψ,  ẏ = v cos θ sin ψ,  ż = v sin θ,  ψ̇ = u_ψ,  θ̇ = u_θ
 
 For every combination of forward speed, yaw rate and pitch rate the state is integrated with
-Euler steps of ``euler_dt_s`` (10 ms in the paper) over ``steps × step_s`` seconds; the pose at
-the end of each step is one measurement pose. Trajectories that leave the altitude band at any
-Euler step are discarded. Collisions between UAVs are pruned by the assignment problem's
-``min_separation_m``.
+Euler steps of ``euler_dt_s`` (10 ms in the paper) over ``steps × step_s`` seconds, the pitch
+clipped to the model's pitch limit after each step; the pose at the end of each step is one
+measurement pose. Trajectories that leave the model's altitude band at any Euler step are
+discarded. Collisions between UAVs are pruned by the assignment problem's ``min_separation_m``.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
+from searchtrack.core.angles import wrap_angle
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
+from searchtrack.models.vehicles import VehicleModel, fixed_wing
+
+_Z, _YAW, _PITCH = 2, 3, 4
 
 
 def _values(name: str, values: tuple[float, ...], positive: bool = False) -> None:
@@ -48,7 +55,7 @@ class FixedWingPrimitives:
     z_min_m, z_max_m
         Altitude band (003 uses a 50 m ceiling); trajectories leaving it are dropped.
     max_pitch_rad
-        Pitch is clipped to ``±max_pitch_rad`` during integration.
+        Pitch is clipped to ``±max_pitch_rad`` (below π/2) during integration.
     """
 
     speeds_mps: tuple[float, ...] = (1.5,)
@@ -71,6 +78,8 @@ class FixedWingPrimitives:
             v = getattr(self, name)
             if not (math.isfinite(v) and v > 0.0):
                 raise InvalidInputError(name, v, "must be finite and > 0")
+        if self.max_pitch_rad >= 0.5 * math.pi:
+            raise InvalidInputError("max_pitch_rad", self.max_pitch_rad, "must be below π/2")
         if self.euler_dt_s > self.step_s:
             raise InvalidInputError("euler_dt_s", self.euler_dt_s, "must be <= step_s")
         if not (math.isfinite(self.z_min_m) and math.isfinite(self.z_max_m)
@@ -83,56 +92,44 @@ class FixedWingPrimitives:
         return np.array(list(itertools.product(self.speeds_mps, self.yaw_rates_rps,
                                                self.pitch_rates_rps)), dtype=np.float64)
 
+    @cached_property
+    def vehicle(self) -> VehicleModel:
+        """The fixed-wing model the primitives fly: its kinematics, the altitude band and the
+        pitch limit as its state box, the range of the control grid as its input box."""
+        base = fixed_wing(pitch_max_rad=self.max_pitch_rad, altitude_min_m=self.z_min_m,
+                          altitude_max_m=self.z_max_m)
+        u = self.controls
+        lo, hi = u.min(axis=0), u.max(axis=0)
+        cruise = np.clip([0.5 * (lo[0] + hi[0]), 0.0, 0.0], lo, hi)
+        return dataclasses.replace(base, input_lower=tuple(lo.tolist()),
+                                   input_upper=tuple(hi.tolist()),
+                                   nominal_input=tuple(cruise.tolist()))
+
 
 def fixed_wing_actions(state: FloatArray, primitives: FixedWingPrimitives) -> FloatArray:
     """``(A, T, 5)`` poses ``[x, y, z, ψ, θ]`` of the primitives from ``state`` that stay in
-    the altitude band (``A`` may be 0)."""
+    the altitude band (``A`` may be 0); ``ψ`` wrapped into ``[−π, π)``."""
     s0 = np.asarray(state, dtype=np.float64).reshape(-1)
     if s0.shape != (5,) or not np.all(np.isfinite(s0)):
         raise InvalidInputError("state", state, "must be finite [x, y, z, yaw, pitch]")
-    u = primitives.controls
-    n = u.shape[0]
+    model = primitives.vehicle
+    u = primitives.controls.T  # (3, C)
+    n = u.shape[1]
     sub = max(1, round(primitives.step_s / primitives.euler_dt_s))
     dt = primitives.step_s / sub
-    x = np.tile(s0, (n, 1))
+    z_lo, z_hi = model.state_lower[_Z], model.state_upper[_Z]
+    pitch_lo, pitch_hi = model.state_lower[_PITCH], model.state_upper[_PITCH]
+    # Without wind the kinematics are driftless and linear in the inputs, so the Euler increment
+    # dt·f(x, u) is f(x, dt·u); evaluated this way its rounding is that of 003's primitives.
+    du = dt * u
+    x = np.tile(s0[:, None], (1, n))  # (5, C)
     ok = np.ones(n, dtype=bool)
     poses = np.empty((n, primitives.steps, 5))
     for t in range(primitives.steps):
         for _ in range(sub):
-            v, yaw, pitch = u[:, 0], x[:, 3], x[:, 4]
-            x[:, 0] += dt * v * np.cos(pitch) * np.cos(yaw)
-            x[:, 1] += dt * v * np.cos(pitch) * np.sin(yaw)
-            x[:, 2] += dt * v * np.sin(pitch)
-            x[:, 3] += dt * u[:, 1]
-            x[:, 4] = np.clip(pitch + dt * u[:, 2], -primitives.max_pitch_rad,
-                              primitives.max_pitch_rad)
-            ok &= (x[:, 2] >= primitives.z_min_m) & (x[:, 2] <= primitives.z_max_m)
-        poses[:, t] = x
-    poses[:, :, 3] = np.mod(poses[:, :, 3] + np.pi, 2.0 * np.pi) - np.pi
+            x = x + model.f(x, du)
+            x[_PITCH] = np.clip(x[_PITCH], pitch_lo, pitch_hi)
+            ok &= (x[_Z] >= z_lo) & (x[_Z] <= z_hi)
+        poses[:, t] = x.T
+    poses[:, :, _YAW] = wrap_angle(poses[:, :, _YAW])
     return poses[ok]
-
-
-def lattice_moves(step_m: float, dims: int = 3) -> FloatArray:
-    """The ``2·dims`` axis moves ``±step_m`` of paper 004 (Fig. 4: six moves of 12 m in 3-D)."""
-    if not (math.isfinite(step_m) and step_m > 0.0):
-        raise InvalidInputError("step_m", step_m, "must be finite and > 0")
-    if dims not in (2, 3):
-        raise InvalidInputError("dims", dims, "must be 2 or 3")
-    eye = np.eye(3)[:dims]
-    return np.concatenate([eye, -eye]) * step_m
-
-
-def lattice_sequences(start: FloatArray, moves: FloatArray, horizon: int,
-                      bounds: FloatArray) -> FloatArray:
-    """``(S, horizon, 3)`` position sequences ``q_{k+1..k+τ}`` (004 eq. 7): every sequence of
-    ``moves`` from ``start`` that stays inside ``bounds`` ``(3, 2)``, in lexicographic move
-    order (``S ≤ |moves|^τ``)."""
-    q0 = np.asarray(start, dtype=np.float64).reshape(-1)[:3]
-    if not isinstance(horizon, int) or horizon < 1:
-        raise InvalidInputError("horizon", horizon, "must be a positive integer")
-    combos = np.array(list(itertools.product(range(moves.shape[0]), repeat=horizon)))
-    steps = moves[combos]  # (S, τ, 3)
-    seqs = q0 + np.cumsum(steps, axis=1)
-    inside = np.all((seqs >= bounds[:, 0]) & (seqs <= bounds[:, 1]), axis=(1, 2))
-    out: FloatArray = seqs[inside]
-    return out

@@ -20,11 +20,8 @@ from searchtrack.core.result import Result, Status
 from searchtrack.core.types import BoolArray, FloatArray
 from searchtrack.plan.assign.exact import formulate
 from searchtrack.plan.assign.greedy import solve_lazy_greedy
-from searchtrack.plan.assign.objectives import ExpectedDetections
-from searchtrack.plan.assign.problem import (
-    Assignment,
-    AssignmentProblem,
-)
+from searchtrack.plan.assign.objectives import ExpectedDetectionsFunction, coverage_only
+from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
 
 _TOL = 1e-9
 
@@ -93,20 +90,22 @@ class _Search:
                 return
 
 
-def solve_bnb(problem: AssignmentProblem, *, time_limit_s: float = 10.0,
-              seed: int = 0) -> Result[Assignment]:
+def solve_branch_and_bound(problem: AssignmentProblem, *, time_limit_s: float = 10.0,
+                           seed: int = 0) -> Result[Assignment]:
     """Solve the END assignment exactly by branch and bound (module docstring).
 
     OPTIMAL when the search completes; FEASIBLE with the root bound when the limit stops it.
     ``seed`` is unused (deterministic).
     """
-    if problem.objective != "end":
-        raise InvalidInputError("objective", problem.objective, "branch and bound solves END")
+    reason = coverage_only(problem)
+    if reason is not None:
+        raise InvalidInputError("objective", problem.objective, f"branch and bound {reason}")
     deadline = Deadline(time_limit_s)
     greedy = solve_lazy_greedy(problem, time_limit_s=time_limit_s, seed=seed)
     search = _Search(problem, deadline)
+    end = ExpectedDetectionsFunction(problem)
     if greedy.plan is not None:
-        search.best_value = ExpectedDetections(problem).value(greedy.plan.selection) - 2 * _TOL
+        search.best_value = end.value(greedy.plan.selection) - 2 * _TOL
         search.best = [int(search.form.column_of[r][a]) for r, a in greedy.plan.selection]
     search.run({}, np.ones(search.weights.shape[0]), 0.0)
     stats = {"nodes": float(search.nodes), "columns": float(search.form.ell.shape[1])}
@@ -116,7 +115,7 @@ def solve_bnb(problem: AssignmentProblem, *, time_limit_s: float = 10.0,
                       message="exact_bnb: " + ("every joint action collides" if search.complete
                                                else "time limit before any plan"), stats=stats)
     actions = [int(search.form.kept[r][c]) for r, c in enumerate(search.best)]
-    value = ExpectedDetections(problem).value(tuple(enumerate(actions)))
+    value = end.value(tuple(enumerate(actions)))
     bound = value if search.complete else greedy.bound
     return Result(Status.OPTIMAL if search.complete else Status.FEASIBLE, value, bound,
                   deadline.elapsed(), "exact_bnb", Assignment.of(problem, actions),

@@ -9,7 +9,6 @@ import numpy as np
 
 from searchtrack.core.deadline import Deadline
 from searchtrack.core.result import Result, Status
-from searchtrack.plan.assign.objectives import objective_for
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
 
 #: Largest number of joint actions ``Π_r |Q^r|`` brute force accepts.
@@ -34,7 +33,7 @@ def solve_brute_force(problem: AssignmentProblem, *, time_limit_s: float = 10.0,
     time, FEASIBLE (best so far, no bound) when the limit stops it. ``seed`` is unused."""
     del seed
     deadline = Deadline(time_limit_s)
-    objective = objective_for(problem)
+    objective = problem.objective.evaluator(problem)
     last = problem.robots - 1
     best_value = -math.inf
     best: tuple[int, ...] | None = None

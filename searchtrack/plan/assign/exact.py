@@ -1,7 +1,8 @@
 """Exact END assignment: an integer program with an outer approximation of ``1 − e^{−L}``.
 
-Digest 003 §5.2. With ``ℓ_{j,(r,a)} = −Σ_t log(1 − p_d(x_j | q_{r,a,t}))`` (``p_d`` capped below 1)
-the miss product of particle ``j`` is ``e^{−L_j}``, ``L_j = Σ ℓ_{j,(r,a)} x_{r,a}``, and
+END (paper 003 eq. 13) as an integer program. With
+``ℓ_{j,(r,a)} = −Σ_t log(1 − p_d(x_j | q_{r,a,t}))`` (``p_d`` capped below 1) the miss product of
+particle ``j`` is ``e^{−L_j}``, ``L_j = Σ ℓ_{j,(r,a)} x_{r,a}``, and
 END ``= Σ_j w_j (1 − e^{−L_j})``. The program::
 
     max Σ_j w_j u_j
@@ -32,7 +33,7 @@ from searchtrack.core.deadline import Deadline
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.result import Result, Status
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
-from searchtrack.plan.assign.objectives import ExpectedDetections
+from searchtrack.plan.assign.objectives import ExpectedDetectionsFunction, coverage_only
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
 
 log = logging.getLogger("searchtrack.plan.assign")
@@ -261,15 +262,16 @@ def solve_exact(problem: AssignmentProblem, *, time_limit_s: float = 10.0, seed:
     ``seed`` is unused (both solvers run single-threaded and deterministic).
     """
     del seed
-    if problem.objective != "end":
-        raise InvalidInputError("objective", problem.objective, "the IP solves END only")
+    reason = coverage_only(problem)
+    if reason is not None:
+        raise InvalidInputError("objective", problem.objective, f"the integer program {reason}")
     if solver not in ("scip", "cpsat"):
         raise InvalidInputError("solver", solver, "must be 'scip' or 'cpsat'")
     if not isinstance(pieces, int) or pieces < 1:
         raise InvalidInputError("pieces", pieces, "must be a positive integer")
     deadline = Deadline(time_limit_s)
     backend = f"exact_{solver}"
-    end = ExpectedDetections(problem)
+    end = ExpectedDetectionsFunction(problem)
     form = formulate(problem, reduce=reduce)
     cuts = initial_breakpoints(form, pieces)
     run = _solve_scip if solver == "scip" else _solve_cpsat

@@ -18,7 +18,7 @@ import numpy as np
 
 from searchtrack.core.deadline import Deadline
 from searchtrack.core.result import Result, Status
-from searchtrack.plan.assign.objectives import Objective, Selection, objective_for
+from searchtrack.plan.assign.objectives import Selection, SetFunction
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
 
 log = logging.getLogger("searchtrack.plan.assign")
@@ -26,20 +26,20 @@ log = logging.getLogger("searchtrack.plan.assign")
 _TOL = 1e-9
 
 
-def online_bound(problem: AssignmentProblem, objective: Objective, selection: Selection,
+def online_bound(problem: AssignmentProblem, objective: SetFunction, selection: Selection,
                  value: float) -> float | None:
     """A proven upper bound on the optimum from the greedy answer (``None`` if none applies).
 
-    END: ``f(G) + Σ_r max_a Δ((r, a) | G)`` (monotone submodular); MI without conflicts:
-    ``2 f(G)`` (the exact MI is cheap enough only for the ½ bound).
+    Coverage (END): ``f(G) + Σ_r max_a Δ((r, a) | G)`` (monotone submodular); otherwise (MI),
+    without conflicts, ``2 f(G)`` (the exact MI is cheap enough only for the ½ bound).
     """
-    if problem.objective == "end":
+    if problem.objective.coverage:
         extra = sum(float(np.max(objective.gains(selection, r))) for r in range(problem.robots))
         return value + extra
     return 2.0 * value if not problem.conflicts else None
 
 
-def _result(problem: AssignmentProblem, objective: Objective, chosen: dict[int, int],
+def _result(problem: AssignmentProblem, objective: SetFunction, chosen: dict[int, int],
             deadline: Deadline, backend: str, evaluations: int) -> Result[Assignment]:
     if len(chosen) < problem.robots:
         missing = sorted(set(range(problem.robots)) - set(chosen))
@@ -53,7 +53,7 @@ def _result(problem: AssignmentProblem, objective: Objective, chosen: dict[int, 
     status = Status.OPTIMAL if bound is not None and bound <= value + _TOL else Status.FEASIBLE
     return Result(status, value, bound, deadline.elapsed(), backend,
                   Assignment.of(problem, actions),
-                  message=f"{backend}: {problem.objective} {value:.6g}",
+                  message=f"{backend}: {problem.objective.name} {value:.6g}",
                   stats={"evaluations": float(evaluations)})
 
 
@@ -65,7 +65,7 @@ def solve_greedy(problem: AssignmentProblem, *, time_limit_s: float = 10.0,
     ``seed`` is unused (deterministic). ``f(G) ≥ ½ OPT`` for a partition matroid."""
     del seed
     deadline = Deadline(time_limit_s)
-    objective = objective_for(problem)
+    objective = problem.objective.evaluator(problem)
     chosen: dict[int, int] = {}
     evaluations = 0
     while len(chosen) < problem.robots and not deadline.expired():
@@ -98,7 +98,7 @@ def solve_lazy_greedy(problem: AssignmentProblem, *, time_limit_s: float = 10.0,
     ``seed`` is unused (deterministic)."""
     del seed
     deadline = Deadline(time_limit_s)
-    objective = objective_for(problem)
+    objective = problem.objective.evaluator(problem)
     heap: list[tuple[float, int, int, int]] = []  # (−gain, robot, action, round evaluated)
     for r in range(problem.robots):
         for a, g in enumerate(objective.gains((), r)):

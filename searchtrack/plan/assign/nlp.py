@@ -2,7 +2,7 @@
 
 Decision variables: the ``T`` waypoint positions ``q_{r,t} ∈ R³`` of every UAV. Maximise the
 smooth END ``Σ_j w_j (1 − Π_{r,t} (1 − p_d(x_j | q_{r,t})))`` (003 eq. 13) with a differentiable
-sensor (e.g. :class:`~searchtrack.plan.assign.footprint.GaussianFieldOfView`) subject to::
+sensor (e.g. :class:`~searchtrack.models.footprint.GaussianFieldOfView`) subject to::
 
     ‖q_{r,t} − q_{r,t−1}‖² ≤ s²        (speed: max step length; q_{r,0} = origin when given)
     z_min ≤ q_{r,t,z} ≤ z_max          (altitude band)
@@ -26,7 +26,7 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.result import Result, Status
 from searchtrack.core.types import FloatArray
 from searchtrack.plan.assign.greedy import solve_lazy_greedy
-from searchtrack.plan.assign.objectives import expected_detections_of_poses
+from searchtrack.plan.assign.objectives import coverage_only, expected_detections_of_poses
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
 
 _FEAS_TOL = 1e-6
@@ -56,8 +56,9 @@ class NLPLimits:
 
 def nlp_supports(problem: AssignmentProblem) -> str | None:
     """``None`` if the NLP can take ``problem`` (END with a differentiable sensor)."""
-    if problem.objective != "end":
-        return "solves the END objective only"
+    reason = coverage_only(problem)
+    if reason is not None:
+        return reason
     if not callable(getattr(problem.sensor, "casadi_detection", None)):
         return "needs a sensor with casadi_detection (e.g. GaussianFieldOfView)"
     return None

@@ -1,25 +1,34 @@
-"""Monotone submodular set objectives over (UAV, action) pairs on a particle belief.
+"""The objectives of the assignment: monotone submodular set functions of the belief.
 
-A selection is a tuple of ``(robot, action)`` pairs, at most one per UAV. Every objective is zero
-on the empty selection, so greedy's ½ guarantee applies (paper 003 Theorem 1).
+An objective is a small frozen spec (:class:`ExpectedDetections`, :class:`MutualInformation`)
+that the problem carries; :meth:`Objective.evaluator` binds it to a problem as a
+:class:`SetFunction` over selections. A selection is a tuple of ``(robot, action)`` pairs, at most
+one per UAV. Every objective is zero on the empty selection, so greedy's ½ guarantee applies
+(paper 003 Theorem 1).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
-from typing import Protocol
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 import numpy as np
 
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
+from searchtrack.models.footprint import detection_matrix
 from searchtrack.plan.assign.mutual_info import binary_mi, conditional_entropy
-from searchtrack.plan.assign.problem import AssignmentProblem, detection_matrix
+
+if TYPE_CHECKING:
+    from searchtrack.plan.assign.problem import AssignmentProblem
 
 Selection = Sequence[tuple[int, int]]
 
 
-class Objective(Protocol):
-    """A set function with marginal gains for one UAV's whole candidate set."""
+class SetFunction(Protocol):
+    """An objective bound to one problem: values and marginal gains of selections."""
 
     def value(self, selection: Selection) -> float:
         """``f(selection)``."""
@@ -34,11 +43,97 @@ class Objective(Protocol):
         ...
 
 
+@runtime_checkable
+class Objective(Protocol):
+    """What the assignment maximises: a name, its capabilities and its set function."""
+
+    @property
+    def name(self) -> str:
+        """Short label for messages (``"end"``, ``"mi"``)."""
+        ...
+
+    @property
+    def coverage(self) -> bool:
+        """True when the objective is the expected coverage ``Σ_j w_j (1 − Π (1 − p_d))``: the
+        structure the integer programs, the branch and bound and the NLP are built on."""
+        ...
+
+    def evaluator(self, problem: AssignmentProblem) -> SetFunction:
+        """The set function of this objective on ``problem``."""
+        ...
+
+
+@dataclass(frozen=True)
 class ExpectedDetections:
-    """END, paper 003 eq. (13) on particles: ``Σ_j w_j (1 − Π_{q∈Q} (1 − p_d(x_j | q)))``.
+    """Expected number of detections (END), paper 003 eq. (13)."""
+
+    @property
+    def name(self) -> str:
+        """``"end"``."""
+        return "end"
+
+    @property
+    def coverage(self) -> bool:
+        """END is the expected coverage of the particles."""
+        return True
+
+    def evaluator(self, problem: AssignmentProblem) -> ExpectedDetectionsFunction:
+        """END on ``problem``'s cached hit probabilities."""
+        return ExpectedDetectionsFunction(problem)
+
+
+@dataclass(frozen=True)
+class MutualInformation:
+    """Binary mutual information ``I[X; Y]`` of the detections (paper 003 eq. 12 and §2.5).
+
+    Parameters
+    ----------
+    exact_max
+        Largest number ``M`` of binary measurements evaluated exactly over the ``2^M`` outcomes;
+        above it a Monte Carlo estimate with common random numbers is used.
+    samples
+        Target sets drawn for the Monte Carlo estimate.
+    clutter_rate
+        Expected clutter detections per measurement ``λ_c`` (``y = 0`` needs no clutter either).
+    seed
+        Seed of the Monte Carlo draws (the same draws serve every evaluation).
+    """
+
+    exact_max: int = 12
+    samples: int = 2000
+    clutter_rate: float = 0.0
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.exact_max, int) or not 0 <= self.exact_max <= 20:
+            raise InvalidInputError("exact_max", self.exact_max, "must be an integer in [0, 20]")
+        if not isinstance(self.samples, int) or self.samples < 10:
+            raise InvalidInputError("samples", self.samples, "must be an integer >= 10")
+        if not (math.isfinite(self.clutter_rate) and self.clutter_rate >= 0.0):
+            raise InvalidInputError("clutter_rate", self.clutter_rate, "must be finite and >= 0")
+        if not isinstance(self.seed, int) or self.seed < 0:
+            raise InvalidInputError("seed", self.seed, "must be a non-negative integer")
+
+    @property
+    def name(self) -> str:
+        """``"mi"``."""
+        return "mi"
+
+    @property
+    def coverage(self) -> bool:
+        """Mutual information is not a coverage function."""
+        return False
+
+    def evaluator(self, problem: AssignmentProblem) -> MutualInformationFunction:
+        """The binary MI on ``problem``'s cached detection tensor (values cached per call)."""
+        return MutualInformationFunction(problem, self)
+
+
+class ExpectedDetectionsFunction:
+    """END on particles: ``Σ_j w_j (1 − Π_{q∈Q} (1 − p_d(x_j | q)))``.
 
     The per-particle miss product ``m`` of a selection is formed from the selected actions; the
-    gain of action ``a`` of UAV ``r`` is ``Σ_j w_j m_j hit_{r,a,j}`` (Lemma 2), one
+    gain of action ``a`` of UAV ``r`` is ``Σ_j w_j m_j hit_{r,a,j}`` (003 Lemma 2), one
     matrix–vector product for all of a UAV's actions.
     """
 
@@ -68,12 +163,13 @@ class ExpectedDetections:
         return max(0.0, float(wm @ self.problem.hit[robot][action]))
 
 
-class BinaryMutualInformation:
-    """Binary MI ``I[X; Y]`` between the belief and the ``y = 1(Z ≠ ∅)`` detections of every
-    selected pose (paper 003 eq. 12 and §2.5; see :mod:`.mutual_info`)."""
+class MutualInformationFunction:
+    """Binary MI between the belief and the ``y = 1(Z ≠ ∅)`` detections of every selected pose
+    (see :mod:`.mutual_info`); values are cached per selection, ``H[Y | X]`` per action."""
 
-    def __init__(self, problem: AssignmentProblem) -> None:
+    def __init__(self, problem: AssignmentProblem, spec: MutualInformation) -> None:
         self.problem = problem
+        self.spec = spec
         self._cache: dict[tuple[tuple[int, int], ...], float] = {}
         self._h_cond: dict[tuple[int, int], float] = {}
 
@@ -82,7 +178,7 @@ class BinaryMutualInformation:
         if (r, a) not in self._h_cond:
             self._h_cond[(r, a)] = conditional_entropy(self.problem.detection[r][a],
                                                        self.problem.weights,
-                                                       self.problem.mi.clutter_rate)
+                                                       self.spec.clutter_rate)
         return self._h_cond[(r, a)]
 
     def _pd(self, selection: Selection) -> FloatArray:
@@ -92,10 +188,10 @@ class BinaryMutualInformation:
         return np.concatenate(rows)
 
     def value(self, selection: Selection) -> float:
-        """MI in nats (exact up to ``mi.exact_max`` measurements, Monte Carlo above)."""
+        """MI in nats (exact up to ``exact_max`` measurements, Monte Carlo above)."""
         key = tuple(sorted((int(r), int(a)) for r, a in selection))
         if key not in self._cache:
-            s = self.problem.mi
+            s = self.spec
             self._cache[key] = binary_mi(self._pd(key), self.problem.weights, s.clutter_rate,
                                          exact_max=s.exact_max, samples=s.samples, seed=s.seed,
                                          h_cond=sum(self._conditional(r, a) for r, a in key))
@@ -105,7 +201,7 @@ class BinaryMutualInformation:
         """Marginal gains of every action of ``robot`` (clipped at 0 against round-off)."""
         base = self.value(selection)
         out: FloatArray = np.array([self.value([*selection, (robot, a)]) - base
-                        for a in range(self.problem.n_actions(robot))])
+                                    for a in range(self.problem.n_actions(robot))])
         out = np.maximum(out, 0.0)
         return out
 
@@ -114,11 +210,12 @@ class BinaryMutualInformation:
         return max(0.0, self.value([*selection, (robot, action)]) - self.value(selection))
 
 
-def objective_for(problem: AssignmentProblem) -> Objective:
-    """The objective ``problem.objective`` names."""
-    if problem.objective == "mi":
-        return BinaryMutualInformation(problem)
-    return ExpectedDetections(problem)
+def coverage_only(problem: AssignmentProblem) -> str | None:
+    """``None`` when ``problem``'s objective is a coverage objective (END), else the reason a
+    backend built on that structure cannot take it."""
+    if problem.objective.coverage:
+        return None
+    return f"solves the END objective only (got {problem.objective.name!r})"
 
 
 def expected_detections_of_poses(problem: AssignmentProblem, poses: FloatArray) -> float:

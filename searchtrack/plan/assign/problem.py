@@ -1,9 +1,12 @@
 """One action per UAV on a particle belief: the frozen assignment problem and its plan.
 
 Each UAV ``r`` has candidate actions ``Q^r``; an action is the sequence of ``T`` sensor poses it
-produces (an array ``(T, pose_dim)``, paper 003 §2.3). The belief is a particle PHD: positions
-``(N, p)`` and weights ``(N,)`` summing to the expected number of targets. The detection
-probabilities ``p_d(x_j | q_{r,a,t})`` are computed once, vectorised, on first use.
+produces (an array ``(T, pose_dim)``, paper 003 §2.3). The belief is a particle PHD (any
+:class:`~searchtrack.estimate.particle_belief.ParticleBelief`): positions ``(N, p)`` and weights
+``(N,)`` summing to the expected number of targets. The objective is a spec
+(:class:`~searchtrack.plan.assign.objectives.ExpectedDetections`,
+:class:`~searchtrack.plan.assign.objectives.MutualInformation`). The detection probabilities
+``p_d(x_j | q_{r,a,t})`` are computed once, vectorised, on first use.
 """
 
 from __future__ import annotations
@@ -12,81 +15,21 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Literal, Protocol, runtime_checkable
 
 import numpy as np
-from numpy.typing import ArrayLike
 
+from searchtrack.core.checks import readonly
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import BoolArray, FloatArray
+from searchtrack.estimate.particle_belief import ParticleBelief
+from searchtrack.models.footprint import detection_matrix
 from searchtrack.models.particle_models import DetectionSensor
-
-ObjectiveName = Literal["end", "mi"]
+from searchtrack.plan.assign.objectives import ExpectedDetections, Objective
 
 #: ``p_d`` is capped at ``1 − PD_CAP_EPS`` where ``−log(1 − p_d)`` is needed.
 PD_CAP_EPS = 1e-9
 
 
-@runtime_checkable
-class BatchDetectionSensor(Protocol):
-    """A sensor that also evaluates many poses at once (optional; speeds up the tensor)."""
-
-    def detection_probabilities(self, poses: FloatArray, positions: FloatArray) -> FloatArray:
-        """``(K, N)`` values ``p_d(x_j | q_k)`` for ``(K, pose_dim)`` poses."""
-        ...
-
-
-def _readonly(a: ArrayLike) -> FloatArray:
-    out = np.array(a, dtype=np.float64, copy=True)
-    out.setflags(write=False)
-    return out
-
-
-def detection_matrix(sensor: DetectionSensor, poses: FloatArray,
-                     positions: FloatArray) -> FloatArray:
-    """``(K, N)`` detection probabilities of ``positions`` from each of ``(K, pose_dim)`` poses."""
-    if isinstance(sensor, BatchDetectionSensor):
-        out = np.asarray(sensor.detection_probabilities(poses, positions), dtype=np.float64)
-    else:
-        out = np.empty((poses.shape[0], positions.shape[0]))
-        for k, pose in enumerate(poses):
-            out[k] = sensor.detection_probability(pose, positions)
-    if out.size and (out.min() < 0.0 or out.max() > 1.0):
-        out = np.clip(out, 0.0, 1.0)
-    return out
-
-
-@dataclass(frozen=True)
-class MISettings:
-    """How the binary mutual information is computed (paper 003 §2.5).
-
-    Parameters
-    ----------
-    exact_max
-        Largest number ``M`` of binary measurements evaluated exactly over the ``2^M`` outcomes;
-        above it a Monte Carlo estimate with common random numbers is used.
-    samples
-        Target sets drawn for the Monte Carlo estimate.
-    clutter_rate
-        Expected clutter detections per measurement ``λ_c`` (``y = 0`` needs no clutter either).
-    seed
-        Seed of the Monte Carlo draws (the same draws serve every evaluation).
-    """
-
-    exact_max: int = 12
-    samples: int = 2000
-    clutter_rate: float = 0.0
-    seed: int = 0
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.exact_max, int) or not 0 <= self.exact_max <= 20:
-            raise InvalidInputError("exact_max", self.exact_max, "must be an integer in [0, 20]")
-        if not isinstance(self.samples, int) or self.samples < 10:
-            raise InvalidInputError("samples", self.samples, "must be an integer >= 10")
-        if not (math.isfinite(self.clutter_rate) and self.clutter_rate >= 0.0):
-            raise InvalidInputError("clutter_rate", self.clutter_rate, "must be finite and >= 0")
-        if not isinstance(self.seed, int) or self.seed < 0:
-            raise InvalidInputError("seed", self.seed, "must be a non-negative integer")
 
 
 @dataclass(frozen=True, eq=False)
@@ -98,19 +41,17 @@ class AssignmentProblem:
     actions
         One array per UAV of shape ``(A_r, T, pose_dim)``: ``A_r ≥ 1`` candidate actions, each
         ``T`` poses (``T`` and ``pose_dim`` shared by all UAVs; pose starts ``[x, y, z]``).
-    positions
-        ``(N, p)`` particle positions (metres).
-    weights
-        ``(N,)`` non-negative PHD weights; their sum is the expected number of targets.
+    belief
+        The particle belief; its ``(N, p)`` positions (m) and ``(N,)`` non-negative PHD weights
+        are copied, read-only, into :attr:`positions` and :attr:`weights`.
     sensor
         The detection model (``p_d`` is all the objectives use).
     objective
-        ``"end"`` (expected number of detections, 003 eq. 13) or ``"mi"`` (binary MI, 003 §2.5).
+        :class:`ExpectedDetections` (003 eq. 13, the default) or
+        :class:`~searchtrack.plan.assign.objectives.MutualInformation` (003 §2.5).
     min_separation_m
         Actions of two UAVs conflict when their positions at some common step are closer than
         this (003 §2.3 collision pruning); 0 disables the check.
-    mi
-        Settings of the binary MI.
     origins
         Optional ``(R, ≥3)`` current UAV poses (the NLP bounds its first step from them).
     name
@@ -118,17 +59,18 @@ class AssignmentProblem:
     """
 
     actions: tuple[FloatArray, ...]
-    positions: FloatArray
-    weights: FloatArray
+    belief: ParticleBelief
     sensor: DetectionSensor
-    objective: ObjectiveName = "end"
+    objective: Objective = field(default_factory=ExpectedDetections)
     min_separation_m: float = 0.0
-    mi: MISettings = field(default_factory=MISettings)
     origins: FloatArray | None = None
     name: str = "assignment"
+    positions: FloatArray = field(init=False, repr=False)
+    weights: FloatArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        acts = tuple(_readonly(a) for a in self.actions) if isinstance(
+        acts = tuple(readonly(np.asarray(a, dtype=np.float64))
+                     for a in self.actions) if isinstance(
             self.actions, (list, tuple)) else ()
         if not acts:
             raise InvalidInputError("actions", self.actions, "must be a non-empty list of arrays")
@@ -142,24 +84,27 @@ class AssignmentProblem:
                                         f"every UAV needs the same (T, pose_dim) {shape}")
             if not np.all(np.isfinite(a)):
                 raise InvalidInputError(f"actions[{r}]", "non-finite", "poses must be finite")
-        pos = _readonly(self.positions)
+        if not isinstance(self.belief, ParticleBelief):
+            raise InvalidInputError("belief", self.belief, "must implement ParticleBelief")
+        pos = readonly(np.asarray(self.belief.positions, dtype=np.float64))
         if pos.ndim != 2 or pos.shape[1] not in (2, 3) or not np.all(np.isfinite(pos)):
-            raise InvalidInputError("positions", pos.shape, "must be a finite (N, 2|3) array")
-        w = _readonly(self.weights)
+            raise InvalidInputError("belief.positions", pos.shape,
+                                    "must be a finite (N, 2|3) array")
+        w = readonly(np.asarray(self.belief.weights, dtype=np.float64))
         if w.shape != (pos.shape[0],) or not np.all(np.isfinite(w)) or np.any(w < 0.0):
-            raise InvalidInputError("weights", w.shape,
+            raise InvalidInputError("belief.weights", w.shape,
                                     f"must be {pos.shape[0]} finite non-negative numbers")
         if not isinstance(self.sensor, DetectionSensor):
             raise InvalidInputError("sensor", self.sensor, "must implement DetectionSensor")
-        if self.objective not in ("end", "mi"):
-            raise InvalidInputError("objective", self.objective, "must be 'end' or 'mi'")
+        if not isinstance(self.objective, Objective):
+            raise InvalidInputError("objective", self.objective,
+                                    "must be an Objective (ExpectedDetections() or "
+                                    "MutualInformation(...))")
         sep = self.min_separation_m
         if not isinstance(sep, (int, float)) or not (math.isfinite(sep) and sep >= 0.0):
             raise InvalidInputError("min_separation_m", sep, "must be finite and >= 0")
-        if not isinstance(self.mi, MISettings):
-            raise InvalidInputError("mi", self.mi, "must be an MISettings")
         if self.origins is not None:
-            org = _readonly(self.origins)
+            org = readonly(np.asarray(self.origins, dtype=np.float64))
             if org.ndim != 2 or org.shape[0] != len(acts) or org.shape[1] < 3 or not np.all(
                     np.isfinite(org)):
                 raise InvalidInputError("origins", org.shape,

@@ -8,13 +8,15 @@ from __future__ import annotations
 import logging
 
 from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
-from searchtrack.core.result import Result
-from searchtrack.plan.assign.bnb import solve_bnb
+from searchtrack.core.result import Result, interrupted
+from searchtrack.plan.assign.branch_and_bound import solve_branch_and_bound
 from searchtrack.plan.assign.brute import solve_brute_force, supports_brute_force
 from searchtrack.plan.assign.greedy import solve_greedy, solve_lazy_greedy
+from searchtrack.plan.assign.objectives import coverage_only
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
 
 log = logging.getLogger("searchtrack.plan.assign")
+
 
 def _exact(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Result[Assignment]:
     from searchtrack.plan.assign.exact import solve_exact
@@ -35,10 +37,6 @@ def _nlp(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Resul
     return solve_nlp(problem, NLPLimits(), time_limit_s=time_limit_s, seed=seed)
 
 
-def _end_only(problem: AssignmentProblem) -> str | None:
-    return None if problem.objective == "end" else "solves the END objective only"
-
-
 def _nlp_supports(problem: AssignmentProblem) -> str | None:
     from searchtrack.plan.assign.nlp import nlp_supports
 
@@ -46,7 +44,7 @@ def _nlp_supports(problem: AssignmentProblem) -> str | None:
 
 
 def _auto(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Result[Assignment]:
-    exact = (solve_bnb if problem.objective == "end"
+    exact = (solve_branch_and_bound if problem.objective.coverage
              else solve_brute_force if supports_brute_force(problem) is None else None)
 
     def prove(problem: AssignmentProblem, first: Result[Assignment], limit_s: float,
@@ -69,12 +67,12 @@ BACKENDS.register(Backend("lazy_greedy", solve_lazy_greedy, False,
                           "greedy with a priority queue of stale gains (same answer)"))
 BACKENDS.register(Backend("exact", _exact, True,
                           "END integer program, outer approximation + cuts, SCIP",
-                          supports=_end_only))
+                          supports=coverage_only))
 BACKENDS.register(Backend("exact_cpsat", _exact_cpsat, True,
-                          "the same program scaled to integers, CP-SAT", supports=_end_only))
-BACKENDS.register(Backend("exact_bnb", solve_bnb, True,
+                          "the same program scaled to integers, CP-SAT", supports=coverage_only))
+BACKENDS.register(Backend("exact_bnb", solve_branch_and_bound, True,
                           "END branch and bound with submodular bounds (fastest exact)",
-                          supports=_end_only))
+                          supports=coverage_only))
 BACKENDS.register(Backend("brute_force", solve_brute_force, True,
                           "enumerate every joint action (tiny problems)",
                           supports=supports_brute_force))
@@ -93,7 +91,7 @@ def solve(problem: AssignmentProblem, *, backend: str = "auto", time_limit_s: fl
         Unknown backend, a backend that cannot take the problem, a bad limit or seed.
     """
     chosen = BACKENDS.checked(backend, problem, time_limit_s, seed)
-    result = chosen.solve(problem, time_limit_s=time_limit_s, seed=seed)
+    result = interrupted(chosen.solve(problem, time_limit_s=time_limit_s, seed=seed))
     log.info("assignment %s via %s: %s %s in %.3f s", problem.name, backend,
              result.status.name, result.objective, result.runtime_s)
     return result

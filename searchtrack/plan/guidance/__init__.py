@@ -1,5 +1,12 @@
 """UAV guidance for road search and track (thesis 001, Ch. 5): potential-field forces,
-UAV-to-tracker pairing, reacquisition OPTW routes and the strategies built from them."""
+UAV-to-tracker pairing, reacquisition OPTW routes, and the strategies built from them as a
+family of solver backends (:data:`BACKENDS`, :func:`solve`).
+
+Guidance reads beliefs through the protocols of :mod:`searchtrack.estimate.belief`: a
+:class:`~searchtrack.estimate.belief.SearchField` for the gradient, a
+:class:`~searchtrack.estimate.belief.BeliefBank` of track beliefs for pairing and holding, a
+:class:`~searchtrack.estimate.belief.NodePredictor` for the reacquisition horizon.
+"""
 
 from __future__ import annotations
 
@@ -11,33 +18,24 @@ from searchtrack.plan.guidance.forces import (
     spring_force,
 )
 from searchtrack.plan.guidance.pairing import Pairing, pair_uavs
+from searchtrack.plan.guidance.problem import GuidanceProblem
 from searchtrack.plan.guidance.reacquire import (
     candidate_nodes,
     plan_reacquisition,
     reacquire_time,
     reacquisition_instance,
 )
-from searchtrack.plan.guidance.strategies import (
-    STRATEGIES,
-    Loiter,
-    Search,
-    SearchAndLoiter,
-    SearchAndReacquire,
-    Strategy,
-)
-from searchtrack.plan.guidance.view import Guidance, GuidanceView, StrategyConfig
+from searchtrack.plan.guidance.solve import BACKENDS, solve
+from searchtrack.plan.guidance.view import Guidance, GuidanceView, Reacquisition, StrategyConfig
 
 __all__ = [
-    "STRATEGIES",
+    "BACKENDS",
     "GradientField",
     "Guidance",
+    "GuidanceProblem",
     "GuidanceView",
-    "Loiter",
     "Pairing",
-    "Search",
-    "SearchAndLoiter",
-    "SearchAndReacquire",
-    "Strategy",
+    "Reacquisition",
     "StrategyConfig",
     "candidate_nodes",
     "default_loiter_k",
@@ -47,5 +45,6 @@ __all__ = [
     "plan_reacquisition",
     "reacquire_time",
     "reacquisition_instance",
+    "solve",
     "spring_force",
 ]

@@ -6,7 +6,7 @@ thesis's "internally scaled" units (unit mass), fed to
 
 - :class:`GradientField` — the likelihood-gradient force ∇R (5.6)–(5.7) and its ``n_max``.
 - :func:`pauli_force` — the Pauli (``r⁻¹²``) repulsion (5.8)–(5.9) and (5.14), **with the sign
-  corrected** so that it repels (the printed (5.9) attracts; digest §10 item 9).
+  corrected** so that it repels (the printed (5.9) attracts).
 - :func:`spring_force` — the drift-correcting spring ∇Q (5.10)–(5.11), rest length ``ρ``, and the
   zero-rest-length springs ∇L (5.13) and ∇W (5.32) with ``rest_m = 0``.
 - :func:`default_spring_k`, :func:`default_loiter_k` — the constants the thesis never gives.
@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
+from searchtrack.core.checks import positive
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.models.roads import RoadNetwork
@@ -35,24 +36,17 @@ def _points(name: str, value: ArrayLike) -> FloatArray:
     return xy
 
 
-def _positive(name: str, value: float) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-        raise InvalidInputError(name, value, "must be a real number")
-    v = float(value)
-    if not (math.isfinite(v) and v > 0.0):
-        raise InvalidInputError(name, value, "must be positive and finite")
-    return v
 
 
 def default_spring_k(sensor_range_m: float, typical_gradient: float = 4.0) -> float:
     """``K`` of ∇Q (5.11): a spring stretched by ``ρ`` pulls as hard as a typical ``|Δφ|``.
 
-    The thesis never gives ``K`` (digest §10 item 10). One negative look changes a node's LLR by
+    The thesis never gives ``K``. One negative look changes a node's LLR by
     ``m(ζ − m/2) ≈ −m²/2`` (≈ −4.3 for the §6.1 sensor, ``m`` = 2.93), so across an edge at the
     footprint rim ``|Δφ|`` is of order 4: ``K = typical_gradient / ρ`` makes a drift of one
     footprint radius beyond the rest length cost as much as following one fresh gradient.
     """
-    return _positive("typical_gradient", typical_gradient) / _positive("sensor_range_m",
+    return positive("typical_gradient", typical_gradient) / positive("sensor_range_m",
                                                                        sensor_range_m)
 
 
@@ -62,11 +56,11 @@ def default_loiter_k(sensor_range_m: float, speed_mps: float) -> float:
     With unit mass, a UAV at speed ``S`` circling the anchor at radius ``d`` needs a centripetal
     force ``S²/d``; the spring gives ``K d``, so the natural orbit has ``d = S/√K``. Choosing
     ``K = (2S/ρ)²`` keeps the loitering UAV's footprint over the anchor node (the thesis never
-    gives ``K``; digest §10 item 10). At 35.76 m/s and ρ = 120 m, ``K`` ≈ 0.36 and the turn rate
+    gives ``K``). At 35.76 m/s and ρ = 120 m, ``K`` ≈ 0.36 and the turn rate
     needed is 0.6 rad/s, inside the 70°/s limit.
     """
-    rho = _positive("sensor_range_m", sensor_range_m)
-    s = _positive("speed_mps", speed_mps)
+    rho = positive("sensor_range_m", sensor_range_m)
+    s = positive("speed_mps", speed_mps)
     return (2.0 * s / rho) ** 2
 
 
@@ -128,7 +122,7 @@ class GradientField:
             ``(O, 2)`` forces and ``(O,)`` node indices.
         """
         xy = _points("uav_xy_m", uav_xy_m)
-        rho = _positive("sensor_range_m", sensor_range_m)
+        rho = positive("sensor_range_m", sensor_range_m)
         dphi = self.edge_differences(llr)
         n_uav = xy.shape[0]
         force = np.zeros((n_uav, 2))
@@ -188,9 +182,9 @@ def pauli_force(
         pushed apart along ±x (the higher index toward +x).
     """
     xy = _points("uav_xy_m", uav_xy_m)
-    sigma = _positive("sigma_m", sigma_m)
-    eps = _positive("epsilon", epsilon)
-    cap_ = _positive("cap", cap)
+    sigma = positive("sigma_m", sigma_m)
+    eps = positive("epsilon", epsilon)
+    cap_ = positive("cap", cap)
     n = xy.shape[0]
     if repellers is None:
         mask = ~np.eye(n, dtype=bool)
@@ -224,7 +218,7 @@ def spring_force(
     anchor = _points("anchor_xy_m", anchor_xy_m)
     if anchor.shape != xy.shape:
         raise InvalidInputError("anchor_xy_m", anchor_xy_m, f"must have shape {xy.shape}")
-    kk = _positive("k", k)
+    kk = positive("k", k)
     if not (math.isfinite(rest_m) and rest_m >= 0.0):
         raise InvalidInputError("rest_m", rest_m, "must be finite and ≥ 0 (m)")
     d = xy - anchor

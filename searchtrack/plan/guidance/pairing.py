@@ -3,7 +3,8 @@
 Each UAV is linked to at most one tracker and each tracker to at most one UAV, minimising the
 summed Euclidean distance from the UAV to its tracker's peak node ``ψ(max P)``: a rectangular
 linear assignment, solved with :func:`scipy.optimize.linear_sum_assignment`. It is recomputed
-from scratch every step (the thesis does not say how often; digest §10 item 15).
+from scratch every step (the thesis does not say how often). Trackers are read through the
+:class:`~searchtrack.estimate.belief.BeliefBank` protocol.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.estimate.node_tracker import TrackerBank
+from searchtrack.estimate.belief import BeliefBank, TrackBelief
 from searchtrack.models.roads import RoadNetwork
 
 
@@ -72,21 +73,31 @@ class Pairing:
         return tuple(j for j, t in enumerate(self.tracker) if t < 0)
 
 
-def pair_uavs(network: RoadNetwork, uav_xy_m: ArrayLike, bank: TrackerBank) -> Pairing:
+def pair_uavs(network: RoadNetwork, uav_xy_m: ArrayLike, bank: BeliefBank) -> Pairing:
     """The pairing of minimum summed distance from each UAV to its tracker's peak node.
 
     With more trackers than UAVs some trackers go unserved; with fewer, some UAVs stay unpaired.
     Ties are broken deterministically by scipy's solver (it depends on the input order only).
+    A tracker's peak probability is its normalized mass on its peak node.
+
+    Raises
+    ------
+    InvalidInputError
+        ``uav_xy_m`` not finite ``(O, 2)`` points, or ``bank`` not a
+        :class:`~searchtrack.estimate.belief.BeliefBank` on the network's nodes.
     """
     xy = np.asarray(uav_xy_m, dtype=np.float64)
     if xy.ndim != 2 or xy.shape[1] != 2 or not np.all(np.isfinite(xy)):
         raise InvalidInputError("uav_xy_m", uav_xy_m, "must be finite points of shape (O, 2) (m)")
-    if bank.n_nodes != network.n_nodes:
-        raise InvalidInputError("bank", bank, f"must have {network.n_nodes} nodes")
+    if not isinstance(bank, BeliefBank) or bank.n_nodes != network.n_nodes:
+        raise InvalidInputError("bank", bank,
+                                f"must be a BeliefBank (e.g. a TrackerBank) on {network.n_nodes} "
+                                "nodes")
     n_uav = xy.shape[0]
     if n_uav == 0 or len(bank) == 0:
         return Pairing.none(n_uav)
-    peaks = np.array([t.peak_node() for t in bank], dtype=np.int64)
+    beliefs = [bank[t] for t in range(len(bank))]
+    peaks = np.array([b.peak_node() for b in beliefs], dtype=np.int64)
     diff = xy[:, None, :] - network.coords[peaks][None, :, :]
     cost = np.hypot(diff[..., 0], diff[..., 1])
     rows, cols = linear_sum_assignment(cost)
@@ -95,8 +106,15 @@ def pair_uavs(network: RoadNetwork, uav_xy_m: ArrayLike, bank: TrackerBank) -> P
         tracker[j] = t
     return Pairing(
         tracker=tuple(tracker),
-        track_id=tuple(int(bank[t].track_id) if t >= 0 else -1 for t in tracker),
+        track_id=tuple(int(beliefs[t].track_id) if t >= 0 else -1 for t in tracker),
         peak_node=tuple(int(peaks[t]) if t >= 0 else -1 for t in tracker),
-        peak_probability=tuple(bank[t].peak_probability if t >= 0 else 0.0 for t in tracker),
+        peak_probability=tuple(peak_probability(beliefs[t], int(peaks[t])) if t >= 0 else 0.0
+                               for t in tracker),
         cost_m=float(cost[rows, cols].sum()),
     )
+
+
+def peak_probability(belief: TrackBelief, peak: int) -> float:
+    """``𝒫``, the normalized mass of ``belief`` on its peak node ``peak``."""
+    p = belief.node_probability()
+    return float(p[peak]) / belief.mass()

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import logging
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -19,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from searchtrack.core.deadline import check_time_limit
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.result import Result
-from searchtrack.estimate.diffusion import GraphDiffusion
+from searchtrack.estimate.belief import NodePredictor, SparseNodePredictor
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.optw.instance import OPTWInstance
 from searchtrack.plan.optw.solve import solve
@@ -41,7 +42,7 @@ def _probability(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
 
 
 def reacquire_time(
-    diffusion: GraphDiffusion,
+    predictor: NodePredictor,
     probability: ArrayLike,
     *,
     p_min: float = 0.07,
@@ -49,43 +50,68 @@ def reacquire_time(
 ) -> float:
     """``T_r``: seconds until the peak of ``probability`` falls below ``p_min`` under (4.2) alone.
 
-    Simulated with ``diffusion`` (the trackers' prediction operator ``e^{−αLΔt}``) from the
-    *current* tracker, not from a peak of exactly ``ϱ`` as the thesis phrases it: the tracker
-    that triggers reacquisition has just crossed ``ϱ``, so the two agree up to one step. Returns
-    0 if the peak is already below ``p_min`` and ``max_steps · Δt`` if it never falls below
-    within ``max_steps`` steps.
+    Simulated with ``predictor`` (the trackers' prediction ``e^{−αLΔt}``, e.g. a
+    :class:`~searchtrack.estimate.diffusion.GraphDiffusion`) from the *current* tracker, not
+    from a peak of exactly ``ϱ`` as the thesis phrases it: the tracker that triggers
+    reacquisition has just crossed ``ϱ``, so the two agree up to one step. Returns 0 if the
+    peak is already below ``p_min`` and ``max_steps · Δt`` if it never falls below within
+    ``max_steps`` steps.
+
+    Any :class:`~searchtrack.estimate.belief.NodePredictor` will do (full ``propagate`` steps);
+    a :class:`~searchtrack.estimate.belief.SparseNodePredictor` with its operator built is
+    stepped on the tracker's support only, with the same result.
+
+    Raises
+    ------
+    InvalidInputError
+        ``predictor`` not a NodePredictor, ``probability`` not ``(n,)`` non-negative and
+        finite, ``p_min`` outside ``(0, 1)`` or ``max_steps`` < 1.
     """
-    if not isinstance(diffusion, GraphDiffusion):
-        raise InvalidInputError("diffusion", diffusion, "must be a GraphDiffusion")
-    p = _probability("probability", probability, diffusion.n_nodes)
+    if not isinstance(predictor, NodePredictor):
+        raise InvalidInputError("predictor", predictor,
+                                "must be a NodePredictor (n_nodes, dt_s, propagate), "
+                                "e.g. a GraphDiffusion")
+    p = _probability("probability", probability, predictor.n_nodes)
     if not (isinstance(p_min, (int, float)) and 0.0 < p_min < 1.0):
         raise InvalidInputError("p_min", p_min, "must be in (0, 1)")
     if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1:
         raise InvalidInputError("max_steps", max_steps, "must be an integer ≥ 1")
-    steps = 0
-    op = diffusion.operator
+    op = predictor.operator if isinstance(predictor, SparseNodePredictor) else None
     if op is None:
-        while p.max() >= p_min and steps < max_steps:
-            p = diffusion.propagate(p)
-            steps += 1
-        peak = float(p.max())
+        steps, peak = _full_steps(predictor, p, p_min, max_steps)
     else:
-        # The tracker is local: propagate its support only. e^{−αLΔt} is symmetric (L is), so
-        # the columns the support needs are its rows, a cheap CSR slice; values below
-        # _SUPPORT_TOL of the mass are dropped (they cannot hold the peak).
-        floor = _SUPPORT_TOL * float(p.sum())
-        idx = np.flatnonzero(p > floor)
-        vals = p[idx]
-        scale = diffusion.decay_factor
-        while vals.size and vals.max() >= p_min and steps < max_steps:
-            full = np.asarray(op[idx].T @ vals, dtype=np.float64) * scale
-            idx = np.flatnonzero(full > floor)
-            vals = full[idx]
-            steps += 1
-        peak = float(vals.max()) if vals.size else 0.0
+        assert isinstance(predictor, SparseNodePredictor)
+        steps, peak = _support_steps(op, predictor.decay_factor, p, p_min, max_steps)
     if peak >= p_min:
         log.debug("peak still %.3g after %d steps; T_r capped", peak, max_steps)
-    return steps * diffusion.dt_s
+    return steps * float(predictor.dt_s)
+
+
+def _full_steps(predictor: NodePredictor, p: NDArray[np.float64], p_min: float,
+                max_steps: int) -> tuple[int, float]:
+    """Steps of ``predictor.propagate`` until the peak is below ``p_min``, and that peak."""
+    steps = 0
+    while p.max() >= p_min and steps < max_steps:
+        p = np.asarray(predictor.propagate(p), dtype=np.float64)
+        steps += 1
+    return steps, float(p.max())
+
+
+def _support_steps(op: Any, scale: float, p: NDArray[np.float64], p_min: float,
+                   max_steps: int) -> tuple[int, float]:
+    """As :func:`_full_steps` on the support only. The tracker is local: the operator is
+    symmetric, so the columns the support needs are its rows, a cheap CSR slice; values below
+    ``_SUPPORT_TOL`` of the mass are dropped (they cannot hold the peak)."""
+    floor = _SUPPORT_TOL * float(p.sum())
+    idx = np.flatnonzero(p > floor)
+    vals = p[idx]
+    steps = 0
+    while vals.size and vals.max() >= p_min and steps < max_steps:
+        full = np.asarray(op[idx].T @ vals, dtype=np.float64) * scale
+        idx = np.flatnonzero(full > floor)
+        vals = full[idx]
+        steps += 1
+    return steps, float(vals.max()) if vals.size else 0.0
 
 
 def candidate_nodes(

@@ -1,8 +1,8 @@
-"""The Ch. 5 guidance strategies: search (5.12), loiter (5.15), search-and-loiter (5.16) and
-search-and-reacquire (5.33), chosen by name from :data:`STRATEGIES`.
+"""The Ch. 5 guidance laws as solver backends: search (5.12), loiter (5.15), search-and-loiter
+(5.16) and search-and-reacquire (5.33), each ``solve(problem, *, time_limit_s, seed) ->
+Result[Guidance]`` (registered by name in :mod:`searchtrack.plan.guidance.solve`).
 
-Every strategy is built as ``STRATEGIES[name](config, tracker_diffusion)`` and answers
-``guide(view, rng) -> Guidance`` once per step. Per UAV the mode decides the force:
+Per UAV the mode decides the force:
 
 - ``"search"``: ∇R + ∇P + ∇Q (likelihood gradient, Pauli repulsion from every UAV, spring of
   rest length ``ρ`` to ``n_max``);
@@ -11,110 +11,81 @@ Every strategy is built as ``STRATEGIES[name](config, tracker_diffusion)`` and a
 - ``"reacquire"``: ∇W + ∇P, zero-rest spring to the next unserved node of an OPTW route, Pauli
   as for loiter.
 
-The gradient's random tie-break draws from ``rng`` for every UAV every step, whatever the modes,
-so runs are reproducible for a seed. :class:`SearchAndReacquire` keeps routes between steps (a
-small mutable object; :meth:`~SearchAndReacquire.reset` forgets them); its choices are
-deterministic for a seed as long as each OPTW solve finishes within its budget (a solve cut off
-by its time limit may return a different route on a slower machine).
+Randomness comes from ``numpy.random.default_rng(seed)``: the gradient's tie-break draws for
+every UAV every step, whatever the modes, and search-and-reacquire draws one OPTW seed per route
+it plans. An answer is deterministic for a seed as long as each OPTW solve finishes within its
+share of ``time_limit_s`` (a solve cut off by its time limit may return a different route on a
+slower machine).
+
+The answer is ``FEASIBLE`` (nothing is optimised globally), ``bound`` ``None``. Its objective is
+the tracker probability the plan sets out to cover: for each loitering UAV its tracker's peak
+probability ``𝒫``, for each reacquiring UAV its tracker's probability summed over the route
+nodes still to visit; 0 when every UAV searches.
 """
 
 from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from searchtrack.core.deadline import Deadline
-from searchtrack.core.errors import InvalidInputError
-from searchtrack.estimate.diffusion import GraphDiffusion
-from searchtrack.models.roads import RoadNetwork
-from searchtrack.plan.guidance.forces import GradientField, pauli_force, spring_force
+from searchtrack.core.registry import SolveFn
+from searchtrack.core.result import Result, Status
+from searchtrack.plan.guidance.forces import pauli_force, spring_force
 from searchtrack.plan.guidance.pairing import Pairing, pair_uavs
+from searchtrack.plan.guidance.problem import GuidanceProblem
 from searchtrack.plan.guidance.reacquire import (
     plan_reacquisition,
     reacquire_time,
     reacquisition_instance,
 )
-from searchtrack.plan.guidance.view import Guidance, GuidanceView, StrategyConfig
+from searchtrack.plan.guidance.view import Guidance, GuidanceView, Reacquisition
 
 log = logging.getLogger("searchtrack.plan.guidance.strategies")
 
 _HELD = ("loiter", "reacquire")
 
-
-class Strategy(Protocol):
-    """A guidance law: forces for every UAV from the current view."""
-
-    name: str
-
-    def guide(self, view: GuidanceView, rng: np.random.Generator) -> Guidance:
-        """The step's forces, pairing, modes and routes."""
-        ...
-
-    def reset(self) -> None:
-        """Forget any memory kept between steps."""
-        ...
+#: Per UAV, ``"search"`` or ``"loiter"`` from the step's pairing.
+ModeRule = Callable[[GuidanceProblem, Pairing], list[str]]
 
 
-class _Potential:
-    """The shared machinery: the gradient field per network and the force assembly."""
+def search_modes(problem: GuidanceProblem, pairing: Pairing) -> list[str]:
+    """(5.12): every UAV searches; trackers are paired but ignored (experiment 1)."""
+    return ["search"] * problem.view.n_uavs
 
-    name = "potential"
 
-    def __init__(self, config: StrategyConfig, diffusion: GraphDiffusion) -> None:
-        if not isinstance(config, StrategyConfig):
-            raise InvalidInputError("config", config, "must be a StrategyConfig")
-        if not isinstance(diffusion, GraphDiffusion):
-            raise InvalidInputError("diffusion", diffusion, "must be a GraphDiffusion")
-        self.config = config
-        self.diffusion = diffusion
-        self._field: GradientField | None = None
+def loiter_modes(problem: GuidanceProblem, pairing: Pairing) -> list[str]:
+    """(5.15): paired UAVs loiter over their tracker's peak, the rest search."""
+    return ["loiter" if t >= 0 else "search" for t in pairing.tracker]
 
-    def reset(self) -> None:
-        """Forget any memory kept between steps (none here)."""
 
-    def _gradient(self, network: RoadNetwork) -> GradientField:
-        if self._field is None or self._field.network is not network:
-            if network.n_nodes != self.diffusion.n_nodes:
-                raise InvalidInputError("network", network,
-                                        f"must have the diffusion's {self.diffusion.n_nodes} nodes")
-            self._field = GradientField(network)
-        return self._field
+def search_and_loiter_modes(problem: GuidanceProblem, pairing: Pairing) -> list[str]:
+    """(5.16): paired UAVs loiter only while their tracker's peak is ≤ ``ϱ``; no hysteresis."""
+    rho = problem.config.revisit_threshold
+    return ["loiter" if t >= 0 and p <= rho else "search"
+            for t, p in zip(pairing.tracker, pairing.peak_probability, strict=True)]
 
-    def _modes(self, view: GuidanceView, pairing: Pairing) -> list[str]:
-        return ["search"] * view.n_uavs
 
-    def _assemble(self, view: GuidanceView, rng: np.random.Generator, modes: list[str],
-                  anchors: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Net force per UAV for the given modes; ``anchors`` are the held UAVs' spring ends."""
-        cfg = self.config
-        grad, n_max = self._gradient(view.network).force(view.uav_xy_m, view.llr,
-                                                         cfg.sensor_range_m, rng)
-        held = np.array([m in _HELD for m in modes])
-        repellers = np.where(held[:, None], held[None, :], True)
-        force = pauli_force(view.uav_xy_m, cfg.sigma, epsilon=cfg.epsilon, repellers=repellers)
-        search = ~held
-        if search.any():
-            q = spring_force(view.uav_xy_m[search], view.network.coords[n_max[search]],
-                             cfg.k_spring, cfg.sensor_range_m)
-            force[search] += grad[search] + q
-        if held.any():
-            force[held] += spring_force(view.uav_xy_m[held], anchors[held], cfg.k_loiter)
-        return force
-
-    def guide(self, view: GuidanceView, rng: np.random.Generator) -> Guidance:
-        """The step's forces from the modes of :meth:`_modes`, holding over tracker peaks."""
-        if not isinstance(view, GuidanceView):
-            raise InvalidInputError("view", view, "must be a GuidanceView")
-        pairing = pair_uavs(view.network, view.uav_xy_m, view.bank)
-        modes = self._modes(view, pairing)
-        anchors = _peak_anchors(view, pairing)
-        force = self._assemble(view, rng, modes, anchors)
-        return Guidance(force, pairing, tuple(modes), ((),) * view.n_uavs, 0.0)
+def assemble(problem: GuidanceProblem, rng: np.random.Generator, modes: list[str],
+             anchors: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Net force per UAV for the given modes; ``anchors`` are the held UAVs' spring ends."""
+    cfg, view = problem.config, problem.view
+    grad, n_max = problem.gradient_field.force(view.uav_xy_m, view.field.node_score(),
+                                               cfg.sensor_range_m, rng)
+    held = np.array([m in _HELD for m in modes])
+    repellers = np.where(held[:, None], held[None, :], True)
+    force = pauli_force(view.uav_xy_m, cfg.sigma, epsilon=cfg.epsilon, repellers=repellers)
+    search = ~held
+    if search.any():
+        q = spring_force(view.uav_xy_m[search], view.network.coords[n_max[search]],
+                         cfg.k_spring, cfg.sensor_range_m)
+        force[search] += grad[search] + q
+    if held.any():
+        force[held] += spring_force(view.uav_xy_m[held], anchors[held], cfg.k_loiter)
+    return force
 
 
 def _peak_anchors(view: GuidanceView, pairing: Pairing) -> NDArray[np.float64]:
@@ -125,133 +96,114 @@ def _peak_anchors(view: GuidanceView, pairing: Pairing) -> NDArray[np.float64]:
     return anchors
 
 
-class Search(_Potential):
-    """Every UAV searches, ∇R + ∇P + ∇Q (5.12); trackers are paired but ignored (experiment 1)."""
-
-    name = "search"
-
-
-class Loiter(_Potential):
-    """Paired UAVs loiter over their tracker's peak, the rest search (5.15)."""
-
-    name = "loiter"
-
-    def _modes(self, view: GuidanceView, pairing: Pairing) -> list[str]:
-        return ["loiter" if t >= 0 else "search" for t in pairing.tracker]
-
-
-class SearchAndLoiter(_Potential):
-    """Paired UAVs loiter only while their tracker's peak is ≤ ``ϱ`` (5.16); no hysteresis."""
-
-    name = "search_and_loiter"
-
-    def _modes(self, view: GuidanceView, pairing: Pairing) -> list[str]:
-        rho = self.config.revisit_threshold
-        return ["loiter" if t >= 0 and p <= rho else "search"
-                for t, p in zip(pairing.tracker, pairing.peak_probability, strict=True)]
+def covered_probability(problem: GuidanceProblem, guidance: Guidance) -> float:
+    """The objective of an answer: per loitering UAV its tracker's peak probability, per
+    reacquiring UAV its tracker's probability on the remaining route nodes (module docstring)."""
+    bank, pairing = problem.view.bank, guidance.pairing
+    total = 0.0
+    for j, mode in enumerate(guidance.mode):
+        if mode == "loiter":
+            total += pairing.peak_probability[j]
+        elif mode == "reacquire":
+            belief = bank[pairing.tracker[j]]
+            p = belief.node_probability() / belief.mass()
+            total += float(p[list(guidance.route[j])].sum())
+    return total
 
 
-@dataclass
-class _Route:
-    uav: int
-    nodes: tuple[int, ...]
-    served: NDArray[np.bool_]
-
-    def remaining(self) -> tuple[int, ...]:
-        return tuple(n for n, s in zip(self.nodes, self.served.tolist(), strict=True) if not s)
+def _answer(problem: GuidanceProblem, guidance: Guidance, backend: str, clock: Deadline,
+            plans: int) -> Result[Guidance]:
+    return Result(Status.FEASIBLE, covered_probability(problem, guidance), None, clock.elapsed(),
+                  backend, guidance, message=f"modes {','.join(guidance.mode)}",
+                  stats={"plans": float(plans), "plan_ms": guidance.plan_ms})
 
 
-class SearchAndReacquire(SearchAndLoiter):
-    """As (5.16), but a fading tracker's UAV flies an OPTW route over its likely nodes (5.33).
+def potential(rule: ModeRule, name: str) -> SolveFn[GuidanceProblem, Guidance]:
+    """The backend that flies the modes of ``rule``, holding over tracker peaks."""
 
-    When a paired UAV's peak is ≤ ``ϱ`` it plans a route once (:mod:`.reacquire`) and follows it
-    with ∇W toward the next unserved node; a node is served once within ``ρ`` of the UAV. It
+    def solve(problem: GuidanceProblem, *, time_limit_s: float, seed: int) -> Result[Guidance]:
+        clock = Deadline(time_limit_s)
+        rng = np.random.default_rng(seed)
+        view = problem.view
+        pairing = pair_uavs(view.network, view.uav_xy_m, view.bank)
+        modes = rule(problem, pairing)
+        force = assemble(problem, rng, modes, _peak_anchors(view, pairing))
+        guidance = Guidance(force, pairing, tuple(modes), ((),) * view.n_uavs, 0.0)
+        return _answer(problem, guidance, name, clock, 0)
+
+    solve.__name__ = f"solve_{name}"
+    solve.__doc__ = f"The ``{name}`` backend: {rule.__doc__}"
+    return solve
+
+
+solve_search = potential(search_modes, "search")
+solve_loiter = potential(loiter_modes, "loiter")
+solve_search_and_loiter = potential(search_and_loiter_modes, "search_and_loiter")
+
+
+def _plan(problem: GuidanceProblem, uav: int, tracker: int, rng: np.random.Generator,
+          budget: Deadline, waiting: int) -> tuple[int, ...]:
+    """Plan ``uav``'s route; the OPTW gets an equal share of what is left of the step's
+    ``budget`` among the ``waiting`` plans still to make (this one included)."""
+    cfg, view = problem.config, problem.view
+    belief = view.bank[tracker]
+    probability = belief.node_probability() / belief.mass()
+    horizon = reacquire_time(problem.predictor, probability, p_min=cfg.p_min,
+                             max_steps=cfg.max_reacquire_steps)
+    inst, node_ids = reacquisition_instance(
+        view.network, probability, view.uav_xy_m[uav], cfg.speed_mps, horizon,
+        max_nodes=cfg.max_route_nodes, support_mass=cfg.support_mass)
+    seed = int(rng.integers(0, 2**31 - 1))
+    nodes, result = plan_reacquisition(inst, node_ids, backend=cfg.optw_backend,
+                                       time_limit_s=max(1e-3, budget.remaining() / waiting),
+                                       seed=seed)
+    log.debug("uav %d, track %d: T_r=%.1f s, %d candidates, %s route of %d nodes (%.3g)",
+              uav, belief.track_id, horizon, inst.n - 1, result.status.name, len(nodes),
+              result.objective or 0.0)
+    return nodes
+
+
+def solve_search_and_reacquire(problem: GuidanceProblem, *, time_limit_s: float,
+                               seed: int) -> Result[Guidance]:
+    """(5.33): as (5.16), but a fading tracker's UAV flies an OPTW route over its likely nodes.
+
+    When a paired UAV's peak is ≤ ``ϱ`` it plans a route once (:mod:`.reacquire`) and follows
+    it with ∇W toward the next unserved node; a node is served once within ``ρ`` of the UAV. It
     re-plans when the route is exhausted or its tracker now has another UAV, and drops the route
     when the peak is back above ``ϱ`` (reacquired), the tracker is unpaired or dissolved. A UAV
     whose plan is empty loiters over the peak (mode ``"loiter"``) and re-plans next step.
-    Routes are kept by ``track_id``.
+    Routes are kept by ``track_id`` in :attr:`Guidance.reacquisitions`; the route plans of one
+    step share ``time_limit_s``.
     """
-
-    name = "search_and_reacquire"
-
-    def __init__(self, config: StrategyConfig, diffusion: GraphDiffusion) -> None:
-        super().__init__(config, diffusion)
-        self._routes: dict[int, _Route] = {}
-
-    def reset(self) -> None:
-        """Forget every route."""
-        self._routes.clear()
-
-    def _plan(self, view: GuidanceView, uav: int, tracker: int, rng: np.random.Generator,
-              budget: Deadline, waiting: int) -> _Route:
-        """Plan ``uav``'s route; the OPTW gets an equal share of what is left of the step's
-        ``budget`` among the ``waiting`` plans still to make (this one included)."""
-        cfg = self.config
-        probability = view.bank[tracker].probability
-        horizon = reacquire_time(self.diffusion, probability, p_min=cfg.p_min,
-                                 max_steps=cfg.max_reacquire_steps)
-        inst, node_ids = reacquisition_instance(
-            view.network, probability, view.uav_xy_m[uav], cfg.speed_mps, horizon,
-            max_nodes=cfg.max_route_nodes, support_mass=cfg.support_mass)
-        seed = int(rng.integers(0, 2**31 - 1))
-        nodes, result = plan_reacquisition(inst, node_ids, backend=cfg.optw_backend,
-                                           time_limit_s=max(1e-3, budget.remaining() / waiting),
-                                           seed=seed)
-        log.debug("uav %d, track %d: T_r=%.1f s, %d candidates, %s route of %d nodes (%.3g)",
-                  uav, view.bank[tracker].track_id, horizon, inst.n - 1, result.status.name,
-                  len(nodes), result.objective or 0.0)
-        return _Route(uav, nodes, np.zeros(len(nodes), dtype=bool))
-
-    def guide(self, view: GuidanceView, rng: np.random.Generator) -> Guidance:
-        """(5.33): search, or follow (planning if needed) a reacquisition route."""
-        if not isinstance(view, GuidanceView):
-            raise InvalidInputError("view", view, "must be a GuidanceView")
-        pairing = pair_uavs(view.network, view.uav_xy_m, view.bank)
-        modes = self._modes(view, pairing)
-        anchors = _peak_anchors(view, pairing)
-        routes: list[tuple[int, ...]] = [()] * view.n_uavs
-        fading = {pairing.track_id[j]: j for j, m in enumerate(modes) if m == "loiter"}
-        for track in [t for t in self._routes if t not in fading]:
-            del self._routes[track]  # reacquired, unpaired or dissolved
-        rho = self.config.sensor_range_m
-        stale: list[tuple[int, int]] = []
-        for track, j in fading.items():
-            route = self._routes.get(track)
-            if route is not None and route.uav == j:
-                _serve(route, view, rho)
-            if route is None or route.uav != j or route.served.all():
-                stale.append((track, j))
-        budget = Deadline(self.config.optw_budget_s)  # one budget per step, shared
-        for k, (track, j) in enumerate(stale):
-            route = self._plan(view, j, pairing.tracker[j], rng, budget, len(stale) - k)
-            _serve(route, view, rho)
-            self._routes[track] = route
-        plan_s = budget.elapsed() if stale else 0.0
-        for track, j in fading.items():
-            route = self._routes[track]
-            left = route.remaining()
-            if left:
-                modes[j] = "reacquire"
-                anchors[j] = view.network.coords[left[0]]
-                routes[j] = left
-        force = self._assemble(view, rng, modes, anchors)
-        return Guidance(force, pairing, tuple(modes), tuple(routes), 1000.0 * plan_s)
-
-
-def _serve(route: _Route, view: GuidanceView, radius_m: float) -> None:
-    """Mark the route nodes within ``radius_m`` of the route's UAV as served."""
-    if not route.nodes:
-        return
-    d = view.network.coords[list(route.nodes)] - view.uav_xy_m[route.uav]
-    route.served |= np.hypot(d[:, 0], d[:, 1]) <= radius_m
-
-
-StrategyFactory = Callable[[StrategyConfig, GraphDiffusion], Strategy]
-
-#: The strategies by name: ``STRATEGIES[name](config, tracker_diffusion)``.
-STRATEGIES: dict[str, StrategyFactory] = {
-    Search.name: Search,
-    Loiter.name: Loiter,
-    SearchAndLoiter.name: SearchAndLoiter,
-    SearchAndReacquire.name: SearchAndReacquire,
-}
+    clock = Deadline(time_limit_s)
+    rng = np.random.default_rng(seed)
+    view, rho = problem.view, problem.config.sensor_range_m
+    pairing = pair_uavs(view.network, view.uav_xy_m, view.bank)
+    modes = search_and_loiter_modes(problem, pairing)
+    anchors = _peak_anchors(view, pairing)
+    fading = {pairing.track_id[j]: j for j, m in enumerate(modes) if m == "loiter"}
+    kept = {r.track_id: r for r in problem.reacquisitions if r.track_id in fading}
+    stale: list[tuple[int, int]] = []  # reacquired, unpaired or dissolved tracks are dropped
+    for track, j in fading.items():
+        route = kept.get(track)
+        if route is not None and route.uav == j:
+            route = kept[track] = route.serve(view.network, view.uav_xy_m, rho)
+        if route is None or route.uav != j or route.done:
+            stale.append((track, j))
+    budget = Deadline(time_limit_s)  # one budget per step, shared
+    for k, (track, j) in enumerate(stale):
+        nodes = _plan(problem, j, pairing.tracker[j], rng, budget, len(stale) - k)
+        kept[track] = Reacquisition.planned(track, j, nodes).serve(view.network, view.uav_xy_m,
+                                                                   rho)
+    plan_s = budget.elapsed() if stale else 0.0
+    routes: list[tuple[int, ...]] = [()] * view.n_uavs
+    for track, j in fading.items():
+        left = kept[track].remaining()
+        if left:
+            modes[j] = "reacquire"
+            anchors[j] = view.network.coords[left[0]]
+            routes[j] = left
+    force = assemble(problem, rng, modes, anchors)
+    guidance = Guidance(force, pairing, tuple(modes), tuple(routes), 1000.0 * plan_s,
+                        tuple(kept[track] for track in fading))
+    return _answer(problem, guidance, "search_and_reacquire", clock, len(stale))

@@ -1,4 +1,6 @@
-"""What a guidance strategy sees each step, what it answers, and how it is configured."""
+"""What a guidance backend sees each step (:class:`GuidanceView`), what it answers
+(:class:`Guidance`, with the :class:`Reacquisition` routes it keeps flying) and how it is
+configured (:class:`StrategyConfig`)."""
 
 from __future__ import annotations
 
@@ -8,8 +10,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from searchtrack.core.checks import positive
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.estimate.node_tracker import TrackerBank
+from searchtrack.estimate.belief import BeliefBank, SearchField
 from searchtrack.models.dubins import MPS_PER_MPH
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.guidance.forces import default_loiter_k, default_spring_k
@@ -19,11 +22,6 @@ from searchtrack.plan.optw.solve import BACKENDS
 MODES = ("search", "loiter", "reacquire")
 
 
-def _positive(name: str, value: object) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) \
-            or not (math.isfinite(float(value)) and float(value) > 0.0):
-        raise InvalidInputError(name, value, "must be a positive finite number")
-    return float(value)
 
 
 @dataclass(frozen=True)
@@ -49,17 +47,19 @@ class StrategyConfig:
         ``P_min`` (0.07), the dissolve threshold that ends ``T_r``.
     speed_mps
         ``S_max`` (80 mph), the OPTW travel speed.
-    optw_backend, optw_budget_s
-        Backend of the reacquisition OPTW, and the planning budget of one step: the UAVs that
-        re-plan in the same step share it (T_r simulation and instance building included, each
-        OPTW solve gets an equal share of what is left, at least 1 ms).
+    optw_backend
+        Backend of the reacquisition OPTW. Its planning budget is the guidance solve's
+        ``time_limit_s``: the UAVs that re-plan in the same step share it (``T_r`` simulation
+        and instance building included, each OPTW solve gets an equal share of what is left,
+        at least 1 ms).
     max_route_nodes, support_mass
         Candidate truncation of the OPTW (see
         :func:`~searchtrack.plan.guidance.reacquire.candidate_nodes`).
     max_reacquire_steps
         Cap on the prediction steps simulated for ``T_r``.
 
-    ``α`` and ``Δt`` are those of the tracker diffusion each strategy is built with.
+    ``α`` and ``Δt`` are those of the tracker predictor of the
+    :class:`~searchtrack.plan.guidance.problem.GuidanceProblem`.
     """
 
     sensor_range_m: float = 120.0
@@ -71,24 +71,23 @@ class StrategyConfig:
     p_min: float = 0.07
     speed_mps: float = 80.0 * MPS_PER_MPH
     optw_backend: str = "auto"
-    optw_budget_s: float = 0.03
     max_route_nodes: int = 60
     support_mass: float = 0.95
     max_reacquire_steps: int = 2000
 
     def __post_init__(self) -> None:
-        rho = _positive("sensor_range_m", self.sensor_range_m)
+        rho = positive("sensor_range_m", self.sensor_range_m)
         set_ = object.__setattr__
         set_(self, "sigma_m", 2.0 * rho if self.sigma_m is None
-             else _positive("sigma_m", self.sigma_m))
-        _positive("epsilon", self.epsilon)
-        speed = _positive("speed_mps", self.speed_mps)
+             else positive("sigma_m", self.sigma_m))
+        positive("epsilon", self.epsilon)
+        speed = positive("speed_mps", self.speed_mps)
         set_(self, "spring_k", default_spring_k(rho) if self.spring_k is None
-             else _positive("spring_k", self.spring_k))
+             else positive("spring_k", self.spring_k))
         set_(self, "loiter_k", default_loiter_k(rho, speed) if self.loiter_k is None
-             else _positive("loiter_k", self.loiter_k))
+             else positive("loiter_k", self.loiter_k))
         for name in ("revisit_threshold", "p_min", "support_mass"):
-            v = _positive(name, getattr(self, name))
+            v = positive(name, getattr(self, name))
             if v > 1.0 or (v == 1.0 and name != "support_mass"):
                 raise InvalidInputError(name, getattr(self, name), "must be in (0, 1)")
         if self.p_min >= self.revisit_threshold:
@@ -96,7 +95,6 @@ class StrategyConfig:
         if self.optw_backend not in BACKENDS.names():
             raise InvalidInputError("optw_backend", self.optw_backend,
                                     f"must be one of {sorted(BACKENDS.names())}")
-        _positive("optw_budget_s", self.optw_budget_s)
         for name in ("max_route_nodes", "max_reacquire_steps"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 1:
@@ -127,14 +125,32 @@ def _vector(name: str, value: object, shape: tuple[int, ...]) -> NDArray[np.floa
 
 @dataclass(frozen=True, eq=False)
 class GuidanceView:
-    """What a strategy sees each step (validated: shapes agree with the UAV count and map)."""
+    """What a guidance backend sees each step (validated: shapes agree with the UAV count and
+    map).
+
+    Parameters
+    ----------
+    network
+        The road network.
+    uav_xy_m, uav_heading_rad, uav_speed_mps
+        ``(O, 2)`` positions, ``(O,)`` headings and speeds of the ``O ≥ 1`` UAVs.
+    field
+        The search field the gradient force climbs (5.6)–(5.7): any
+        :class:`~searchtrack.estimate.belief.SearchField` on the network's nodes, e.g. the
+        :class:`~searchtrack.estimate.lrt.LikelihoodField`.
+    bank
+        The live track beliefs: any :class:`~searchtrack.estimate.belief.BeliefBank` on the
+        network's nodes, e.g. a :class:`~searchtrack.estimate.node_tracker.TrackerBank`.
+    time_s
+        Mission time (s).
+    """
 
     network: RoadNetwork
     uav_xy_m: NDArray[np.float64]
     uav_heading_rad: NDArray[np.float64]
     uav_speed_mps: NDArray[np.float64]
-    llr: NDArray[np.float64]
-    bank: TrackerBank
+    field: SearchField
+    bank: BeliefBank
     time_s: float
 
     def __post_init__(self) -> None:
@@ -148,9 +164,12 @@ class GuidanceView:
         set_(self, "uav_xy_m", xy)
         set_(self, "uav_heading_rad", _vector("uav_heading_rad", self.uav_heading_rad, (o,)))
         set_(self, "uav_speed_mps", _vector("uav_speed_mps", self.uav_speed_mps, (o,)))
-        set_(self, "llr", _vector("llr", self.llr, (n,)))
-        if not isinstance(self.bank, TrackerBank) or self.bank.n_nodes != n:
-            raise InvalidInputError("bank", self.bank, f"must be a TrackerBank on {n} nodes")
+        if not isinstance(self.field, SearchField) or self.field.n_nodes != n:
+            raise InvalidInputError("field", self.field, f"must be a SearchField (n_nodes, "
+                                    f"node_score), e.g. a LikelihoodField, on {n} nodes")
+        if not isinstance(self.bank, BeliefBank) or self.bank.n_nodes != n:
+            raise InvalidInputError("bank", self.bank, f"must be a BeliefBank (n_nodes, len, "
+                                    f"[index] → TrackBelief), e.g. a TrackerBank, on {n} nodes")
         if not math.isfinite(self.time_s):
             raise InvalidInputError("time_s", self.time_s, "must be finite (s)")
 
@@ -160,15 +179,90 @@ class GuidanceView:
         return int(self.uav_xy_m.shape[0])
 
 
+@dataclass(frozen=True)
+class Reacquisition:
+    """A reacquisition route being flown (5.33): what search-and-reacquire keeps between steps.
+
+    Parameters
+    ----------
+    track_id
+        The fading tracker's ``track_id``.
+    uav
+        Index of the UAV flying the route.
+    nodes
+        The route's road nodes in visiting order (the start excluded); may be empty.
+    served
+        Per node, whether the UAV has come within ``ρ`` of it.
+    """
+
+    track_id: int
+    uav: int
+    nodes: tuple[int, ...]
+    served: tuple[bool, ...]
+
+    def __post_init__(self) -> None:
+        for name in ("track_id", "uav"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
+                raise InvalidInputError(name, v, "must be an integer ≥ 0")
+        nodes = tuple(int(v) for v in self.nodes)
+        served = tuple(bool(v) for v in self.served)
+        if len(served) != len(nodes) or any(v < 0 for v in nodes):
+            raise InvalidInputError("served", self.served,
+                                    f"must have one flag per node of {nodes} (indices ≥ 0)")
+        set_ = object.__setattr__
+        set_(self, "track_id", int(self.track_id))
+        set_(self, "uav", int(self.uav))
+        set_(self, "nodes", nodes)
+        set_(self, "served", served)
+
+    @classmethod
+    def planned(cls, track_id: int, uav: int, nodes: tuple[int, ...]) -> Reacquisition:
+        """A fresh route: nothing served yet."""
+        return cls(track_id, uav, tuple(nodes), (False,) * len(nodes))
+
+    def remaining(self) -> tuple[int, ...]:
+        """The route nodes not served yet, in order."""
+        return tuple(n for n, s in zip(self.nodes, self.served, strict=True) if not s)
+
+    @property
+    def done(self) -> bool:
+        """True once every node is served (also for an empty route)."""
+        return all(self.served)
+
+    def serve(self, network: RoadNetwork, uav_xy_m: NDArray[np.float64],
+              radius_m: float) -> Reacquisition:
+        """The route with the nodes within ``radius_m`` of the UAV at ``uav_xy_m[uav]`` served."""
+        if not self.nodes:
+            return self
+        d = network.coords[list(self.nodes)] - uav_xy_m[self.uav]
+        near = np.hypot(d[:, 0], d[:, 1]) <= radius_m
+        served = tuple(bool(s) or bool(c) for s, c in zip(self.served, near, strict=True))
+        return self if served == self.served else Reacquisition(self.track_id, self.uav,
+                                                                 self.nodes, served)
+
+
 @dataclass(frozen=True, eq=False)
 class Guidance:
-    """A strategy's answer for one step.
+    """A guidance backend's answer for one step.
 
-    ``force`` is the net ``(O, 2)`` force per UAV (input of
-    :func:`~searchtrack.models.dubins.step_force`),
-    ``mode`` per UAV is ``"search"``, ``"loiter"`` or ``"reacquire"``, ``route`` per UAV the
-    remaining route node ids (empty if none), ``plan_ms`` the time spent planning routes this
-    step (``T_r``, the instance and the OPTW solve).
+    Parameters
+    ----------
+    force
+        The net ``(O, 2)`` force per UAV (input of
+        :func:`~searchtrack.models.dubins.step_force`).
+    pairing
+        The UAV-to-tracker pairing of the step.
+    mode
+        Per UAV ``"search"``, ``"loiter"`` or ``"reacquire"``.
+    route
+        Per UAV the remaining reacquisition route node ids (empty if none).
+    plan_ms
+        Time spent planning routes this step (``T_r``, the instance and the OPTW solve).
+    reacquisitions
+        The reacquisition routes to keep flying: pass them to the next step's problem
+        (:meth:`~searchtrack.plan.guidance.problem.GuidanceProblem.following`). Empty for every
+        backend but ``search_and_reacquire``.
     """
 
     force: NDArray[np.float64]
@@ -176,6 +270,7 @@ class Guidance:
     mode: tuple[str, ...]
     route: tuple[tuple[int, ...], ...]
     plan_ms: float = 0.0
+    reacquisitions: tuple[Reacquisition, ...] = ()
 
     def __post_init__(self) -> None:
         f = np.asarray(self.force, dtype=np.float64)
@@ -188,4 +283,9 @@ class Guidance:
             raise InvalidInputError("route", self.route, f"route and pairing need {o} UAVs")
         if not (math.isfinite(self.plan_ms) and self.plan_ms >= 0):
             raise InvalidInputError("plan_ms", self.plan_ms, "must be finite and ≥ 0")
+        reacq = tuple(self.reacquisitions)
+        if any(not isinstance(r, Reacquisition) or r.uav >= o for r in reacq):
+            raise InvalidInputError("reacquisitions", self.reacquisitions,
+                                    f"must be Reacquisitions of UAVs in [0, {o})")
         object.__setattr__(self, "force", f)
+        object.__setattr__(self, "reacquisitions", reacq)

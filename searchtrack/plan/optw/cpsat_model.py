@@ -15,7 +15,7 @@ from ortools.sat.python import cp_model
 
 from searchtrack.plan.optw.arcs import NEVER, ArcGraph, follow_gaps, shortest_gaps
 from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes
-from searchtrack.plan.optw.plans import idle_routes, schedule
+from searchtrack.plan.optw.routes import idle_routes, schedule
 
 MAX_SCALED_PROFIT = 2**50
 

@@ -6,8 +6,8 @@ Data layout (all integer times in ticks):
   ``N = n + 1`` vertices, the last being a *sink* that stands for the end vertex (or, for an open
   end, a free stop at the last visit); ``cand`` lists the customers worth visiting.
 * ``sol = (rt, ln, arr, st, ms, own)``: per route the vertices ``rt[r, :ln[r]]`` (start first,
-  sink last), arrival, service start and MaxShift per position (Vansteenwegen et al. 2009,
-  eqs. 5.27–5.28 of the digest), and the route owning each vertex (−1 if unvisited).
+  sink last), arrival, service start and MaxShift per position (Vansteenwegen et al. 2009;
+  thesis 001 eqs. (5.27)–(5.28)), and the route owning each vertex (−1 if unvisited).
 
 Insertion feasibility is the O(1) test ``Shift ≤ Wait_j + MaxShift_j`` plus the inserted vertex's
 own window; after a change the route's schedule is recomputed in O(length), which also handles

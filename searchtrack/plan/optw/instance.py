@@ -14,17 +14,12 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 
 Route = tuple[int, ...]
 Routes = tuple[Route, ...]
 Rounding = Literal["truncate", "round", "ceil"]
-
-
-def _readonly(a: NDArray[np.generic]) -> NDArray[np.generic]:
-    a = np.array(a, copy=True)
-    a.setflags(write=False)
-    return a
 
 
 def _int_ticks(name: str, values: ArrayLike, n: int | None = None) -> NDArray[np.int64]:
@@ -138,12 +133,12 @@ class OPTWInstance:
             if coords.shape != (n, 2) or not np.all(np.isfinite(coords)):
                 raise InvalidInputError("coords", self.coords, f"must be finite, shape ({n}, 2)")
         set_ = object.__setattr__
-        set_(self, "travel", _readonly(travel))
-        set_(self, "service", _readonly(service))
-        set_(self, "open", _readonly(opn))
-        set_(self, "close", _readonly(close))
-        set_(self, "profit", _readonly(profit))
-        set_(self, "coords", None if coords is None else _readonly(coords))
+        set_(self, "travel", checks.readonly(travel))
+        set_(self, "service", checks.readonly(service))
+        set_(self, "open", checks.readonly(opn))
+        set_(self, "close", checks.readonly(close))
+        set_(self, "profit", checks.readonly(profit))
+        set_(self, "coords", None if coords is None else checks.readonly(coords))
         set_(self, "ids", ids)
         set_(self, "start", int(self.start))
         set_(self, "end", None if self.end is None else int(self.end))

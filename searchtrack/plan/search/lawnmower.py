@@ -1,9 +1,10 @@
 """Lawnmower (boustrophedon) coverage baselines: 2-D at a fixed altitude and 3-D in layers.
 
 Paper 003 flies a fixed-altitude lawnmower with the robots spaced evenly along it; paper 004
-stacks 2-D boustrophedon layers 48 m apart with 48 m line spacing (digest 004 §2.9, A21: start
-corner and ordering are not given; here lines run along x, start at the low corner, and the
-path is sampled every ``step_m`` metres so it can be flown one waypoint per step).
+stacks 2-D boustrophedon layers 48 m apart with 48 m line spacing. Neither paper gives the start
+corner or the ordering: here lines run along x, start at the low corner, and the path is sampled
+every ``step_m`` metres so it can be flown one waypoint per step. :func:`solve_lawnmower` is the
+search backend that follows the 3-D pattern (a coverage pattern, not an optimiser: ``FEASIBLE``).
 """
 
 from __future__ import annotations
@@ -13,13 +14,12 @@ import math
 
 import numpy as np
 
+from searchtrack.core.checks import positive
+from searchtrack.core.deadline import Deadline
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Result, Status
 from searchtrack.core.types import FloatArray
-
-
-def _positive(name: str, value: float) -> None:
-    if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
-        raise InvalidInputError(name, value, "must be finite and > 0")
+from searchtrack.plan.search.problem import SearchPlan, SearchProblem
 
 
 def _box(bounds: FloatArray, dims: int) -> FloatArray:
@@ -53,7 +53,7 @@ def lawnmower_2d(bounds: FloatArray, spacing_m: float, altitude_m: float,
     at ``altitude_m``, sampled every ``step_m`` (at most) along the path."""
     b = _box(bounds, 2)
     for name, v in (("spacing_m", spacing_m), ("step_m", step_m)):
-        _positive(name, v)
+        positive(name, v)
     if not math.isfinite(altitude_m):
         raise InvalidInputError("altitude_m", altitude_m, "must be finite")
     corners = []
@@ -70,7 +70,7 @@ def lawnmower_3d(bounds: FloatArray, spacing_m: float, layer_spacing_m: float,
     ``layer_spacing_m`` apart in z, alternately reversed so consecutive layers join at a corner,
     with vertical transitions sampled like the rest of the path."""
     b = _box(bounds, 3)
-    _positive("layer_spacing_m", layer_spacing_m)
+    positive("layer_spacing_m", layer_spacing_m)
     layers = []
     for k, z in enumerate(_levels(b[2, 0], b[2, 1], layer_spacing_m)):
         layer = lawnmower_2d(b[:2], spacing_m, float(z), step_m)
@@ -80,3 +80,39 @@ def lawnmower_3d(bounds: FloatArray, spacing_m: float, layer_spacing_m: float,
         link = _sample(np.stack([prev[-1], nxt[0]]), step_m)[1:-1]
         corners += [link, nxt]
     return np.concatenate(corners)
+
+
+def lawnmower_supports(problem: SearchProblem) -> str | None:
+    """``None`` when the box has a positive extent on every axis the pattern sweeps."""
+    axes = problem.settings.dims
+    if np.any(problem.bounds[:axes, 1] <= problem.bounds[:axes, 0]):
+        return "the lawnmower needs a box with lo < hi on every swept axis"
+    return None
+
+
+def solve_lawnmower(problem: SearchProblem, *, time_limit_s: float = 10.0,
+                    seed: int = 0) -> Result[SearchPlan]:
+    """The next ``τ`` waypoints of the lawnmower over the problem's box after the waypoint
+    nearest the UAV (the first on ties; the last waypoint repeats at the end of the pattern).
+
+    3-D settings follow :func:`lawnmower_3d` (lines and layers ``lawnmower_spacing_m`` apart),
+    2-D ones :func:`lawnmower_2d` at the UAV's altitude; both sampled every ``step_m``. FEASIBLE
+    with the sequence's score ``α E + T`` (eq. 8) as objective, no bound. ``time_limit_s`` and
+    ``seed`` are unused (closed form).
+    """
+    del seed
+    deadline = Deadline(time_limit_s)
+    s = problem.settings
+    if s.dims == 3:
+        route = lawnmower_3d(problem.bounds, s.lawnmower_spacing_m, s.lawnmower_spacing_m,
+                             s.step_m)
+    else:
+        route = lawnmower_2d(problem.bounds[:2], s.lawnmower_spacing_m,
+                             float(problem.position[2]), s.step_m)
+    here = int(np.argmin(np.linalg.norm(route - problem.position, axis=1)))
+    index = np.minimum(here + np.arange(1, s.horizon + 1), route.shape[0] - 1)
+    sequence = route[index]
+    ex, ref, score = problem.scores(sequence[None])
+    plan = SearchPlan(sequence, float(ex[0]), float(ref[0]), float(score[0]), 1)
+    return Result(Status.FEASIBLE, plan.score, None, deadline.elapsed(), "lawnmower", plan,
+                  message=f"lawnmower: waypoint {here + 1} of {route.shape[0]}")

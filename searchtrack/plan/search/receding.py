@@ -1,135 +1,60 @@
-"""The receding-horizon search planner of paper 004 (§4.1, eqs. 7–8).
+"""The receding-horizon search planner of paper 004 (§4.1, eqs. 7–8), by exhaustive enumeration.
 
 Every sequence of ``τ`` lattice moves from the current position (eq. 7) that stays in the search
 box is scored ``α E(q) + T(q)`` (eq. 8): ``E`` the exploration bonus along the sequence (eq. 10),
-``T`` either the centre probabilities of the estimated targets (eq. 11) or the MI of the targets
-with the empty measurement along the horizon. The planner returns the best sequence; only its
-first waypoint is flown before replanning. Enumeration is exhaustive (``6^τ`` for 3-D moves);
-ties go to the first sequence in lexicographic move order (``+x, +y, +z, −x, −y, −z``).
+``T`` the problem's refinement term. The best sequence is the plan; only its first waypoint is
+flown before replanning. The enumeration is exhaustive (``6^τ`` sequences for 3-D moves), so a
+completed run is ``OPTIMAL`` over the lattice; ties go to the first sequence in lexicographic move
+order (``+x, +y, +z, −x, −y, −z``). Sequences are scored in blocks; a time limit that stops the
+scoring returns the best sequence of the blocks scored (``FEASIBLE``).
 """
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
-from typing import Literal
-
 import numpy as np
 
-from searchtrack.core.errors import InvalidInputError
-from searchtrack.core.types import FloatArray
-from searchtrack.models.particle_models import DetectionSensor
-from searchtrack.plan.assign.actions import lattice_moves, lattice_sequences
-from searchtrack.plan.assign.exploration import (
-    ExplorationBonus,
-    centre_probability,
-    empty_horizon_mi,
-)
+from searchtrack.core.deadline import Deadline
+from searchtrack.core.result import Result, Status
+from searchtrack.plan.search.lattice import lattice_moves, lattice_sequences
+from searchtrack.plan.search.problem import SearchPlan, SearchProblem
 
-Refinement = Literal["centre", "mi", "none"]
+#: Sequences scored between two looks at the deadline (one block for ``τ ≤ 3``).
+BLOCK = 256
 
 
-@dataclass(frozen=True)
-class RecedingConfig:
-    """Parameters of the planner.
+def solve_receding(problem: SearchProblem, *, time_limit_s: float = 10.0,
+                   seed: int = 0) -> Result[SearchPlan]:
+    """Maximise ``α E(q) + T(q)`` over every in-box move sequence from the problem's position.
 
-    Parameters
-    ----------
-    step_m
-        Length of one lattice move (12 m in 004's simulations).
-    horizon
-        ``τ``, moves per sequence (004 compares 1, 2, 3).
-    alpha
-        Weight of exploration against refinement (not given in 004, ambiguity A3).
-    refinement
-        ``"centre"`` (eq. 11), ``"mi"`` (empty-horizon MI) or ``"none"`` (exploration only).
-    dims
-        2 (four planar moves) or 3 (six moves).
+    OPTIMAL with the best score when every sequence was scored; FEASIBLE (no bound) when the
+    time limit stopped the scoring; INFEASIBLE when no sequence stays in the box. ``seed`` is
+    unused (deterministic).
     """
-
-    step_m: float = 12.0
-    horizon: int = 1
-    alpha: float = 1.0
-    refinement: Refinement = "centre"
-    dims: int = 3
-
-    def __post_init__(self) -> None:
-        if not (math.isfinite(self.step_m) and self.step_m > 0.0):
-            raise InvalidInputError("step_m", self.step_m, "must be finite and > 0")
-        if not isinstance(self.horizon, int) or not 1 <= self.horizon <= 5:
-            raise InvalidInputError("horizon", self.horizon, "must be an integer in [1, 5]")
-        if not (math.isfinite(self.alpha) and self.alpha >= 0.0):
-            raise InvalidInputError("alpha", self.alpha, "must be finite and >= 0")
-        if self.refinement not in ("centre", "mi", "none"):
-            raise InvalidInputError("refinement", self.refinement,
-                                    "must be 'centre', 'mi' or 'none'")
-        if self.dims not in (2, 3):
-            raise InvalidInputError("dims", self.dims, "must be 2 or 3")
-
-
-@dataclass(frozen=True, eq=False)
-class SearchStep:
-    """The planner's answer: the best sequence, its first waypoint and its score parts."""
-
-    sequence: FloatArray
-    exploration: float
-    refinement: float
-    score: float
-    candidates: int
-
-    @property
-    def waypoint(self) -> FloatArray:
-        """``q*_{k+1}``, the position to fly to next."""
-        out: FloatArray = self.sequence[0]
-        return out
-
-
-def plan_search_step(
-    position: FloatArray, bounds: FloatArray, bonus: ExplorationBonus, sensor: DetectionSensor,
-    config: RecedingConfig, *, centres: FloatArray | None = None,
-    positions: FloatArray | None = None, weights: FloatArray | None = None,
-) -> SearchStep:
-    """Maximise ``α E(q) + T(q)`` over every in-box move sequence from ``position``.
-
-    Parameters
-    ----------
-    position
-        Current UAV position ``[x, y, z]``.
-    bounds
-        ``(3, 2)`` search box; sequences leaving it are excluded (ambiguity A6).
-    bonus
-        The exploration-bonus grid, already updated with the poses flown so far.
-    centres
-        ``(c, 3)`` estimated target centres (for ``refinement="centre"``).
-    positions, weights
-        The particle belief (for ``refinement="mi"``).
-
-    Raises
-    ------
-    InvalidInputError
-        Missing refinement inputs, or no move sequence stays in the box.
-    """
-    b = np.asarray(bounds, dtype=np.float64)
-    if b.shape != (3, 2):
-        raise InvalidInputError("bounds", bounds, "must be (3, 2)")
-    if config.refinement == "centre" and centres is None:
-        raise InvalidInputError("centres", centres, "refinement='centre' needs the centres")
-    if config.refinement == "mi" and (positions is None or weights is None):
-        raise InvalidInputError("positions", positions, "refinement='mi' needs the belief")
-    moves = lattice_moves(config.step_m, config.dims)
-    if config.dims == 2:
+    del seed
+    deadline = Deadline(time_limit_s)
+    settings = problem.settings
+    moves = lattice_moves(settings.step_m, settings.dims)
+    if settings.dims == 2:
         moves = np.concatenate([moves, np.zeros((moves.shape[0], 1))], axis=1)
-    seqs = lattice_sequences(np.asarray(position, dtype=np.float64), moves, config.horizon, b)
-    if seqs.shape[0] == 0:
-        raise InvalidInputError("position", position, "no move sequence stays inside bounds")
-    ex = bonus.at(seqs.reshape(-1, 3)).reshape(seqs.shape[:2]).sum(axis=1)
-    ref = np.zeros(seqs.shape[0])
-    if config.refinement == "centre" and centres is not None and centres.shape[0] > 0:
-        ref = np.array([centre_probability(sensor, centres, s) for s in seqs])
-    elif config.refinement == "mi" and positions is not None and weights is not None:
-        ref = np.array([empty_horizon_mi(sensor, positions, weights, s) for s in seqs])
-    score = config.alpha * ex + ref
-    best = int(np.argmax(score))
-    return SearchStep(seqs[best], float(ex[best]), float(ref[best]), float(score[best]),
-                      int(seqs.shape[0]))
-
+    seqs = lattice_sequences(problem.position, moves, settings.horizon, problem.bounds)
+    total = int(seqs.shape[0])
+    if total == 0:
+        return Result(Status.INFEASIBLE, None, None, deadline.elapsed(), "receding", None,
+                      message="receding: no move sequence stays inside the bounds")
+    best: SearchPlan | None = None
+    scored = 0
+    for lo in range(0, total, BLOCK):
+        if lo > 0 and deadline.expired():
+            break
+        block = seqs[lo:lo + BLOCK]
+        ex, ref, score = problem.scores(block)
+        i = int(np.argmax(score))
+        if best is None or score[i] > best.score:
+            best = SearchPlan(block[i], float(ex[i]), float(ref[i]), float(score[i]), total)
+        scored += block.shape[0]
+    assert best is not None
+    done = scored == total
+    return Result(Status.OPTIMAL if done else Status.FEASIBLE, best.score,
+                  best.score if done else None, deadline.elapsed(), "receding", best,
+                  message=f"receding: {scored}/{total} sequences scored",
+                  stats={"sequences": float(total), "scored": float(scored)})

@@ -1,5 +1,6 @@
-"""Trajectory tracking as nonlinear programs (issue 5): CasADi NMPC, OSQP LTV-MPC and the
-closed-form backstepping / pursuit fallback behind one registry, with obstacles and references."""
+"""Trajectory tracking as nonlinear programs: CasADi NMPC, OSQP LTV-MPC and the closed-form
+backstepping (paper 004 eq. 13) / pursuit fallback behind one registry, with obstacles and
+references."""
 
 from __future__ import annotations
 

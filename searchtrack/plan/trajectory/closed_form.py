@@ -4,10 +4,10 @@
   term of eqs. (14)–(15). Since ``q̈ = S_y (f + δ̄ u)`` (constant wind), choosing
   ``u = (S_y δ̄)⁻¹ (a − S_y f)`` with ``a = −(K₁+K₂+K₃)(q̇ − ṙ) − (1 + K₁K₂K₃)(q − r)`` gives
   the linear closed loop of the paper; with a piecewise-constant reference (``ṙ = 0``, the
-  paper's use) it is eq. (13) exactly. ``u_φ`` is left free by (13) (digest A17); here it levels
-  the wings, ``u_φ = −k_φ φ``. Eq. (14): ``O = 1`` when the nearest obstacle surface is closer
-  than ``d_l``; eq. (15): ``ũ_β = u_β − k_obs O``, turning away from the obstacle's side
-  (``obstacle_turn="bearing"``, digest A18) or always the same way as printed (``"printed"``).
+  paper's use) it is eq. (13) exactly. ``u_φ`` is left free by (13) (``δ̄`` has no roll input);
+  here it levels the wings, ``u_φ = −k_φ φ``. Eq. (14): ``O = 1`` when the nearest obstacle
+  surface is closer than ``d_l``; eq. (15): ``ũ_β = u_β − k_obs O``, turning away from the
+  obstacle's side (``obstacle_turn="bearing"``) or always the same way as printed (``"printed"``).
 * ``unicycle`` / ``fixed_wing``: pure pursuit of the reference a lookahead ahead, the heading
   command bent away from obstacles closer than ``d_l`` (a repulsive potential), a speed loop on
   the along-track error and, for the fixed wing, a pitch loop towards the target's altitude.
@@ -26,6 +26,7 @@ from typing import Literal
 import numpy as np
 
 from searchtrack.core import checks
+from searchtrack.core.angles import wrap_angle
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.result import Result, Sense, Status
 from searchtrack.core.types import FloatArray
@@ -72,10 +73,6 @@ class ClosedFormGains:
                                     "must be 'bearing' or 'printed'")
 
 
-def _wrap(angle: float) -> float:
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
-
-
 def _repulsion(problem: TrackingProblem, p: FloatArray, gains: ClosedFormGains) -> FloatArray:
     """Sum over obstacles closer than ``d`` of ``k_rep (1 − clearance/d)`` times the unit vector
     away from the obstacle (horizontal for cylinders); ``d`` is ``d_l`` or, if larger, 1.5 turn
@@ -109,7 +106,7 @@ def _pursuit(problem: TrackingProblem, x: FloatArray, t: float, gains: ClosedFor
     dist = float(np.linalg.norm(to[:2]))
     direction = to[:2] / max(dist, 1e-9) + _repulsion(problem, p, gains)[:2]
     heading = x[m.angle_indices[0]]
-    turn = gains.heading_gain * _wrap(math.atan2(direction[1], direction[0]) - heading)
+    turn = gains.heading_gain * wrap_angle(math.atan2(direction[1], direction[0]) - heading)
     forward = np.array([math.cos(heading), math.sin(heading)])
     speed = m.nominal_input[0] + gains.speed_gain * float((here - p)[:2] @ forward)
     if m.name == "unicycle":
@@ -165,7 +162,7 @@ def _backstepping(problem: TrackingProblem, x: FloatArray, t: float, gains: Clos
             side = 1.0
             if gains.obstacle_turn == "bearing":
                 rel = obs.centers_m[j, :2] - q[:2]
-                side = 1.0 if _wrap(math.atan2(rel[1], rel[0]) - beta) >= 0.0 else -1.0
+                side = 1.0 if wrap_angle(math.atan2(rel[1], rel[0]) - beta) >= 0.0 else -1.0
             push = np.zeros(3)
             push[1] = -gains.avoid_gain * side  # eq. (15): −k_obs on the turn input u_β
             if not obs.is_cylinder[j]:

@@ -11,16 +11,18 @@ One UAV searches a box for static point targets. Every step ``k``:
    and before resampling, which is the start of the next step in the paper's numbering);
 5. update the exploration bonus ``ι`` (eq. 9) and plan the next waypoint (eq. 8):
 
-   - ``"proposed"``: ``α E + T`` (exploration + refinement, T = centre probabilities or MI);
+   - ``"proposed"``: ``α E + T`` (exploration + refinement, T = centre probabilities or MI),
+     the ``receding`` backend of :mod:`searchtrack.plan.search`;
    - ``"refinement"``: refinement only (``α = 0``), 004's MI-only style baseline;
-   - ``"lawnmower"``: the 3-D layered boustrophedon, flown one waypoint per step.
+   - ``"lawnmower"``: the 3-D layered boustrophedon, flown one waypoint per step from the start.
 
-A true target counts as *found* once a saved estimate lies within ``match_m`` of it (digest 004,
-A22); saved estimates farther than that from every target are *false*. The episode ends when
-every target is found or after ``max_steps`` steps. Thresholds: 004 prints ``T_r = 1.1 m``,
-``T_m = 2.2``, ``T_z = 5 m``; ``T_m = 2.2`` only makes sense with 004's large birth mass
-(ambiguity A13). With this filter a repeatedly seen target carries a mass near ``1/π ≈ 1``, so the
-default ``T_m`` here is 0.7 (set ``found=FoundConfig(mass=2.2)`` to use the printed value).
+A true target counts as *found* once a saved estimate lies within ``match_m`` of it (004 does not
+say how found targets are matched to true ones); saved estimates farther than that from every
+target are *false*. The episode ends when every target is found or after ``max_steps`` steps.
+Thresholds: 004 prints ``T_r = 1.1 m``, ``T_m = 2.2``, ``T_z = 5 m``; a cluster mass of 2.2 needs
+a much larger birth mass than this filter's. With this filter a repeatedly seen target carries a
+mass near ``1/π ≈ 1``, so the default ``T_m`` here is 0.7 (set ``found=FoundConfig(mass=2.2)`` to
+use the printed value).
 
 Observed behaviour: with centre refinement and the printed heavy-tailed field of view the planner
 often oscillates between two waypoints 120–170 m from every cluster where ``ι ≈ 0`` (a local
@@ -55,11 +57,19 @@ from searchtrack.estimate.phd import (
 )
 from searchtrack.models.motion import Static
 from searchtrack.models.range_sensor import RangeBearingElevationSensor
-from searchtrack.plan.assign.exploration import ExplorationBonus
-from searchtrack.plan.search.lawnmower import lawnmower_3d
-from searchtrack.plan.search.receding import RecedingConfig, plan_search_step
+from searchtrack.plan.search import (
+    CentreProbability,
+    EmptyHorizonMI,
+    ExplorationBonus,
+    SearchProblem,
+    SearchSettings,
+    lawnmower_3d,
+    solve,
+)
 
-log = logging.getLogger("searchtrack.sim.phd_search_004")
+__all__ = ["PLANNERS", "SearchConfig", "SearchEpisode", "run_search_episode"]
+
+log = logging.getLogger("searchtrack.sim.experiments.phd_search")
 
 SearchPlanner = Literal["proposed", "refinement", "lawnmower"]
 PLANNERS = ("proposed", "refinement", "lawnmower")
@@ -97,13 +107,14 @@ class SearchConfig:
     horizon
         Planner horizon ``τ`` in ``[1, 5]`` (004 compares 1, 2, 3).
     alpha
-        Exploration weight ``α ≥ 0`` of the proposed planner (not given in 004, A3).
+        Exploration weight ``α ≥ 0`` of the proposed planner (004 gives no value; 1 here).
     refinement
-        ``"centre"`` (eq. 11) or ``"mi"`` (empty-horizon MI).
+        The refinement term: :class:`~searchtrack.plan.search.CentreProbability` (eq. 11) or
+        :class:`~searchtrack.plan.search.EmptyHorizonMI`.
     step_m
         Lattice move length (m), ``> 0`` (004: 12).
     bonus_resolution_m
-        Spacing of the ``ι`` grid (m), ``> 0`` (not given, A8).
+        Spacing of the ``ι`` grid (m), ``> 0`` (004 gives none).
     lawnmower_spacing_m
         Line and layer spacing of the lawnmower (m), ``> 0`` (004: 48).
     match_m
@@ -111,7 +122,7 @@ class SearchConfig:
     start
         ``(3,)`` initial UAV position (004: the origin).
     sensor
-        The ranging sensor (004: ``G = 0.98``, ``F = 25 m``; ``σ`` not given, A4).
+        The ranging sensor (004: ``G = 0.98``, ``F = 25 m``; 004 gives no noise ``σ``).
     phd
         SMC-PHD settings (p_s = 1, measurement-driven birth, k-means extraction, ≤ 5000
         particles as in 004).
@@ -121,7 +132,7 @@ class SearchConfig:
         Distinct particle positions a cluster needs to be saved as found, ``≥ 1``. Static
         particles are only copied by resampling, and without clutter a measurement's unit of mass
         lands on whichever few copies explain it best, however far: such a cluster is narrow and
-        heavy but is one or two stale hypotheses, not a localised target (digest 004, A16).
+        heavy but is one or two stale hypotheses, not a localised target.
     """
 
     planner: SearchPlanner = "proposed"
@@ -130,7 +141,7 @@ class SearchConfig:
     max_steps: int = 812
     horizon: int = 1
     alpha: float = 1.0
-    refinement: Literal["centre", "mi"] = "centre"
+    refinement: CentreProbability | EmptyHorizonMI = field(default_factory=CentreProbability)
     step_m: float = 12.0
     bonus_resolution_m: float = 10.0
     lawnmower_spacing_m: float = 48.0
@@ -155,8 +166,9 @@ class SearchConfig:
         if not isinstance(self.horizon, int) or not 1 <= self.horizon <= 5:
             raise InvalidInputError("horizon", self.horizon, "must be an integer in [1, 5]")
         set_(self, "alpha", checks.non_negative("alpha", self.alpha))
-        if self.refinement not in ("centre", "mi"):
-            raise InvalidInputError("refinement", self.refinement, "must be 'centre' or 'mi'")
+        if not isinstance(self.refinement, (CentreProbability, EmptyHorizonMI)):
+            raise InvalidInputError("refinement", self.refinement,
+                                    "must be CentreProbability() or EmptyHorizonMI()")
         set_(self, "min_distinct", checks.count("min_distinct", self.min_distinct, 1))
         for name in ("step_m", "bonus_resolution_m", "lawnmower_spacing_m", "match_m"):
             set_(self, name, checks.positive(name, getattr(self, name)))
@@ -170,11 +182,12 @@ class SearchConfig:
             if not isinstance(getattr(self, name), kind):
                 raise InvalidInputError(name, getattr(self, name), f"must be a {kind.__name__}")
 
-    def receding(self) -> RecedingConfig:
+    def settings(self) -> SearchSettings:
         """The planner settings this episode uses (``α = 0`` for refinement only)."""
         alpha = 0.0 if self.planner == "refinement" else self.alpha
-        return RecedingConfig(step_m=self.step_m, horizon=self.horizon, alpha=alpha,
-                              refinement=self.refinement, dims=3)
+        return SearchSettings(step_m=self.step_m, horizon=self.horizon, alpha=alpha,
+                              refinement=self.refinement, dims=3,
+                              lawnmower_spacing_m=self.lawnmower_spacing_m)
 
 
 @dataclass(frozen=True, eq=False)
@@ -265,8 +278,8 @@ def run_search_episode(config: SearchConfig, seed: int) -> SearchEpisode:
         config.bounds[:, 0], config.bounds[:, 1], size=(config.n_targets, 3))
     rng = np.random.default_rng([seed, 1])
     sensor, box = config.sensor, config.bounds
-    receding = config.receding()
-    bonus = ExplorationBonus(np.array(box), config.bonus_resolution_m)
+    settings = config.settings()
+    bonus = ExplorationBonus(box, config.bonus_resolution_m)
     route = lawnmower_3d(np.array(box), config.lawnmower_spacing_m, config.lawnmower_spacing_m,
                          config.step_m) if config.planner == "lawnmower" else None
     state = PHDState.empty(3, 3)
@@ -286,9 +299,13 @@ def run_search_episode(config: SearchConfig, seed: int) -> SearchEpisode:
         if route is not None:
             position = route[min(k + 1, route.shape[0] - 1)]
         else:
-            bonus.update(sensor, position)
-            position = plan_search_step(position, box, bonus, sensor, receding, centres=centres,
-                                        positions=state.positions, weights=state.weights).waypoint
+            bonus = bonus.updated(sensor, position)
+            problem = SearchProblem(position, box, bonus, sensor, settings, belief=state,
+                                    centres=centres)
+            result = solve(problem, backend="receding")
+            if result.plan is None:
+                raise InvalidInputError("bounds", box, f"step {k}: {result.message}")
+            position = result.plan.waypoint
         path.append(position)
         t_plan += time.perf_counter() - t1
         t_filter += t1 - t0

@@ -16,8 +16,7 @@ the stand-in for the Cabspotting data). Every step of ``dt_s`` seconds:
 Logged per step, as in 003's figures: expected count over true count, entropy per target
 (eq. 15), the share of vehicles inside some image, the mean altitude, plus the OSPA of the
 extracted estimates (not in 003). The GP is fitted on vehicles that are not the ground truth
-(003's training/test split). The paper 004 search runner lives in
-:mod:`searchtrack.sim.phd_search_004` and is re-exported here.
+(003's training/test split).
 """
 
 from __future__ import annotations
@@ -33,6 +32,7 @@ from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.metrics import ospa
+from searchtrack.estimate.particle_belief import ParticleBelief, WeightedParticles
 from searchtrack.estimate.phd import (
     BirthGrid,
     PHDConfig,
@@ -51,16 +51,21 @@ from searchtrack.models.motion import RandomWalk
 from searchtrack.models.particle_models import MotionModel
 from searchtrack.models.road_synthetic import grid_network
 from searchtrack.models.road_traces import TaxiModel, taxi_traces
-from searchtrack.plan.assign.actions import FixedWingPrimitives, fixed_wing_actions
+from searchtrack.plan.assign import (
+    AssignmentProblem,
+    ExpectedDetections,
+    FixedWingPrimitives,
+    MutualInformation,
+    Objective,
+    fixed_wing_actions,
+)
 from searchtrack.plan.assign.greedy import solve_greedy
-from searchtrack.plan.assign.problem import AssignmentProblem, MISettings
-from searchtrack.plan.search.lawnmower import lawnmower_2d
-from searchtrack.sim.phd_search_004 import SearchConfig, SearchEpisode, run_search_episode
+from searchtrack.plan.search import lawnmower_2d
 
-__all__ = ["SearchConfig", "SearchEpisode", "TaxiWorld", "TrackConfig", "TrackEpisode",
-           "run_search_episode", "run_track_episode", "taxi_world"]
+__all__ = ["TRACK_PLANNERS", "TaxiWorld", "TrackConfig", "TrackEpisode", "run_track_episode",
+           "taxi_world"]
 
-log = logging.getLogger("searchtrack.sim.phd_search")
+log = logging.getLogger("searchtrack.sim.experiments.phd_tracking")
 
 TrackPlanner = Literal["end", "mi", "lawnmower"]
 TRACK_PLANNERS = ("end", "mi", "lawnmower")
@@ -74,8 +79,8 @@ def _primitives() -> FixedWingPrimitives:
 
 @dataclass(frozen=True)
 class TrackConfig:
-    """One paper-003 episode (our scale: a 300 m road grid, 5 s steps; 003 gives no sensor or
-    control constants, digest 003 §6).
+    """One paper-003 episode (this library's scale: a 300 m road grid, 5 s steps; 003 gives no
+    sensor or control constants).
 
     Parameters
     ----------
@@ -254,15 +259,17 @@ def _candidates(states: FloatArray, config: TrackConfig) -> list[FloatArray]:
 def _plan(state: PHDState, uavs: FloatArray, config: TrackConfig,
           rng: np.random.Generator) -> FloatArray:
     """Next ``(R, 5)`` UAV states from greedy assignment on a subsample of the belief."""
-    pos, w = state.positions, state.weights
-    if pos.shape[0] > config.plan_particles and w.sum() > 0.0:
+    belief: ParticleBelief = state
+    w = state.weights
+    if state.n_particles > config.plan_particles and w.sum() > 0.0:
         idx = systematic_indices(w, config.plan_particles, rng)
-        pos, w = pos[idx], np.full(config.plan_particles, w.sum() / config.plan_particles)
+        belief = WeightedParticles(state.positions[idx],
+                                   np.full(config.plan_particles, w.sum() / config.plan_particles))
     acts = _candidates(uavs, config)
-    objective: Literal["end", "mi"] = "mi" if config.planner == "mi" else "end"
-    problem = AssignmentProblem(tuple(acts), pos, w, config.camera, objective=objective,
-                                min_separation_m=config.min_separation_m,
-                                mi=MISettings(clutter_rate=config.camera.clutter_rate))
+    objective: Objective = (MutualInformation(clutter_rate=config.camera.clutter_rate)
+                            if config.planner == "mi" else ExpectedDetections())
+    problem = AssignmentProblem(tuple(acts), belief, config.camera, objective=objective,
+                                min_separation_m=config.min_separation_m)
     result = solve_greedy(problem, time_limit_s=30.0)
     if result.plan is None:  # no collision-free joint plan: fly each UAV's first primitive
         return np.stack([a[0, 0] for a in acts])

@@ -7,7 +7,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from searchtrack.plan.assign.problem import AssignmentProblem
+from searchtrack.estimate.particle_belief import WeightedParticles
+from searchtrack.plan.assign import (
+    AssignmentProblem,
+    ExpectedDetections,
+    MutualInformation,
+    Objective,
+)
 
 FloatArray = NDArray[np.float64]
 
@@ -45,6 +51,11 @@ class DiscSensor:
         return np.asarray(measurements, dtype=np.float64)
 
 
+def objective_named(name: str) -> Objective:
+    """``"end"`` → :class:`ExpectedDetections`, ``"mi"`` → :class:`MutualInformation`."""
+    return {"end": ExpectedDetections(), "mi": MutualInformation()}[name]
+
+
 def random_problem(rng: np.random.Generator, robots: int = 3, actions: int = 4, steps: int = 1,
                    particles: int = 60, objective: str = "end", gaussian: bool = False,
                    separation: float = 0.0) -> AssignmentProblem:
@@ -57,6 +68,5 @@ def random_problem(rng: np.random.Generator, robots: int = 3, actions: int = 4, 
     pos = rng.uniform(0.0, 50.0, size=(particles, 2))
     w = rng.uniform(0.0, 1.0, size=particles)
     w *= 3.0 / w.sum()
-    return AssignmentProblem(tuple(acts), pos, w, DiscSensor(gaussian=gaussian),
-                             objective=objective,  # type: ignore[arg-type]
-                             min_separation_m=separation)
+    return AssignmentProblem(tuple(acts), WeightedParticles(pos, w), DiscSensor(gaussian=gaussian),
+                             objective=objective_named(objective), min_separation_m=separation)

@@ -1,4 +1,4 @@
-"""Motion primitives, lattice moves, the Gaussian footprint and the NLP backend."""
+"""Fixed-wing motion primitives, the Gaussian footprint and the NLP backend."""
 
 from __future__ import annotations
 
@@ -7,16 +7,15 @@ import pytest
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.result import Status
-from searchtrack.plan.assign import solve
-from searchtrack.plan.assign.actions import (
+from searchtrack.estimate.particle_belief import WeightedParticles
+from searchtrack.models.footprint import GaussianFieldOfView
+from searchtrack.plan.assign import (
+    AssignmentProblem,
     FixedWingPrimitives,
     fixed_wing_actions,
-    lattice_moves,
-    lattice_sequences,
+    solve,
 )
-from searchtrack.plan.assign.footprint import GaussianFieldOfView
 from searchtrack.plan.assign.nlp import NLPLimits, solve_nlp
-from searchtrack.plan.assign.problem import AssignmentProblem
 
 
 def test_straight_primitive_matches_kinematics() -> None:
@@ -40,16 +39,28 @@ def test_altitude_limits_prune_primitives() -> None:
     assert acts[0, 0, 2] == pytest.approx(10.0)
 
 
-def test_lattice_moves_and_sequences() -> None:
-    """Six axis moves; sequences leaving the box are dropped; count is 6^τ inside."""
-    moves = lattice_moves(12.0)
-    assert moves.shape == (6, 3)
-    assert np.allclose(np.linalg.norm(moves, axis=1), 12.0)
-    box = np.array([[-100.0, 100.0]] * 3)
-    assert lattice_sequences(np.zeros(3), moves, 2, box).shape == (36, 2, 3)
-    corner = np.array([[0.0, 100.0]] * 3)
-    seqs = lattice_sequences(np.zeros(3), moves, 1, corner)
-    assert seqs.shape == (3, 1, 3)
+def test_primitives_fly_the_vehicle_model() -> None:
+    """The primitives are Euler steps of 003's kinematics written out by hand, with the pitch
+    clipped and the yaw wrapped; the vehicle model carries the band and the pitch limit."""
+    prim = FixedWingPrimitives(speeds_mps=(3.0,), yaw_rates_rps=(0.25,), pitch_rates_rps=(0.05,),
+                               steps=3, step_s=2.0, euler_dt_s=0.1, max_pitch_rad=0.15)
+    state = np.array([5.0, -3.0, 20.0, 3.0, 0.1])
+    acts = fixed_wing_actions(state, prim)
+    x, y, z, yaw, pitch = state
+    expected = []
+    for _ in range(3):
+        for _ in range(20):
+            x += 0.1 * 3.0 * np.cos(pitch) * np.cos(yaw)
+            y += 0.1 * 3.0 * np.cos(pitch) * np.sin(yaw)
+            z += 0.1 * 3.0 * np.sin(pitch)
+            yaw += 0.1 * 0.25
+            pitch = min(pitch + 0.1 * 0.05, 0.15)
+        expected.append([x, y, z, (yaw + np.pi) % (2 * np.pi) - np.pi, pitch])
+    np.testing.assert_allclose(acts[0], expected, rtol=0.0, atol=1e-12)
+    model = prim.vehicle
+    assert (model.state_lower[2], model.state_upper[2]) == (2.0, 50.0)
+    assert (model.state_lower[4], model.state_upper[4]) == (-0.15, 0.15)
+    assert model.input_lower == model.input_upper == (3.0, 0.25, 0.05)
 
 
 def test_primitives_bad_input() -> None:
@@ -58,10 +69,10 @@ def test_primitives_bad_input() -> None:
         FixedWingPrimitives(speeds_mps=(0.0,))
     with pytest.raises(InvalidInputError, match="z_max_m"):
         FixedWingPrimitives(z_min_m=10.0, z_max_m=5.0)
+    with pytest.raises(InvalidInputError, match="max_pitch_rad"):
+        FixedWingPrimitives(max_pitch_rad=2.0)
     with pytest.raises(InvalidInputError, match="state"):
         fixed_wing_actions(np.zeros(3), FixedWingPrimitives())
-    with pytest.raises(InvalidInputError, match="step_m"):
-        lattice_moves(-1.0)
 
 
 def _nlp_problem(separation: float = 0.0) -> AssignmentProblem:
@@ -72,7 +83,7 @@ def _nlp_problem(separation: float = 0.0) -> AssignmentProblem:
     pos = np.concatenate([rng.normal([25.0, 10.0], 3.0, size=(80, 2)),
                           rng.normal([5.0, -8.0], 3.0, size=(80, 2))])
     w = np.full(160, 4.0 / 160)
-    return AssignmentProblem(acts, pos, w, GaussianFieldOfView(0.9, 8.0, 60.0),
+    return AssignmentProblem(acts, WeightedParticles(pos, w), GaussianFieldOfView(0.9, 8.0, 60.0),
                              min_separation_m=separation, origins=origins)
 
 

@@ -15,8 +15,9 @@ from searchtrack.plan.assign.mutual_info import (
     zero_probabilities,
 )
 from searchtrack.plan.assign.objectives import (
-    BinaryMutualInformation,
     ExpectedDetections,
+    ExpectedDetectionsFunction,
+    MutualInformation,
     expected_detections_of_poses,
 )
 
@@ -30,7 +31,7 @@ def test_monotone_and_submodular(objective: str, seed: int) -> None:
     rng = np.random.default_rng(seed)
     p = random_problem(rng, robots=4, actions=3, steps=2, particles=40, objective=objective,
                        gaussian=seed % 2 == 0)
-    f = ExpectedDetections(p) if objective == "end" else BinaryMutualInformation(p)
+    f = p.objective.evaluator(p)
     ground = [(r, a) for r in range(4) for a in range(3)]
     assert f.value(()) == pytest.approx(0.0, abs=1e-9)
     for _ in range(15):
@@ -48,7 +49,7 @@ def test_end_closed_form_matches_definition() -> None:
     """END equals Σ w (1 − Π (1 − p_d)) computed pose by pose, and gains match differences."""
     rng = np.random.default_rng(3)
     p = random_problem(rng, robots=3, actions=4, steps=2, gaussian=True)
-    f = ExpectedDetections(p)
+    f = ExpectedDetectionsFunction(p)
     sel = ((0, 1), (2, 3))
     poses = np.concatenate([p.actions[r][a] for r, a in sel])
     expected = sum(w * (1 - np.prod([1 - p.sensor.detection_probability(q, p.positions)[j]
@@ -142,3 +143,19 @@ def test_zero_detection_gives_zero() -> None:
     w = np.ones(10)
     assert binary_mi(pd, w) == pytest.approx(0.0, abs=1e-12)
     assert conditional_entropy_one(pd[0], w) == 0.0
+
+
+def test_objective_specs_build_their_set_functions() -> None:
+    """Each spec names itself, declares whether it is a coverage objective and builds its set
+    function; MutualInformation checks its settings."""
+    from searchtrack.core.errors import InvalidInputError
+
+    p = random_problem(np.random.default_rng(0))
+    end, mi = ExpectedDetections(), MutualInformation(clutter_rate=0.1)
+    assert (end.name, end.coverage, mi.name, mi.coverage) == ("end", True, "mi", False)
+    assert isinstance(end.evaluator(p), ExpectedDetectionsFunction)
+    assert mi.evaluator(p).value(()) == pytest.approx(0.0, abs=1e-12)
+    for kwargs, field in (({"exact_max": 21}, "exact_max"), ({"samples": 5}, "samples"),
+                          ({"clutter_rate": -1.0}, "clutter_rate"), ({"seed": -1}, "seed")):
+        with pytest.raises(InvalidInputError, match=field):
+            MutualInformation(**kwargs)  # type: ignore[arg-type]

@@ -7,13 +7,13 @@ import pytest
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.result import Status
-from searchtrack.plan.assign import solve
-from searchtrack.plan.assign.bnb import solve_bnb
+from searchtrack.estimate.particle_belief import WeightedParticles
+from searchtrack.plan.assign import AssignmentProblem, solve
+from searchtrack.plan.assign.branch_and_bound import solve_branch_and_bound
 from searchtrack.plan.assign.brute import solve_brute_force
 from searchtrack.plan.assign.exact import solve_exact
 from searchtrack.plan.assign.greedy import solve_greedy, solve_lazy_greedy
-from searchtrack.plan.assign.objectives import ExpectedDetections
-from searchtrack.plan.assign.problem import AssignmentProblem
+from searchtrack.plan.assign.objectives import ExpectedDetectionsFunction
 
 from .helpers import DiscSensor, random_problem
 
@@ -45,7 +45,7 @@ def test_exact_matches_brute_force(solver: str, seed: int) -> None:
     p = random_problem(rng, robots=3, actions=5, steps=2, particles=60, gaussian=seed % 2 == 0)
     best = solve_brute_force(p)
     if solver == "bnb":
-        res = solve_bnb(p)
+        res = solve_branch_and_bound(p)
     elif solver == "scip-unreduced":
         res = solve_exact(p, pieces=4, reduce=False)
     else:
@@ -56,7 +56,7 @@ def test_exact_matches_brute_force(solver: str, seed: int) -> None:
     if solver != "cpsat":
         assert res.status is Status.OPTIMAL
     assert res.plan is not None
-    assert ExpectedDetections(p).value(res.plan.selection) == pytest.approx(res.objective)
+    assert ExpectedDetectionsFunction(p).value(res.plan.selection) == pytest.approx(res.objective)
 
 
 def test_collision_pruning_respected_by_every_backend() -> None:
@@ -64,7 +64,8 @@ def test_collision_pruning_respected_by_every_backend() -> None:
     acts = np.array([[[0.0, 0.0, 20.0]], [[30.0, 0.0, 20.0]]])
     pos = np.array([[0.0, 0.0], [1.0, 0.0], [30.0, 0.0]])
     w = np.array([1.0, 1.0, 0.1])
-    p = AssignmentProblem((acts, acts), pos, w, DiscSensor(radius_m=5.0), min_separation_m=5.0)
+    p = AssignmentProblem((acts, acts), WeightedParticles(pos, w), DiscSensor(radius_m=5.0),
+                          min_separation_m=5.0)
     for backend in ("greedy", "lazy_greedy", "exact", "exact_cpsat", "exact_bnb", "brute_force",
                     "auto"):
         res = solve(p, backend=backend, time_limit_s=5.0)
@@ -75,12 +76,12 @@ def test_collision_pruning_respected_by_every_backend() -> None:
 def test_infeasible_when_every_pair_collides() -> None:
     """Brute force reports INFEASIBLE and greedy NO_SOLUTION when all joint actions collide."""
     acts = np.array([[[0.0, 0.0, 20.0]]])
-    p = AssignmentProblem((acts, acts), np.zeros((2, 2)), np.ones(2), DiscSensor(),
-                          min_separation_m=1.0)
+    p = AssignmentProblem((acts, acts), WeightedParticles(np.zeros((2, 2)), np.ones(2)),
+                          DiscSensor(), min_separation_m=1.0)
     assert solve_brute_force(p).status is Status.INFEASIBLE
     assert solve_greedy(p).status is Status.NO_SOLUTION
     assert solve_exact(p).status is Status.INFEASIBLE
-    assert solve_bnb(p).status is Status.INFEASIBLE
+    assert solve_branch_and_bound(p).status is Status.INFEASIBLE
 
 
 def test_auto_reports_who_answered_and_is_optimal_on_small_end() -> None:
@@ -127,22 +128,38 @@ def test_bad_inputs() -> None:
     with pytest.raises(InvalidInputError, match="seed"):
         solve(p, backend="greedy", seed=-1)
     acts = (np.zeros((2, 1, 3)),)
+    belief = WeightedParticles(np.zeros((3, 2)), np.ones(3))
     with pytest.raises(InvalidInputError, match="weights"):
-        AssignmentProblem(acts, np.zeros((3, 2)), -np.ones(3), DiscSensor())
+        WeightedParticles(np.zeros((3, 2)), -np.ones(3))
     with pytest.raises(InvalidInputError, match="positions"):
-        AssignmentProblem(acts, np.zeros((3, 4)), np.ones(3), DiscSensor())
+        WeightedParticles(np.zeros((3, 4)), np.ones(3))
+    with pytest.raises(InvalidInputError, match=r"belief\.weights"):
+        AssignmentProblem(acts, _RawBelief(np.zeros((3, 2)), -np.ones(3)), DiscSensor())
+    with pytest.raises(InvalidInputError, match="belief"):
+        AssignmentProblem(acts, np.zeros((3, 2)), DiscSensor())  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError, match="actions"):
-        AssignmentProblem((np.zeros((0, 1, 3)),), np.zeros((3, 2)), np.ones(3), DiscSensor())
+        AssignmentProblem((np.zeros((0, 1, 3)),), belief, DiscSensor())
     with pytest.raises(InvalidInputError, match="actions"):
-        AssignmentProblem((np.zeros((2, 1, 3)), np.zeros((2, 2, 3))), np.zeros((3, 2)),
-                          np.ones(3), DiscSensor())
+        AssignmentProblem((np.zeros((2, 1, 3)), np.zeros((2, 2, 3))), belief, DiscSensor())
     with pytest.raises(InvalidInputError, match="sensor"):
-        AssignmentProblem(acts, np.zeros((3, 2)), np.ones(3), object())  # type: ignore[arg-type]
+        AssignmentProblem(acts, belief, object())  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="objective"):
+        AssignmentProblem(acts, belief, DiscSensor(), objective="end")  # type: ignore[arg-type]
     with pytest.raises(InvalidInputError, match="min_separation_m"):
-        AssignmentProblem(acts, np.zeros((3, 2)), np.ones(3), DiscSensor(), min_separation_m=-1)
+        AssignmentProblem(acts, belief, DiscSensor(), min_separation_m=-1)
     with pytest.raises(InvalidInputError, match="origins"):
-        AssignmentProblem(acts, np.zeros((3, 2)), np.ones(3), DiscSensor(),
-                          origins=np.zeros((2, 3)))
+        AssignmentProblem(acts, belief, DiscSensor(), origins=np.zeros((2, 3)))
+
+
+class _RawBelief:
+    """A particle belief that checks nothing (so the problem's own checks are exercised)."""
+
+    def __init__(self, positions: np.ndarray, weights: np.ndarray) -> None:
+        self.positions = positions
+        self.weights = weights
+
+    def expected_count(self) -> float:
+        return float(self.weights.sum())
 
 
 def test_tiny_time_limit_returns_a_valid_result() -> None:
@@ -159,7 +176,7 @@ def test_bnb_and_ip_agree_with_collisions_on_larger_instances(seed: int) -> None
     """Branch and bound and the IP find the same optimal END with collision constraints."""
     rng = np.random.default_rng(300 + seed)
     p = random_problem(rng, robots=4, actions=8, steps=2, particles=150, separation=12.0)
-    a, b = solve_bnb(p, time_limit_s=30.0), solve_exact(p, time_limit_s=30.0)
+    a, b = solve_branch_and_bound(p, time_limit_s=30.0), solve_exact(p, time_limit_s=30.0)
     brute = solve_brute_force(p, time_limit_s=30.0)
     assert a.status is Status.OPTIMAL and b.status is Status.OPTIMAL
     assert a.objective == pytest.approx(brute.objective, rel=1e-9)

@@ -1,4 +1,4 @@
-"""Closed-loop search (paper 004) and tracking (paper 003) episodes with the PHD filter."""
+"""Closed-loop search episodes of paper 004 with the PHD filter in the loop."""
 
 from __future__ import annotations
 
@@ -6,14 +6,8 @@ import numpy as np
 import pytest
 
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.plan.search.lawnmower import lawnmower_3d
-from searchtrack.sim.phd_search import (
-    SearchConfig,
-    TrackConfig,
-    run_search_episode,
-    run_track_episode,
-    taxi_world,
-)
+from searchtrack.plan.search import EmptyHorizonMI, NoRefinement, lawnmower_3d
+from searchtrack.sim.experiments.phd_search import SearchConfig, run_search_episode
 
 BOX = np.array([[0.0, 96.0]] * 3)
 
@@ -72,8 +66,8 @@ def test_unfinished_episode_reports_the_cap() -> None:
 
 def test_refinement_only_uses_no_exploration() -> None:
     """The refinement-only baseline is the planner with α = 0."""
-    assert small("refinement").receding().alpha == 0.0
-    assert small("proposed", alpha=2.0).receding().alpha == 2.0
+    assert small("refinement").settings().alpha == 0.0
+    assert small("proposed", alpha=2.0).settings().alpha == 2.0
 
 
 @pytest.mark.parametrize(("kwargs", "field"), [
@@ -82,7 +76,8 @@ def test_refinement_only_uses_no_exploration() -> None:
     ({"max_steps": 0}, "max_steps"),
     ({"horizon": 0}, "horizon"),
     ({"alpha": -1.0}, "alpha"),
-    ({"refinement": "none"}, "refinement"),
+    ({"refinement": NoRefinement()}, "refinement"),
+    ({"refinement": "mi"}, "refinement"),
     ({"step_m": 0.0}, "step_m"),
     ({"bounds": np.zeros((3, 2))}, "bounds"),
     ({"start": np.array([500.0, 0.0, 0.0])}, "start"),
@@ -103,57 +98,9 @@ def test_bad_seed_is_rejected() -> None:
         run_search_episode(small("proposed"), -1)
 
 
-def tiny_track(planner: str, motion: str = "random_walk") -> TrackConfig:
-    return TrackConfig(planner=planner, motion=motion, robots=2, horizon=1,  # type: ignore[arg-type]
-                       steps=6, n_targets=6, n_training=8, particles=500, max_particles=2000,
-                       plan_particles=200)
-
-
-@pytest.mark.parametrize("planner", ["end", "mi", "lawnmower"])
-def test_track_episode_is_deterministic(planner: str) -> None:
-    """Tracking episodes repeat exactly for a seed and log sane metrics."""
-    cfg = tiny_track(planner)
-    world = taxi_world(cfg, 1)
-    a = run_track_episode(cfg, world, 4)
-    b = run_track_episode(cfg, world, 4)
-    for name in ("count_ratio", "entropy", "in_view", "ospa_m", "altitude_m"):
-        np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
-    assert a.count_ratio.shape == (6,)
-    assert np.all((a.in_view >= 0.0) & (a.in_view <= 1.0))
-    assert np.all((a.ospa_m >= 0.0) & (a.ospa_m <= 50.0))
-    assert np.all(a.altitude_m >= 20.0 - 1e-9)
-
-
-def test_taxi_world_truth_stays_on_the_area() -> None:
-    """Ground truth has one row per step and stays on the road grid."""
-    cfg = tiny_track("end")
-    world = taxi_world(cfg, 0)
-    assert world.truth.shape == (7, 6, 2)
-    assert world.field is None
-    area = cfg.area
-    assert np.all((world.truth >= area[:, 0] - 1e-6) & (world.truth <= area[:, 1] + 1e-6))
-
-
-def test_gp_motion_needs_a_fitted_field() -> None:
-    """A world built without the GP cannot run the GP model."""
-    world = taxi_world(tiny_track("end"), 0)
-    with pytest.raises(InvalidInputError, match="world"):
-        run_track_episode(tiny_track("end", motion="gp"), world, 0)
-
-
-@pytest.mark.parametrize(("kwargs", "field"), [
-    ({"planner": "random"}, "planner"),
-    ({"motion": "cv"}, "motion"),
-    ({"robots": 0}, "robots"),
-    ({"horizon": 0}, "horizon"),
-    ({"dt_s": 0.0}, "dt_s"),
-    ({"blocks": 1}, "blocks"),
-    ({"one_way_fraction": 2.0}, "one_way_fraction"),
-    ({"min_separation_m": -1.0}, "min_separation_m"),
-    ({"camera": None}, "camera"),
-])
-def test_bad_track_config_names_the_field(kwargs: dict[str, object], field: str) -> None:
-    """Every bad tracking setting raises InvalidInputError naming the field."""
-    with pytest.raises(InvalidInputError) as err:
-        TrackConfig(**kwargs)  # type: ignore[arg-type]
-    assert err.value.field == field
+def test_mi_refinement_episode_runs_and_repeats() -> None:
+    """The proposed planner with MI refinement repeats exactly for a seed."""
+    a = run_search_episode(small("proposed", refinement=EmptyHorizonMI(), max_steps=25), 2)
+    b = run_search_episode(small("proposed", refinement=EmptyHorizonMI(), max_steps=25), 2)
+    np.testing.assert_array_equal(a.path, b.path)
+    assert a.path.shape[1] == 3

@@ -1,27 +1,22 @@
-"""The ``searchtrack`` command: solve and benchmark planning problems from the shell."""
+"""``searchtrack optw solve`` and ``searchtrack optw bench``: OPTW instance files solved by any
+backend, summarised in a table, optionally written as JSON."""
 
 from __future__ import annotations
 
 import argparse
 import csv
 import json
-import logging
-import sys
-from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from rich.console import Console
-from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from searchtrack import cli_mission
+from searchtrack.cli.common import int_at_least, positive_float
 from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.result import Result, Status
-from searchtrack.plan.optw import OPTWInstance, Routes, read_optw
-from searchtrack.plan.optw.solve import BACKENDS, solve
-from searchtrack.sim.track_job import add_track_parser
+from searchtrack.plan.optw import BACKENDS, OPTWInstance, Routes, read_optw, solve
 
 
 def result_json(inst: OPTWInstance, result: Result[Routes]) -> dict[str, Any]:
@@ -66,7 +61,8 @@ def _load(path: Path, args: argparse.Namespace) -> OPTWInstance:
     return read_optw(path, decimals=args.decimals, vehicles=args.vehicles)
 
 
-def _cmd_solve(args: argparse.Namespace, console: Console) -> int:
+def solve_command(args: argparse.Namespace, console: Console) -> int:
+    """Handler of ``searchtrack optw solve``."""
     inst = _load(Path(args.file), args)
     with console.status(f"solving {inst.name} with {args.backend} ({args.time_limit:g} s)"):
         result = solve(inst, backend=args.backend, time_limit_s=args.time_limit, seed=args.seed)
@@ -88,7 +84,8 @@ def _cmd_solve(args: argparse.Namespace, console: Console) -> int:
     return 0 if result.status is not Status.ERROR else 1
 
 
-def _cmd_bench(args: argparse.Namespace, console: Console) -> int:
+def bench_command(args: argparse.Namespace, console: Console) -> int:
+    """Handler of ``searchtrack optw bench``."""
     directory = Path(args.dir)
     if not directory.is_dir():
         raise SearchtrackError(f"{directory}: not a directory")
@@ -134,38 +131,15 @@ def _cmd_bench(args: argparse.Namespace, console: Console) -> int:
     return 0 if all(r["status"] != "ERROR" for r in records) else 1
 
 
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"must be positive: {text!r}")
-    return value
-
-
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be ≥ 1: {text!r}")
-    return value
-
-
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of the ``searchtrack`` command."""
-    parser = argparse.ArgumentParser(prog="searchtrack", description=__doc__)
-    parser.add_argument("-v", "--verbose", action="store_true", help="log solver progress")
-    sub = parser.add_subparsers(dest="group", required=True)
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Register ``optw solve`` and ``optw bench`` on the top-level subparsers."""
     optw = sub.add_parser("optw", help="orienteering with time windows (team OPTW)")
     osub = optw.add_subparsers(dest="command", required=True)
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--backend", default="auto", choices=BACKENDS.names())
-    common.add_argument("--time-limit", type=_positive_float, default=10.0, metavar="S",
+    common.add_argument("--time-limit", type=positive_float, default=10.0, metavar="S",
                         help="seconds per instance (default 10)")
-    common.add_argument("--vehicles", type=_positive_int, default=1, metavar="M",
+    common.add_argument("--vehicles", type=int_at_least(1), default=1, metavar="M",
                         help="number of routes (default 1)")
     common.add_argument("--seed", type=int, default=0)
     common.add_argument("--decimals", type=int, default=None,
@@ -173,31 +147,9 @@ def build_parser() -> argparse.ArgumentParser:
     common.add_argument("--json", metavar="OUT", help="write the result(s) as JSON")
     p_solve = osub.add_parser("solve", parents=[common], help="solve one instance file")
     p_solve.add_argument("file")
-    p_solve.set_defaults(run=_cmd_solve)
+    p_solve.set_defaults(run=solve_command)
     p_bench = osub.add_parser("bench", parents=[common], help="solve every *.txt under DIR")
     p_bench.add_argument("dir")
     p_bench.add_argument("--optima", metavar="CSV", help="known optima (default: optima.csv "
                          "in DIR or its parents)")
-    p_bench.set_defaults(run=_cmd_bench)
-    cli_mission.add_parser(sub)
-    add_track_parser(sub)
-    return parser
-
-
-def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``searchtrack`` console script."""
-    args = build_parser().parse_args(argv)
-    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
-                        format="%(levelname)s %(name)s: %(message)s")
-    console = Console()
-    err = Console(stderr=True)
-    try:
-        code: int = args.run(args, console)
-    except (SearchtrackError, ValueError) as exc:
-        err.print("[bold red]error:[/]", escape(str(exc)), soft_wrap=True)
-        return 2
-    return code
-
-
-if __name__ == "__main__":
-    sys.exit(main())
+    p_bench.set_defaults(run=bench_command)

@@ -1,4 +1,4 @@
-"""Paper 004 and 003 comparisons: idealised search, closed-loop PHD search and PHD tracking.
+"""Paper 004 comparisons: idealised search and closed-loop search with the SMC-PHD filter.
 
 Subcommands (each prints a Markdown table with the paper's claim beside the measured numbers):
 
@@ -9,16 +9,14 @@ Subcommands (each prints a Markdown table with the paper's claim beside the meas
   (perfect localisation). Planners: the receding-horizon exploration planner (τ = 1, 2, 3, 12 m
   lattice moves, refinement off) and the 3-D lawnmower (48 m line and layer spacing, 12 m steps).
 - ``search``: 004 Algorithm 1 with the SMC-PHD filter in the loop
-  (:mod:`searchtrack.sim.phd_search_004`): proposed (exploration + centre-probability
+  (:mod:`searchtrack.sim.experiments.phd_search`): proposed (exploration + centre-probability
   refinement, τ = 1) vs 3-D lawnmower vs refinement only (α = 0); steps until every target has a
   saved estimate within 5 m, mean with a 95 % t-interval over seeds.
 - ``horizon``: the same closed loop, proposed planner with τ = 1, 2, 3 (004 E1).
-- ``track``: 003's closed loop (:mod:`searchtrack.sim.phd_search`): greedy END vs greedy MI vs
-  lawnmower for R = 2, 4, 6 UAVs, GP (learned) vs random-walk filter motion, on taxi-like traces;
-  means over the second half of each episode and over seeds.
 
-Run: ``.venv/bin/python benchmarks/assign_experiments.py {ideal,search,horizon,track} [--seeds N]``
-(``--help`` on a subcommand lists its options).
+Run: ``.venv/bin/python benchmarks/phd_search_experiments.py {ideal,search,horizon} [--seeds N]``
+(``--help`` on a subcommand lists its options). Paper 003's tracking comparison is
+``benchmarks/phd_tracking_experiments.py``.
 """
 
 from __future__ import annotations
@@ -35,22 +33,22 @@ from scipy import stats
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from searchtrack.models.range_sensor import RangeBearingElevationSensor
-from searchtrack.plan.assign.exploration import ExplorationBonus
-from searchtrack.plan.search.lawnmower import lawnmower_3d
-from searchtrack.plan.search.receding import RecedingConfig, plan_search_step
-from searchtrack.sim.phd_search import (
-    SearchConfig,
-    SearchEpisode,
-    TrackConfig,
-    TrackEpisode,
-    run_search_episode,
-    run_track_episode,
-    taxi_world,
+from searchtrack.plan.search import (
+    CentreProbability,
+    EmptyHorizonMI,
+    ExplorationBonus,
+    NoRefinement,
+    SearchProblem,
+    SearchSettings,
+    lawnmower_3d,
+    solve,
 )
+from searchtrack.sim.experiments.phd_search import SearchConfig, SearchEpisode, run_search_episode
 
 FloatArray = NDArray[np.float64]
 BOX = np.array([[-20.0, 260.0]] * 3)
 SENSOR = RangeBearingElevationSensor(gain=0.98, fov_m=25.0, sigma=1.0)
+REFINEMENTS = {"centre": CentreProbability(), "mi": EmptyHorizonMI()}
 
 
 def run(planner: str, seed: int, max_steps: int, resolution_m: float) -> tuple[int, float]:
@@ -62,7 +60,7 @@ def run(planner: str, seed: int, max_steps: int, resolution_m: float) -> tuple[i
     bonus = ExplorationBonus(BOX, resolution_m)
     path = lawnmower_3d(BOX, 48.0, 48.0, 12.0) if planner == "lawnmower" else None
     tau = int(planner[-1]) if planner.startswith("tau") else 1
-    config = RecedingConfig(step_m=12.0, horizon=tau, refinement="none")
+    settings = SearchSettings(step_m=12.0, horizon=tau, refinement=NoRefinement())
     spent = 0.0
     for k in range(max_steps):
         pd = SENSOR.detection_probability(position, targets)
@@ -73,8 +71,10 @@ def run(planner: str, seed: int, max_steps: int, resolution_m: float) -> tuple[i
         if path is not None:
             position = path[min(k + 1, len(path) - 1)]
         else:
-            bonus.update(SENSOR, position)
-            position = plan_search_step(position, BOX, bonus, SENSOR, config).waypoint
+            bonus = bonus.updated(SENSOR, position)
+            answer = solve(SearchProblem(position, BOX, bonus, SENSOR, settings))
+            assert answer.plan is not None, answer.message
+            position = answer.plan.waypoint
         spent += time.perf_counter() - t0
     return max_steps + 1, 1e3 * spent / max_steps
 
@@ -146,7 +146,7 @@ def search(args: argparse.Namespace) -> None:
     for planner in ("proposed", "lawnmower", "refinement"):
         t0 = time.perf_counter()
         cfg = SearchConfig(planner=planner, max_steps=cap, alpha=args.alpha,  # type: ignore[arg-type]
-                           refinement=args.refinement)
+                           refinement=REFINEMENTS[args.refinement])
         eps = [run_search_episode(cfg, seed) for seed in range(args.seeds)]
         print(search_rows(planner, CLAIMS_004[planner], eps, cap), flush=True)
         print(f"<!-- {planner}: {time.perf_counter() - t0:.1f} s -->", file=sys.stderr)
@@ -161,57 +161,12 @@ def horizon(args: argparse.Namespace) -> None:
     for tau in (1, 2, 3):
         t0 = time.perf_counter()
         cfg = SearchConfig(planner="proposed", horizon=tau, max_steps=cap, alpha=args.alpha,
-                           refinement=args.refinement)
+                           refinement=REFINEMENTS[args.refinement])
         eps = [run_search_episode(cfg, seed) for seed in range(args.seeds)]
         claim = ("E1: τ = 1 is statistically indistinguishable from τ = 2, 3 (250 steps)"
                  if tau == 1 else "E1: no better than τ = 1")
         print(search_rows(f"τ = {tau}", claim, eps, cap), flush=True)
         print(f"<!-- tau {tau}: {time.perf_counter() - t0:.1f} s -->", file=sys.stderr)
-
-
-CLAIMS_003 = {
-    "end": "best overall: most targets tracked, lowest entropy/target; flies higher",
-    "mi": "tracks the fewest targets; flies low (≈ LM altitude)",
-    "lawnmower": "highest entropy/target; fixed altitude",
-}
-
-
-def track(args: argparse.Namespace) -> None:
-    """003: END vs MI vs lawnmower for R = 2, 4, 6; GP vs random-walk filter motion."""
-    robots = [int(r) for r in args.robots.split(",")]
-    motions = args.motions.split(",")
-    base = TrackConfig(horizon=args.horizon, steps=args.steps)
-    print(f"closed loop, {args.seeds} seeds × {args.steps} steps of {base.dt_s:g} s, "
-          f"{base.n_targets} taxis on a {base.area[0, 1]:g} m road grid, T = {args.horizon}; "
-          "metrics averaged over the second half of each episode, ± = 95 % t-interval over "
-          "seeds. 003 claim for motion: the GP tracks more targets with less uncertainty "
-          "than the random walk.")
-    print("| R | motion | planner | λ / n | entropy/target (nats) | in view | OSPA m (c = 50) | "
-          "altitude m | planner ms/step | filter ms/step | paper 003 claim |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
-    worlds = {}
-    for motion in motions:
-        cfg = TrackConfig(motion=motion, horizon=args.horizon, steps=args.steps)  # type: ignore[arg-type]
-        worlds[motion] = [taxi_world(cfg, seed) for seed in range(args.seeds)]
-    for r in robots:
-        for motion in motions:
-            for planner in ("end", "mi", "lawnmower"):
-                t0 = time.perf_counter()
-                cfg = TrackConfig(planner=planner, motion=motion,  # type: ignore[arg-type]
-                                  robots=r, horizon=args.horizon, steps=args.steps)
-                eps: list[TrackEpisode] = [run_track_episode(cfg, worlds[motion][seed], seed)
-                                           for seed in range(args.seeds)]
-                cells = []
-                for name, fmt in (("count_ratio", ".2f"), ("entropy", ".2f"),
-                                  ("in_view", ".2f"), ("ospa_m", ".1f"), ("altitude_m", ".0f")):
-                    mean, half = interval(np.array([e.tail_mean(name) for e in eps]))
-                    cells.append(f"{mean:{fmt}} ± {half:{fmt}}")
-                plan = np.mean([e.planner_ms for e in eps])
-                filt = np.mean([e.filter_ms for e in eps])
-                print(f"| {r} | {motion} | {planner} | {' | '.join(cells)} | {plan:.1f} | "
-                      f"{filt:.1f} | {CLAIMS_003[planner]} |", flush=True)
-                print(f"<!-- R{r} {motion} {planner}: {time.perf_counter() - t0:.1f} s -->",
-                      file=sys.stderr)
 
 
 def main() -> None:
@@ -229,16 +184,9 @@ def main() -> None:
         p.add_argument("--max-steps", type=int, default=0,
                        help="step cap (0: the lawnmower's length, 1005)")
         p.add_argument("--alpha", type=float, default=1.0, help="exploration weight α")
-        p.add_argument("--refinement", choices=("centre", "mi"), default="centre",
+        p.add_argument("--refinement", choices=tuple(REFINEMENTS), default="centre",
                        help="refinement term T: centre probabilities (eq. 11) or MI")
         p.set_defaults(func=func)
-    p = sub.add_parser("track", help=track.__doc__)
-    p.add_argument("--seeds", type=int, default=3)
-    p.add_argument("--steps", type=int, default=60)
-    p.add_argument("--horizon", type=int, default=2, help="T, steps per action")
-    p.add_argument("--robots", default="2,4,6")
-    p.add_argument("--motions", default="gp,random_walk")
-    p.set_defaults(func=track)
     args = parser.parse_args()
     args.func(args)
 

@@ -1,4 +1,4 @@
-"""The ``searchtrack`` command: optw solve and bench, JSON output, and clear errors."""
+"""`searchtrack optw`: solve and bench, JSON output, and clear errors."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 
 from searchtrack.cli import main
 
-DATA = Path(__file__).parent / "data" / "optw"
+DATA = Path(__file__).parents[1] / "data" / "optw"
 
 
 def test_solve_prints_summary_and_writes_json(tmp_path: Path, capsys: pytest.CaptureFixture[str]

@@ -1,0 +1,33 @@
+"""Argument types shared by the ``searchtrack`` subcommands (argparse reports their errors)."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable
+
+
+def positive_float(text: str) -> float:
+    """``text`` as a number > 0, else an :class:`argparse.ArgumentTypeError`."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be positive: {text!r}")
+    return value
+
+
+def int_at_least(low: int) -> Callable[[str], int]:
+    """An argument type: the text as an integer ≥ ``low``, else an
+    :class:`argparse.ArgumentTypeError`."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"must be ≥ {low}: {text!r}")
+        return value
+
+    return parse

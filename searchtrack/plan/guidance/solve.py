@@ -1,0 +1,71 @@
+"""Solve one step of guidance by backend name, like every other solver family of searchtrack.
+
+    problem = GuidanceProblem(view, StrategyConfig(), tracker_diffusion)
+    result = solve(problem, backend="search_and_reacquire", time_limit_s=0.03, seed=seed)
+    uavs = step_force(uavs, result.plan.force, dt_s, limits)
+    problem = problem.following(next_view, result.plan)    # carries the routes being flown
+
+The backends are the Ch. 5 strategies (:mod:`searchtrack.plan.guidance.strategies`).
+"""
+
+from __future__ import annotations
+
+import logging
+
+from searchtrack.core.registry import Backend, Registry
+from searchtrack.core.result import Result
+from searchtrack.plan.guidance.problem import GuidanceProblem
+from searchtrack.plan.guidance.strategies import (
+    solve_loiter,
+    solve_search,
+    solve_search_and_loiter,
+    solve_search_and_reacquire,
+)
+from searchtrack.plan.guidance.view import Guidance
+
+log = logging.getLogger("searchtrack.plan.guidance")
+
+#: The guidance strategies by name.
+BACKENDS: Registry[GuidanceProblem, Guidance] = Registry("guidance")
+BACKENDS.register(Backend("search", solve_search, False,
+                          "every UAV searches: ∇R + ∇P + ∇Q (5.12)"))
+BACKENDS.register(Backend("loiter", solve_loiter, False,
+                          "paired UAVs loiter over their tracker's peak, the rest search (5.15)"))
+BACKENDS.register(Backend("search_and_loiter", solve_search_and_loiter, False,
+                          "paired UAVs loiter while their tracker's peak is ≤ ϱ (5.16)"))
+BACKENDS.register(Backend("search_and_reacquire", solve_search_and_reacquire, False,
+                          "as search-and-loiter, but a fading tracker's UAV flies an OPTW route "
+                          "over its likely nodes (5.33)"))
+
+
+def solve(problem: GuidanceProblem, *, backend: str = "search_and_reacquire",
+          time_limit_s: float = 0.03, seed: int = 0) -> Result[Guidance]:
+    """The forces, modes and routes of one step with the named guidance backend.
+
+    Parameters
+    ----------
+    problem
+        The step: view, configuration, tracker predictor and the routes being flown.
+    backend
+        ``"search"``, ``"loiter"``, ``"search_and_loiter"`` or ``"search_and_reacquire"``.
+    time_limit_s
+        The step's planning budget: the reacquisition OPTW solves of the step share it.
+    seed
+        Seeds the gradient tie-break and the OPTW solves (a mission draws one per step).
+
+    Returns
+    -------
+    Result
+        ``FEASIBLE`` with the :class:`~searchtrack.plan.guidance.view.Guidance` as plan; the
+        objective is the tracker probability the plan sets out to cover (see
+        :mod:`~searchtrack.plan.guidance.strategies`), ``bound`` ``None``.
+
+    Raises
+    ------
+    InvalidInputError
+        Unknown backend, a bad time limit or seed.
+    """
+    chosen = BACKENDS.checked(backend, problem, time_limit_s, seed)
+    result = chosen.solve(problem, time_limit_s=time_limit_s, seed=seed)
+    log.debug("guidance %s at t=%.1f s: %s", backend, problem.view.time_s, result.message)
+    return result
