@@ -13,6 +13,7 @@ TESTS = Path(__file__).parent
 EXEMPT = {
     "core/types.py": "type aliases only",
     "estimate/transport/simplex_kernels.py": "numba kernels, tested through simplex.py's tests",
+    "models/particle_models.py": "protocols only; each implementation's tests check it fits",
     "plan/optw/ils_kernels.py": "numba kernels, tested through ils.py's tests",
     "plan/optw/labelling_kernels.py": "numba kernels, tested through labelling.py's tests",
 }

@@ -1,45 +1,94 @@
 """The ``searchtrack`` command: ``optw`` (:mod:`.optw`), ``mission`` (:mod:`.mission`) and
-``track`` (:mod:`.track`), each a thin shell over the library that prints with rich and exits
-with status 2 and a one-line message on bad input."""
+``track`` (:mod:`.track`), each a thin shell over the library that prints with rich.
+
+Every subcommand checks its output paths before it works (:mod:`.output`), answers bad input with
+one line and status 2, and stops cleanly on Ctrl-C: the first press asks the running solve or
+loop to stop and keeps what is done (written if outputs were asked for), the second aborts at
+once; either way the status is 130.
+"""
 
 from __future__ import annotations
 
 import argparse
 import logging
+import os
+import sys
 from collections.abc import Sequence
+from typing import NoReturn, cast
 
 from rich.console import Console
 from rich.markup import escape
 
 from searchtrack.cli import mission, optw, track
 from searchtrack.core.errors import SearchtrackError
+from searchtrack.core.interrupt import Aborted, sigint_stops, stop_requested
 
 DESCRIPTION = "The ``searchtrack`` command: solve and benchmark planning problems from the shell."
 """What ``searchtrack --help`` says first."""
 
+#: Exit statuses of every subcommand.
+EXIT_OK, EXIT_NO_PLAN, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+
+EPILOG = ("exit status: 0 solved; 1 no plan (or, for bench, some instance failed); 2 bad input; "
+          "130 interrupted (Ctrl-C stops cleanly and keeps what was done; a second Ctrl-C "
+          "aborts at once)")
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line (and exit status 2)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``searchtrack`` command."""
-    parser = argparse.ArgumentParser(prog="searchtrack", description=DESCRIPTION)
+    parser = _Parser(prog="searchtrack", description=DESCRIPTION, epilog=EPILOG)
     parser.add_argument("-v", "--verbose", action="store_true", help="log solver progress")
-    sub = parser.add_subparsers(dest="group", required=True)
+    sub = cast("argparse._SubParsersAction[argparse.ArgumentParser]",
+               parser.add_subparsers(dest="group", required=True))
     optw.add_parser(sub)
     mission.add_parser(sub)
     track.add_parser(sub)
+    for group in sub.choices.values():
+        _add_epilog(group)
     return parser
 
 
+def _add_epilog(parser: argparse.ArgumentParser) -> None:
+    """Every (sub)command's help ends with the exit statuses."""
+    parser.epilog = EPILOG
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for child in action.choices.values():
+                _add_epilog(child)
+
+
+def _abort() -> None:
+    """The second Ctrl-C: leave at once, even from inside a native solver (files are written
+    atomically, so none is left half-written)."""
+    sys.stderr.write("aborted on a second Ctrl-C\n")
+    sys.stderr.flush()
+    os._exit(EXIT_INTERRUPTED)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``searchtrack`` console script."""
+    """Entry point of the ``searchtrack`` console script; returns the exit status."""
     args = build_parser().parse_args(argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")
     console = Console()
     err = Console(stderr=True)
     try:
-        code: int = args.run(args, console)
+        with sigint_stops(abort=_abort):
+            code: int = args.run(args, console)
+            if stop_requested():
+                err.print("[bold yellow]interrupted:[/] stopped on Ctrl-C; kept what was done")
+                code = EXIT_INTERRUPTED
+    except (Aborted, KeyboardInterrupt):
+        err.print("[bold red]aborted[/] on a second Ctrl-C")
+        return EXIT_INTERRUPTED
     except (SearchtrackError, ValueError) as exc:
         err.print("[bold red]error:[/]", escape(str(exc)), soft_wrap=True)
-        return 2
+        return EXIT_BAD_INPUT
     return code
-

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable
 
+from searchtrack.core.registry import MAX_SEED
+
 
 def positive_float(text: str) -> float:
     """``text`` as a number > 0, else an :class:`argparse.ArgumentTypeError`."""
@@ -31,3 +33,23 @@ def int_at_least(low: int) -> Callable[[str], int]:
         return value
 
     return parse
+
+
+def int_in(low: int, high: int) -> Callable[[str], int]:
+    """An argument type: the text as an integer in ``[low, high]``, else an
+    :class:`argparse.ArgumentTypeError` naming the range."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"must be in [{low}, {high}]: {text!r}")
+        return value
+
+    return parse
+
+
+seed_arg = int_in(0, MAX_SEED)
+"""An argument type for seeds: every backend takes ``[0, MAX_SEED]``."""

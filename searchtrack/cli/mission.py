@@ -12,6 +12,10 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
+from searchtrack.cli.common import positive_float, seed_arg
+from searchtrack.cli.output import output_dir
+from searchtrack.core.files import write_text_atomic
+from searchtrack.core.interrupt import stop_requested
 from searchtrack.sim.figures import plot_map, plot_moc
 from searchtrack.sim.mission import Mission
 from searchtrack.sim.record import PHASES, MissionLog
@@ -58,8 +62,7 @@ def run_mission(args: argparse.Namespace, console: Console) -> int:
         scenario = dataclasses.replace(scenario, seed=args.seed)
     if args.duration is not None:
         scenario = dataclasses.replace(scenario, duration_s=args.duration)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = output_dir("--out", args.out)
     with console.status(f"building {scenario.map.describe()}"):
         mission = Mission(scenario)
     started = time.perf_counter()
@@ -69,12 +72,15 @@ def run_mission(args: argparse.Namespace, console: Console) -> int:
         task = bar.add_task(f"flying {scenario.name}", total=scenario.n_steps)
         log = mission.run(lambda done, _total: bar.update(task, completed=done))
     wall = time.perf_counter() - started
+    if not log.score.steps:
+        console.print("no step flown: nothing to write")
+        return 0
     console.print(summary_table(log, wall))
     record = log.to_json()
     record["summary"]["wall_s"] = round(wall, 3)
-    (out / "mission.json").write_text(json.dumps(record) + "\n", encoding="utf-8")
-    written = [out / "mission.json", plot_map(log, out / "map.png"),
-               plot_moc(log, out / "moc.png")]
+    record["summary"]["interrupted"] = stop_requested()
+    written = [write_text_atomic(out / "mission.json", json.dumps(record) + "\n"),
+               plot_map(log, out / "map.png"), plot_moc(log, out / "moc.png")]
     console.print("wrote " + ", ".join(str(p) for p in written))
     return 0
 
@@ -87,7 +93,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p_run.add_argument("scenario", help="scenario TOML file")
     p_run.add_argument("--out", default="mission-output", metavar="DIR",
                        help="output directory (default: mission-output)")
-    p_run.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
-    p_run.add_argument("--duration", type=float, default=None, metavar="S",
+    p_run.add_argument("--seed", type=seed_arg, default=None, help="override the scenario's seed")
+    p_run.add_argument("--duration", type=positive_float, default=None, metavar="S",
                        help="override the scenario's duration (s)")
     p_run.set_defaults(run=run_mission)

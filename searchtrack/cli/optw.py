@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import argparse
 import csv
+import io
 import json
+import math
 from pathlib import Path
 from typing import Any
 
@@ -13,10 +15,15 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from searchtrack.cli.common import int_at_least, positive_float
-from searchtrack.core.errors import SearchtrackError
+from searchtrack.cli.common import int_at_least, int_in, positive_float, seed_arg
+from searchtrack.cli.output import output_file
+from searchtrack.core.errors import ParseError, SearchtrackError
+from searchtrack.core.files import read_text, write_text_atomic
+from searchtrack.core.interrupt import stop_requested
+from searchtrack.core.registry import MAX_SEED
 from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw import BACKENDS, OPTWInstance, Routes, read_optw, solve
+from searchtrack.plan.optw.io import MAX_DECIMALS
 
 
 def result_json(inst: OPTWInstance, result: Result[Routes]) -> dict[str, Any]:
@@ -42,12 +49,29 @@ def _num(x: float | None) -> float | int | None:
 
 
 def read_optima(path: Path) -> dict[str, float]:
-    """Known optima by instance name from a CSV with columns ``instance`` and ``optimum``."""
-    with path.open(newline="", encoding="utf-8") as fh:
-        rows = list(csv.DictReader(fh))
+    """Known optima by instance name from a CSV with columns ``instance`` and ``optimum``.
+
+    Raises
+    ------
+    ParseError
+        Naming the file (and line): unreadable, not UTF-8, missing columns, a bad number.
+    """
+    rows = list(csv.DictReader(io.StringIO(read_text(path, max_bytes=2**20))))
     if rows and not {"instance", "optimum"} <= set(rows[0]):
-        raise SearchtrackError(f"{path}: needs columns 'instance' and 'optimum'")
-    return {r["instance"]: float(r["optimum"]) for r in rows if r.get("optimum")}
+        raise ParseError(path, 1, None, "needs columns 'instance' and 'optimum'")
+    optima: dict[str, float] = {}
+    for line, row in enumerate(rows, start=2):
+        text = row.get("optimum")
+        if not text:
+            continue
+        try:
+            value = float(text)
+        except ValueError:
+            raise ParseError(path, line, "optimum", f"not a number: {text!r}") from None
+        if not math.isfinite(value):
+            raise ParseError(path, line, "optimum", f"not a finite number: {text!r}")
+        optima[row["instance"]] = value
+    return optima
 
 
 def _find_optima(directory: Path) -> Path | None:
@@ -61,8 +85,16 @@ def _load(path: Path, args: argparse.Namespace) -> OPTWInstance:
     return read_optw(path, decimals=args.decimals, vehicles=args.vehicles)
 
 
+def exit_status(result: Result[Routes]) -> int:
+    """0 with a plan, 130 when interrupted, 1 otherwise (no plan, infeasible, error)."""
+    if result.status is Status.INTERRUPTED:
+        return 130
+    return 0 if result.status.has_plan else 1
+
+
 def solve_command(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack optw solve``."""
+    json_out = output_file("--json", args.json) if args.json else None
     inst = _load(Path(args.file), args)
     with console.status(f"solving {inst.name} with {args.backend} ({args.time_limit:g} s)"):
         result = solve(inst, backend=args.backend, time_limit_s=args.time_limit, seed=args.seed)
@@ -79,13 +111,21 @@ def solve_command(args: argparse.Namespace, console: Console) -> int:
     if result.message:
         table.add_row("message", result.message)
     console.print(table)
-    if args.json:
-        Path(args.json).write_text(json.dumps(record, indent=2) + "\n", encoding="utf-8")
-    return 0 if result.status is not Status.ERROR else 1
+    if json_out is not None:
+        write_text_atomic(json_out, json.dumps(record, indent=2) + "\n")
+    return exit_status(result)
+
+
+def _error_record(path: Path, reason: str) -> dict[str, Any]:
+    return {"instance": path.stem, "file": str(path), "backend": None, "status": "ERROR",
+            "objective": None, "bound": None, "gap": None, "runtime_s": 0.0, "routes": [],
+            "message": reason}
 
 
 def bench_command(args: argparse.Namespace, console: Console) -> int:
-    """Handler of ``searchtrack optw bench``."""
+    """Handler of ``searchtrack optw bench``: one row per file, an error row for a file that
+    cannot be read or solved (the others go on), the finished rows kept on Ctrl-C."""
+    json_out = output_file("--json", args.json) if args.json else None
     directory = Path(args.dir)
     if not directory.is_dir():
         raise SearchtrackError(f"{directory}: not a directory")
@@ -99,14 +139,24 @@ def bench_command(args: argparse.Namespace, console: Console) -> int:
     for col in ("instance", "profit", "optimum", "gap %", "bound", "status", "time s"):
         table.add_column(col, justify="left" if col in ("instance", "status") else "right")
     gaps: list[float] = []
+    failed = 0
     with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/"
                   "{task.total}"), TimeElapsedColumn(), console=console, transient=True) as bar:
         task = bar.add_task("solving", total=len(files))
         for path in files:
+            if stop_requested():
+                break
             bar.update(task, description=f"solving {path.stem}")
-            inst = _load(path, args)
-            result = solve(inst, backend=args.backend, time_limit_s=args.time_limit,
-                           seed=args.seed)
+            try:
+                inst = _load(path, args)
+                result = solve(inst, backend=args.backend, time_limit_s=args.time_limit,
+                               seed=args.seed)
+            except SearchtrackError as exc:
+                failed += 1
+                records.append(_error_record(path, str(exc)))
+                table.add_row(path.stem, "-", "-", "-", "-", f"ERROR: {exc}", "-")
+                bar.advance(task)
+                continue
             rec = result_json(inst, result)
             known = optima.get(inst.name) if args.vehicles == 1 else None
             rec["optimum"] = _num(known)
@@ -114,10 +164,10 @@ def bench_command(args: argparse.Namespace, console: Console) -> int:
             if known is not None and result.objective is not None:
                 gap = 100.0 * (known - result.objective) / max(known, 1e-9)
                 gaps.append(gap)
+            failed += result.status is Status.ERROR
             records.append(rec)
-            table.add_row(inst.name, str(rec["objective"]), "-" if known is None else
-                          f"{known:g}", "-" if gap is None else f"{gap:.2f}",
-                          "-" if rec["bound"] is None else str(rec["bound"]),
+            table.add_row(inst.name, _cell(rec["objective"]), _cell(known),
+                          "-" if gap is None else f"{gap:.2f}", _cell(rec["bound"]),
                           result.status.name, f"{result.runtime_s:.2f}")
             bar.advance(task)
     console.print(table)
@@ -125,10 +175,19 @@ def bench_command(args: argparse.Namespace, console: Console) -> int:
     if gaps:
         console.print(f"mean gap to known optima: {sum(gaps) / len(gaps):.3f} % "
                       f"over {len(gaps)} instances")
-    console.print(f"proven optimal: {proven} of {len(records)}")
-    if args.json:
-        Path(args.json).write_text(json.dumps(records, indent=2) + "\n", encoding="utf-8")
-    return 0 if all(r["status"] != "ERROR" for r in records) else 1
+    console.print(f"proven optimal: {proven} of {len(records)}"
+                  + (f"; {failed} failed" if failed else "")
+                  + (f"; {len(files) - len(records)} not run (interrupted)"
+                     if len(records) < len(files) else ""))
+    if json_out is not None:
+        write_text_atomic(json_out, json.dumps(records, indent=2) + "\n")
+    return 1 if failed else 0
+
+
+def _cell(value: float | int | None) -> str:
+    if value is None:
+        return "-"
+    return f"{value:g}" if isinstance(value, float) else str(value)
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -141,9 +200,11 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
                         help="seconds per instance (default 10)")
     common.add_argument("--vehicles", type=int_at_least(1), default=1, metavar="M",
                         help="number of routes (default 1)")
-    common.add_argument("--seed", type=int, default=0)
-    common.add_argument("--decimals", type=int, default=None,
-                        help="travel-time decimals (default: inferred; 1 Solomon, 2 Cordeau)")
+    common.add_argument("--seed", type=seed_arg, default=0,
+                        help=f"random seed, 0 to {MAX_SEED} (default 0)")
+    common.add_argument("--decimals", type=int_in(0, MAX_DECIMALS), default=None,
+                        help="travel-time decimals, 0 to 6 (default: inferred; 1 Solomon, "
+                        "2 Cordeau)")
     common.add_argument("--json", metavar="OUT", help="write the result(s) as JSON")
     p_solve = osub.add_parser("solve", parents=[common], help="solve one instance file")
     p_solve.add_argument("file")

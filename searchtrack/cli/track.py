@@ -9,13 +9,15 @@ import argparse
 
 from rich.console import Console
 
-from searchtrack.cli.common import int_at_least
+from searchtrack.cli.common import int_at_least, seed_arg
+from searchtrack.cli.output import output_file
 from searchtrack.sim.track_job import run_track_file
 
 
 def track_command(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack track``."""
-    summary = run_track_file(args.scans, args.out, args.particles, args.seed)
+    out = output_file("--out", args.out)
+    summary = run_track_file(args.scans, out, args.particles, args.seed)
     console.print(f"{summary.scans} scans, {summary.ms_per_scan:.2f} ms/scan, "
                   f"{summary.mean_estimates:.2f} estimates per scan on average, expected "
                   f"count {summary.final_expected_count:.2f} at the end → {summary.out_path}")
@@ -29,6 +31,6 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("scans", metavar="SCANS.json")
     p.add_argument("--particles", type=int_at_least(1), default=None, metavar="N",
                    help="cap on the number of particles (default 10000)")
-    p.add_argument("--seed", type=int_at_least(0), default=0)
+    p.add_argument("--seed", type=seed_arg, default=0, help="random seed (default 0)")
     p.add_argument("--out", required=True, metavar="EST.json")
     p.set_defaults(run=track_command)

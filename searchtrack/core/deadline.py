@@ -16,7 +16,8 @@ from searchtrack.core.interrupt import stop_requested
 
 def check_time_limit(time_limit_s: float) -> float:
     """Return ``time_limit_s`` if it is a positive number of seconds (``inf`` allowed)."""
-    if not isinstance(time_limit_s, (int, float)) or math.isnan(time_limit_s) or time_limit_s <= 0:
+    if (isinstance(time_limit_s, bool) or not isinstance(time_limit_s, (int, float))
+            or math.isnan(time_limit_s) or time_limit_s <= 0):
         raise InvalidInputError("time_limit_s", time_limit_s, "must be positive seconds")
     return float(time_limit_s)
 

@@ -1,10 +1,15 @@
-"""Reading input files safely: every failure names the file, and nothing is read past a limit.
+"""Reading input files safely and writing outputs atomically.
+
+Inputs: every failure names the file, and nothing is read past a limit.
 
 :func:`open_input` refuses what is not a regular file (a folder, ``/dev/zero``, a pipe), files
 larger than a limit, and decompresses bzip2 by its magic bytes while counting what it inflates;
 :func:`read_text` decodes UTF-8 and reports an encoding error with its line. Truncated or
 corrupt compressed data, unreadable files and size overruns all raise
 :class:`~searchtrack.core.errors.ParseError` naming the file.
+
+Outputs: :func:`atomic_path` and :func:`write_text_atomic` write beside the target and rename,
+so a file is either whole or absent, whatever interrupts the write.
 """
 
 from __future__ import annotations
@@ -12,6 +17,8 @@ from __future__ import annotations
 import bz2
 import contextlib
 import io
+import os
+import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import IO, Any
@@ -104,3 +111,28 @@ def read_text(path: str | Path, *, max_bytes: int = MAX_INPUT_BYTES) -> str:
         line = data.count(b"\n", 0, exc.start) + 1
         raise ParseError(path, line, None, f"not UTF-8 text (byte {exc.start}: "
                          f"{data[exc.start:exc.start + 1]!r})") from None
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | Path) -> Iterator[Path]:
+    """A temporary path beside ``path`` to write to (its folder made if missing); renamed onto
+    ``path`` (atomically, on the same file system) when the block ends, removed if it raises.
+    A reader never sees a half-written file; an interrupted write leaves the old file (or none).
+    """
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=target.parent)
+    os.close(fd)
+    temp = Path(name)
+    try:
+        yield temp
+        os.replace(temp, target)
+    finally:
+        temp.unlink(missing_ok=True)
+
+
+def write_text_atomic(path: str | Path, text: str) -> Path:
+    """Write ``text`` (UTF-8) to ``path`` atomically (see :func:`atomic_path`)."""
+    with atomic_path(path) as temp:
+        temp.write_text(text, encoding="utf-8")
+    return Path(path)

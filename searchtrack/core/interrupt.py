@@ -11,9 +11,11 @@ Library code never installs a signal handler: the command line does, with :func:
 
 from __future__ import annotations
 
+import _thread
 import contextlib
 import math
 import signal
+import socket
 import threading
 import time
 from collections.abc import Callable, Iterator
@@ -68,23 +70,69 @@ def watch(on_stop: Callable[[], None], poll_s: float = 0.05) -> Iterator[None]:
 
 
 class Aborted(KeyboardInterrupt):
-    """Raised by the second Ctrl-C inside :func:`sigint_stops`: stop at once."""
+    """Raised in the main thread by the second Ctrl-C inside :func:`sigint_stops`."""
+
+
+def _interrupt_main() -> None:
+    _thread.interrupt_main(signal.SIGINT)
 
 
 @contextlib.contextmanager
-def sigint_stops() -> Iterator[None]:
-    """Inside the block, the first SIGINT requests a cooperative stop and the second raises
-    :class:`Aborted`. The previous handler comes back at the end; the flag is cleared on entry.
-    Only the main thread may use it (a Python rule for signal handlers)."""
+def sigint_stops(abort: Callable[[], None] = _interrupt_main) -> Iterator[None]:
+    """Inside the block, the first SIGINT requests a cooperative stop; the second calls
+    ``abort`` (by default: raise :class:`Aborted` in the main thread as soon as it runs Python).
+
+    A signal reaches Python's own handler only when the main thread runs Python code, which it
+    does not while a native solver (CP-SAT, SCIP, Ipopt) holds it; so the presses are counted by
+    a helper thread woken through :func:`signal.set_wakeup_fd`, which sees them at once. A
+    command line passes an ``abort`` that exits the process (the main thread may be inside a
+    native call for minutes). The previous handler comes back at the end; the flag is cleared
+    on entry. Outside the main thread (where Python allows no handler) it changes nothing.
+    """
     clear_stop()
+    if threading.current_thread() is not threading.main_thread():
+        yield  # only the main thread may set handlers; Ctrl-C keeps its default meaning
+        return
+    aborting = threading.Event()
 
     def handler(signum: int, frame: FrameType | None) -> None:
-        if _STOP.is_set():
+        if aborting.is_set():
             raise Aborted
-        _STOP.set()
+
+    read_fd, write_fd = socket.socketpair()
+    read_fd.setblocking(True)
+    write_fd.setblocking(False)
+    presses = 0
+
+    def count() -> None:
+        nonlocal presses
+        while True:
+            data = read_fd.recv(64)
+            if not data:
+                return
+            for signum in data:
+                if signum == 0:  # the block ended
+                    return
+                if signum != signal.SIGINT or aborting.is_set():
+                    continue
+                presses += 1
+                if presses == 1:
+                    _STOP.set()
+                else:
+                    aborting.set()
+                    abort()
 
     previous = signal.signal(signal.SIGINT, handler)
+    previous_fd = signal.set_wakeup_fd(write_fd.fileno(), warn_on_full_buffer=False)
+    watcher = threading.Thread(target=count, name="searchtrack-sigint", daemon=True)
+    watcher.start()
     try:
         yield
     finally:
+        signal.set_wakeup_fd(previous_fd)
         signal.signal(signal.SIGINT, previous)
+        with contextlib.suppress(OSError):
+            write_fd.send(b"\x00")
+        watcher.join(timeout=1.0)
+        read_fd.close()
+        write_fd.close()

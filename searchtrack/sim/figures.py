@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from searchtrack.core.files import atomic_path
 from searchtrack.sim.record import MissionLog
 
 
@@ -60,10 +61,14 @@ def plot_map(mission: MissionLog, path: Path) -> Path:
     ax.set_xlabel("east (m)")
     ax.set_ylabel("north (m)")
     sc_ = mission.scenario
-    ax.set_title(f"{sc_.name}: {sc_.guidance.strategy}, t = {mission.time_s[-1]:.1f} s")
+    title = f"{sc_.name}: {sc_.guidance.strategy}"
+    if mission.time_s.size:
+        title += f", t = {mission.time_s[-1]:.1f} s"
+    ax.set_title(title)
     ax.legend(loc="upper right", fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, bbox_inches="tight")
+    with atomic_path(path) as temp:
+        fig.savefig(temp, format="png", bbox_inches="tight")
     plt.close(fig)
     return path
 
@@ -84,6 +89,7 @@ def plot_moc(mission: MissionLog, path: Path) -> Path:
     ax.set_title(f"{mission.scenario.name}: measure of completeness")
     fig.legend(loc="lower right", fontsize=7)
     fig.tight_layout()
-    fig.savefig(path)
+    with atomic_path(path) as temp:
+        fig.savefig(temp, format="png")
     plt.close(fig)
     return path

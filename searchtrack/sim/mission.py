@@ -30,6 +30,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate import (
     Association,
@@ -133,6 +135,13 @@ class Mission:
         self.scenario = scenario
         self.world = world if world is not None else World.build(scenario)
         net = self.world.network
+        fits = (("uavs.count", scenario.uav_count, "UAVs start on distinct road nodes")
+                if scenario.uav_start == "random" else None,
+                ("targets.count", scenario.target_count, "targets spawn on the road nodes"))
+        for fit in fits:
+            if fit is not None and fit[1] > net.n_nodes:
+                raise InvalidInputError(fit[0], fit[1], f"more than the {net.n_nodes} road nodes "
+                                        f"of {scenario.map.describe()} ({fit[2]})")
         f = scenario.filter
         self.associator = TimedAssociator(EMDAssociator(net, f.associator, gate_m=f.gate_m))
         detect = (scenario.sensor.pd * scenario.sensor.hit_rate if f.negative_information
@@ -146,7 +155,8 @@ class Mission:
         self.motion = CourierMotion(net, scenario.courier)
 
     def run(self, progress: Progress | None = None) -> MissionLog:
-        """Fly the whole mission (stops early in ``detect`` mode once every target is found)."""
+        """Fly the whole mission (stops early in ``detect`` mode once every target is found,
+        and after the current step when a stop is requested: the log then ends there)."""
         sc = self.scenario
         net = self.world.network
         rng = np.random.default_rng(sc.seed)
@@ -162,6 +172,9 @@ class Mission:
         m = sc.sensor.sensitivity
         self.associator.lap()
         for k in range(sc.n_steps):
+            if stop_requested():
+                log.info("stop requested: mission ends after %d of %d steps", k, sc.n_steps)
+                break
             t_now = (k + 1) * sc.dt_s
             times = StepTimes()
             tic = time.perf_counter()

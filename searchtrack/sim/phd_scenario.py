@@ -50,7 +50,7 @@ def _trajectories(n: int, t: int, box: FloatArray, motion: ConstantVelocity, dt:
                   speed: float, rng: np.random.Generator) -> FloatArray:
     """``(t, n, 4)`` CV trajectories that stay inside ``box``, by rejection in batches."""
     lo, hi = box[:, 0], box[:, 1]
-    kept: list[FloatArray] = []
+    kept: list[FloatArray] = [np.empty((t, 0, 4))]
     while sum(k.shape[1] for k in kept) < n:
         m = 4 * n
         x = np.empty((m, 4))
@@ -70,7 +70,8 @@ def standard_scenario(seed: int, *, n_targets: int = 10, n_scans: int = 100, dt_
                       q: float = 0.5, pd: float = 0.9, sigma_m: float = 10.0,
                       clutter_rate: float = 10.0, area: ArrayLike = STANDARD_AREA,
                       speed_sigma_mps: float = 3.0) -> PHDScenario:
-    """Simulate the standard scenario (defaults) from ``numpy.random.default_rng(seed)``."""
+    """Simulate the standard scenario (defaults) from ``numpy.random.default_rng(seed)``;
+    ``n_targets=0`` gives an empty ``(T, 0, 4)`` truth and clutter-only scans."""
     box = area_array("area", area)
     n = checks.count("n_targets", n_targets, 0)
     t = checks.count("n_scans", n_scans, 1)

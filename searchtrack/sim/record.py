@@ -91,7 +91,7 @@ class MissionLog:
 
     @property
     def step_ms(self) -> FloatArray:
-        """Filter-and-plan milliseconds per step (update, initiate, guide, predict)."""
+        """Filter-and-plan milliseconds per step (associate, update, initiate, guide, predict)."""
         return np.asarray(self.phase_ms[:, 2:].sum(axis=1), dtype=np.float64)
 
     def to_json(self) -> dict[str, Any]:

@@ -15,6 +15,7 @@ from typing import Literal
 
 from searchtrack.core.checks import positive
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.registry import MAX_SEED
 from searchtrack.estimate.association import BACKENDS as ASSOCIATION_BACKENDS
 from searchtrack.models import (
     CourierModel,
@@ -34,6 +35,13 @@ ASSOCIATORS: tuple[str, ...] = tuple(ASSOCIATION_BACKENDS.names())
 STRATEGIES: tuple[str, ...] = tuple(GUIDANCE_BACKENDS.names())
 STARTS = ("random", "center", "edge")
 BUNDLED_MAPS = ("aguascalientes", "West-Oakland")
+
+#: Most road nodes a mission's map may have: the diffusion operators and the per-node fields of a
+#: city map (8602 nodes for the bundled one) scale to this in a few GB.
+MAX_ROAD_NODES = 200_000
+
+#: Most time steps a mission may take (ten days at the thesis's 0.3 s).
+MAX_STEPS = 3_000_000
 
 
 def bundled_map(name: str) -> Path:
@@ -84,6 +92,23 @@ class MapSpec:
         for name in ("rows", "cols", "junctions"):
             if getattr(self, name) < 2:
                 raise InvalidInputError(name, getattr(self, name), "must be ≥ 2")
+        nodes = self.estimated_nodes()
+        if nodes > MAX_ROAD_NODES:
+            raise InvalidInputError(self.kind, self.describe(), f"about {nodes:.3g} road nodes at "
+                                    f"spacing_m={self.spacing_m:g}, above the {MAX_ROAD_NODES} a "
+                                    "mission can hold in memory")
+
+    def estimated_nodes(self) -> float:
+        """Road nodes the synthetic map will have after resampling (an estimate: a grid's
+        ``rows·cols`` junctions plus its streets' length / spacing; a random network's
+        junctions times its mean street length / spacing); 0 for an OSM file (read to know)."""
+        if self.kind == "grid":
+            streets_m = (self.rows * (self.cols - 1) + self.cols * (self.rows - 1)) * self.block_m
+            return self.rows * self.cols + streets_m / self.spacing_m
+        if self.kind == "random":
+            mean_street_m = self.extent_m / math.sqrt(self.junctions)
+            return self.junctions * (1.0 + 1.5 * mean_street_m / self.spacing_m)
+        return 0.0
 
     def build(self) -> RoadNetwork:
         """The road network (largest connected component, resampled)."""
@@ -272,8 +297,12 @@ class Scenario:
         if self.sensor.position_noise_m <= 0.0:
             raise InvalidInputError("sensor.position_noise_m", self.sensor.position_noise_m,
                                     "the trackers need a positive position noise")
-        if self.seed < 0:
-            raise InvalidInputError("seed", self.seed, "must be ≥ 0")
+        if not 0 <= self.seed <= MAX_SEED:
+            raise InvalidInputError("seed", self.seed, f"must be in [0, {MAX_SEED}]")
+        steps = self.duration_s / self.dt_s
+        if steps > MAX_STEPS:
+            raise InvalidInputError("duration_s", self.duration_s, f"{steps:.3g} steps of dt_s="
+                                    f"{self.dt_s:g}, above the {MAX_STEPS} a mission may take")
 
     @property
     def n_steps(self) -> int:

@@ -8,6 +8,7 @@ import tomllib
 from pathlib import Path
 
 from searchtrack.core.errors import InvalidInputError, ParseError
+from searchtrack.core.files import read_text
 from searchtrack.models import CourierModel, DubinsLimits, SensorModel
 from searchtrack.models.lrt_sensor import AltitudeModel
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
@@ -27,6 +28,9 @@ from searchtrack.sim.toml_fields import Table
 
 MPS_PER_MPH = 0.44704
 
+#: Largest scenario file read (bytes).
+MAX_SCENARIO_BYTES = 2**20
+
 
 def load_scenario(path: str | Path) -> Scenario:
     """The scenario in TOML file ``path``.
@@ -38,10 +42,7 @@ def load_scenario(path: str | Path) -> Scenario:
         mistyped or out-of-range field.
     """
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ParseError(p, None, None, f"cannot read scenario: {exc.strerror or exc}") from None
+    text = read_text(p, max_bytes=MAX_SCENARIO_BYTES)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -9,6 +9,10 @@ from typing import Any
 
 from searchtrack.core.errors import ParseError
 
+#: Largest magnitude of a scenario number: far past any physical value in SI units (a
+#: continent is 1e7 m), small enough that squares and sums never overflow.
+MAX_MAGNITUDE = 1e9
+
 
 class Table:
     """A TOML table read field by field; unknown keys are reported by :meth:`done`.
@@ -68,6 +72,8 @@ class Table:
         x = float(value)
         if not math.isfinite(x):
             raise self.fail(name, f"must be finite, got {value!r}")
+        if abs(x) > MAX_MAGNITUDE:
+            raise self.fail(name, f"must be within ±{MAX_MAGNITUDE:g} (SI units), got {value!r}")
         if positive and x <= 0.0:
             raise self.fail(name, f"must be > 0, got {value!r}")
         if minimum is not None and x < minimum:

@@ -32,6 +32,8 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from searchtrack.core.errors import ParseError
+from searchtrack.core.files import read_text, write_text_atomic
+from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.phd import PHDConfig, PHDState, SensorScan, step
 from searchtrack.models.motion import ConstantVelocity, RandomWalk, Static
@@ -39,6 +41,15 @@ from searchtrack.models.particle_models import MotionModel
 from searchtrack.models.position_sensor import PositionSensor
 
 MOTION_MODELS = ("cv", "rw", "static")
+
+#: Largest SCANS.json read (bytes): about a million detections.
+MAX_SCANS_BYTES = 64 * 2**20
+
+#: Physical ranges a SCANS.json value must lie in: coordinates and lengths (m, a continent),
+#: the scan interval (s, a day), rates (clutter per scan, birth mass, process noise).
+MAX_DISTANCE_M = 1e7
+MAX_DT_S = 86_400.0
+MAX_RATE = 1e6
 
 
 @dataclass(frozen=True)
@@ -101,19 +112,25 @@ class _Reader:
     def point(self, value: Any, field: str) -> list[float]:
         if not isinstance(value, list) or len(value) != 2:
             raise self.fail(field, f"must be a list of 2 numbers (x, y), got {value!r}")
-        return [self.number(v, f"{field}[{i}]") for i, v in enumerate(value)]
+        return [self.number(v, f"{field}[{i}]", low=-MAX_DISTANCE_M, high=MAX_DISTANCE_M)
+                for i, v in enumerate(value)]
 
 
 def _motion(r: _Reader, spec: dict[str, Any]) -> MotionModel:
     name = r.get(spec, "model", "motion.")
     if name not in MOTION_MODELS:
         raise r.fail("motion.model", f"must be one of {MOTION_MODELS}, got {name!r}")
+    known = {"cv": ("model", "q"), "rw": ("model", "sigma"), "static": ("model",)}[name]
+    unknown = sorted(set(spec) - set(known))
+    if unknown:
+        raise r.fail(f"motion.{unknown[0]}", f"unknown key for model {name!r}; expected one of "
+                     f"{list(known)}")
     if name == "cv":
         return ConstantVelocity(r.number(r.get(spec, "q", "motion."), "motion.q", low=0.0,
-                                         low_open=True))
+                                         low_open=True, high=MAX_RATE))
     if name == "rw":
         return RandomWalk(r.number(r.get(spec, "sigma", "motion."), "motion.sigma", low=0.0,
-                                   low_open=True))
+                                   low_open=True, high=MAX_DISTANCE_M))
     return Static()
 
 
@@ -132,9 +149,7 @@ def read_scans(path: str | Path) -> TrackJob:
     p = Path(path)
     r = _Reader(p)
     try:
-        raw = json.loads(p.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise ParseError(p, None, None, f"cannot read: {exc.strerror}") from None
+        raw = json.loads(read_text(p, max_bytes=MAX_SCANS_BYTES))
     except json.JSONDecodeError as exc:
         raise ParseError(p, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
     top = r.obj(raw, "(top level)")
@@ -144,13 +159,15 @@ def read_scans(path: str | Path) -> TrackJob:
     area = np.array([r.point(v, f"area[{i}]") for i, v in enumerate(area_raw)])
     if not np.all(area[:, 1] > area[:, 0]):
         raise r.fail("area", f"must have x0 < x1 and y0 < y1 (non-empty), got {area_raw!r}")
-    dt = r.number(r.get(top, "dt"), "dt", low=0.0, low_open=True)
+    dt = r.number(r.get(top, "dt"), "dt", low=0.0, low_open=True, high=MAX_DT_S)
     sensor = r.obj(r.get(top, "sensor"), "sensor")
     pd = r.number(r.get(sensor, "pd", "sensor."), "sensor.pd", low=0.0, high=1.0)
-    sigma = r.number(r.get(sensor, "sigma", "sensor."), "sensor.sigma", low=0.0, low_open=True)
-    clutter = r.number(r.get(sensor, "clutter_rate", "sensor."), "sensor.clutter_rate", low=0.0)
+    sigma = r.number(r.get(sensor, "sigma", "sensor."), "sensor.sigma", low=0.0, low_open=True,
+                     high=MAX_DISTANCE_M)
+    clutter = r.number(r.get(sensor, "clutter_rate", "sensor."), "sensor.clutter_rate", low=0.0,
+                       high=MAX_RATE)
     motion = _motion(r, r.obj(r.get(top, "motion"), "motion"))
-    birth = r.number(top.get("birth_weight", 0.25), "birth_weight", low=0.0)
+    birth = r.number(top.get("birth_weight", 0.25), "birth_weight", low=0.0, high=MAX_RATE)
     for where, obj, known in (("", top, _TOP_KEYS), ("sensor.", sensor, _SENSOR_KEYS)):
         unknown = sorted(set(obj) - set(known))
         if unknown:
@@ -171,7 +188,9 @@ def read_scans(path: str | Path) -> TrackJob:
 
 def run_track_job(job: TrackJob, config: PHDConfig,
                   seed: int) -> tuple[list[FloatArray], list[float], float]:
-    """Filter every scan: the estimated positions and expected count per scan, and seconds."""
+    """Filter every scan: the estimated positions and expected count per scan, and seconds.
+
+    A stop request ends the run after the current scan: the lists then cover the scans done."""
     rng = np.random.default_rng(seed)
     state = PHDState.empty(job.motion.state_dim, job.motion.position_dim)
     pose = np.zeros(3)
@@ -180,6 +199,8 @@ def run_track_job(job: TrackJob, config: PHDConfig,
     start = time.perf_counter()
     with threadpool_limits(1):
         for z in job.scans:
+            if stop_requested():
+                break
             state, est = step(state, [SensorScan(job.sensor, pose, z)], job.motion, config,
                               job.dt_s, rng)
             estimates.append(est.positions)
@@ -206,12 +227,11 @@ def run_track_file(scans_path: str | Path, out_path: str | Path, particles: int 
         config = dataclasses.replace(config, max_particles=particles,
                                      min_particles=min(config.min_particles, particles))
     estimates, counts, seconds = run_track_job(job, config, seed)
-    n = len(job.scans)
+    n = len(estimates)
     ms = 1e3 * seconds / max(n, 1)
     record = {"estimates": [np.round(e, 3).tolist() for e in estimates],
               "ms_per_scan": round(ms, 3),
               "expected_count": [round(c, 4) for c in counts]}
-    out = Path(out_path)
-    out.write_text(json.dumps(record) + "\n", encoding="utf-8")
+    out = write_text_atomic(out_path, json.dumps(record) + "\n")
     mean_est = float(np.mean([e.shape[0] for e in estimates])) if estimates else 0.0
     return TrackSummary(n, ms, mean_est, counts[-1] if counts else 0.0, out)

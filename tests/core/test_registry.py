@@ -1,10 +1,24 @@
-"""The two ways an ``auto`` backend composes others: heuristic then exact, and a fallback chain."""
+"""Backend registries, and the two ways an ``auto`` backend composes others: heuristic then
+exact, and a fallback chain."""
 
 from __future__ import annotations
 
+import time
+
 import pytest
 
-from searchtrack.core import Result, Stage, Status, fallback_chain, heuristic_then_exact
+from searchtrack.core import (
+    Backend,
+    Deadline,
+    Registry,
+    Result,
+    Stage,
+    Status,
+    fallback_chain,
+    heuristic_then_exact,
+    relabel,
+)
+from searchtrack.core.errors import InvalidInputError
 
 Calls = list[tuple[str, float]]
 
@@ -103,3 +117,72 @@ def test_seeds_every_backend_can_take(bad: object) -> None:
     assert check_seed(0) == 0 and check_seed(MAX_SEED) == MAX_SEED
     with pytest.raises(InvalidInputError, match=r"seed=.*\[0, 2147483647\]"):
         check_seed(bad)
+
+
+def test_registry_lookup_and_errors() -> None:
+    """Backends are found by name; unknown names list the valid ones; duplicates are refused."""
+    reg: Registry[int, int] = Registry("toy")
+
+    def solve(problem: int, /, *, time_limit_s: float, seed: int) -> Result[int]:
+        return Result(Status.OPTIMAL, float(problem), float(problem), 0.0, "double", plan=problem)
+
+    reg.register(Backend("double", solve, True, "returns the input"))
+    assert reg.get("double").solve(3, time_limit_s=1.0, seed=0).objective == 3.0
+    with pytest.raises(InvalidInputError, match=r"\['double'\]"):
+        reg.get("nope")
+    with pytest.raises(ValueError, match="already"):
+        reg.register(Backend("double", solve, True, "again"))
+
+
+def _toy_registry() -> Registry[int, int]:
+    """A registry with one backend that refuses negative problems."""
+    reg: Registry[int, int] = Registry("toy")
+
+    def solve(problem: int, /, *, time_limit_s: float, seed: int) -> Result[int]:
+        return Result(Status.OPTIMAL, float(problem), float(problem), 0.0, "id", plan=problem)
+
+    reg.register(Backend("id", solve, True, "returns the input",
+                         supports=lambda p: "negative" if p < 0 else None))
+    reg.register(Backend("also", solve, False, "the same again"))
+    return reg
+
+
+def test_registry_lists_names_in_registration_order() -> None:
+    """names() keeps registration order and is a copy the caller may change."""
+    reg = _toy_registry()
+    names = reg.names()
+    names.append("x")
+    assert reg.names() == ["id", "also"] and reg.problem == "toy"
+
+
+def test_checked_returns_the_backend_that_can_take_the_problem() -> None:
+    """checked() hands back the named backend once limit, seed and support pass."""
+    reg = _toy_registry()
+    assert reg.checked("id", 3, 1.0, 7) is reg.get("id")
+
+
+@pytest.mark.parametrize(("name", "problem", "limit", "seed", "field", "text"), [
+    ("id", 3, 0.0, 0, "time_limit_s", "positive seconds"),
+    ("id", 3, 1.0, -1, "seed", "integer in"),
+    ("nope", 3, 1.0, 0, "backend", "unknown toy backend"),
+    ("id", -2, 1.0, 0, "backend", "negative"),
+])
+def test_checked_refuses_bad_requests(name: str, problem: int, limit: float, seed: int,
+                                      field: str, text: str) -> None:
+    """A bad time limit, seed, name, or a backend that cannot take the problem names the field."""
+    with pytest.raises(InvalidInputError, match=text) as err:
+        _toy_registry().checked(name, problem, limit, seed)
+    assert err.value.field == field
+
+
+def test_relabel_sets_runtime_message_and_adds_stats() -> None:
+    """relabel keeps status, plan and backend, takes the deadline's elapsed time and the new
+    message, and adds the stats to the old ones."""
+    inner = Result(Status.FEASIBLE, 2.0, 3.0, 0.0, "inner", "plan", message="old",
+                   stats={"a": 1.0, "b": 2.0})
+    deadline = Deadline(10.0, started=time.perf_counter() - 3.0)
+    out = relabel(inner, deadline, "new", {"b": 5.0, "c": 3.0})
+    assert (out.status, out.plan, out.backend, out.message) == (Status.FEASIBLE, "plan", "inner",
+                                                                 "new")
+    assert out.stats == {"a": 1.0, "b": 5.0, "c": 3.0} and inner.stats == {"a": 1.0, "b": 2.0}
+    assert 3.0 <= out.runtime_s <= deadline.elapsed()

@@ -1,4 +1,4 @@
-"""The shared solver vocabulary: result type, registry and deadline."""
+"""The one result type: gap, refused nonsense, merged answers."""
 
 from __future__ import annotations
 
@@ -6,8 +6,7 @@ import math
 
 import pytest
 
-from searchtrack.core import Backend, Deadline, Registry, Result, Sense, Status
-from searchtrack.core.errors import InvalidInputError
+from searchtrack.core import Result, Sense, Status
 
 
 def test_result_gap_for_max_and_min() -> None:
@@ -30,36 +29,6 @@ def test_result_refuses_nonsense() -> None:
         Result(Status.ERROR, None, None, 1.0, "x", plan=[1])
 
 
-def test_registry_lookup_and_errors() -> None:
-    """Backends are found by name; unknown names list the valid ones; duplicates are refused."""
-    reg: Registry[int, int] = Registry("toy")
-
-    def solve(problem: int, /, *, time_limit_s: float, seed: int) -> Result[int]:
-        return Result(Status.OPTIMAL, float(problem), float(problem), 0.0, "double", plan=problem)
-
-    reg.register(Backend("double", solve, True, "returns the input"))
-    assert reg.get("double").solve(3, time_limit_s=1.0, seed=0).objective == 3.0
-    with pytest.raises(InvalidInputError, match=r"\['double'\]"):
-        reg.get("nope")
-    with pytest.raises(ValueError, match="already"):
-        reg.register(Backend("double", solve, True, "again"))
-
-
-@pytest.mark.parametrize("bad", [0.0, -1.0, math.nan])
-def test_deadline_rejects_bad_limits(bad: float) -> None:
-    """Zero, negative and NaN time limits are rejected with the field named."""
-    with pytest.raises(InvalidInputError, match="time_limit_s"):
-        Deadline(bad)
-
-
-def test_deadline_counts_down() -> None:
-    """A deadline reports elapsed and remaining time, and sub-deadlines fit inside it."""
-    d = Deadline(10.0)
-    assert 0.0 <= d.elapsed() < 1.0 and 9.0 < d.remaining() <= 10.0 and not d.expired()
-    assert d.sub(0.5).time_limit_s <= 5.0
-    assert Deadline(1e-9).expired() or Deadline(1e-9).remaining() < 1e-6
-
-
 def test_merge_answers_takes_the_better_plan_and_the_tighter_bound() -> None:
     """merge_answers: best plan of the two, smallest bound, OPTIMAL once they meet; None
     without any plan."""
@@ -77,3 +46,24 @@ def test_merge_answers_takes_the_better_plan_and_the_tighter_bound() -> None:
     assert done is not None and done.status is Status.OPTIMAL and done.bound == 9.0
     none = Result(Status.NO_SOLUTION, None, None, 0.1, "x", None)
     assert merge_answers(none, none, 0.2, 1e-6) is None
+
+
+def test_status_has_plan_only_when_it_always_carries_one() -> None:
+    """OPTIMAL and FEASIBLE always carry a plan; INTERRUPTED may, the others never do."""
+    assert {s for s in Status if s.has_plan} == {Status.OPTIMAL, Status.FEASIBLE}
+    kept = Result(Status.INTERRUPTED, 2.0, 4.0, 0.0, "x", "plan")
+    assert kept.gap == pytest.approx(1.0) and kept.plan == "plan"
+
+
+def test_gap_is_never_negative_and_relative_to_at_least_one() -> None:
+    """A bound on the wrong side of the objective gives gap 0; objectives below 1 divide by 1."""
+    assert Result(Status.FEASIBLE, 5.0, 4.0, 0.0, "x", plan=[1]).gap == 0.0
+    assert Result(Status.FEASIBLE, 0.5, 0.75, 0.0, "x", plan=[1]).gap == pytest.approx(0.25)
+    assert Result(Status.NO_SOLUTION, None, 3.0, 0.0, "x", plan=None).gap is None
+
+
+@pytest.mark.parametrize("runtime", [math.inf, math.nan])
+def test_result_refuses_a_non_finite_runtime(runtime: float) -> None:
+    """An infinite or NaN runtime is refused naming ``runtime_s``."""
+    with pytest.raises(ValueError, match="runtime_s"):
+        Result(Status.NO_SOLUTION, None, None, runtime, "x", plan=None)

@@ -106,6 +106,14 @@ def test_rk4_step_is_the_unicycle_models_step() -> None:
         assert out.heading_rad[i] == pytest.approx(math.remainder(heading, 2 * math.pi))
 
 
+def test_from_limits_copies_the_potential_field_limits() -> None:
+    """unicycle_from_limits takes the speed and turn-rate limits of DubinsLimits."""
+    limits = DubinsLimits(speed_max_mps=30.0, speed_min_mps=20.0, turn_rate_max_rps=0.7)
+    model = unicycle_from_limits(limits)
+    assert model.input_lower == (20.0, -0.7)
+    assert model.input_upper == (30.0, 0.7)
+
+
 def test_turn_rate_saturates_at_the_thesis_radius() -> None:
     """A hard turn is saturated to 50 °/s: at 80 mph the UAV flies the 41.0 m circle (§5.1)."""
     limits = DubinsLimits(speed_max_mps=S_MAX, speed_min_mps=S_MAX,

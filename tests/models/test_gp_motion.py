@@ -1,4 +1,4 @@
-"""Gaussian-process velocity field (paper 003, §1.3): kernel, fit, predictions, motion model."""
+"""Gaussian-process velocity field (paper 003, §1.3): fit, tabulated predictions, motion model."""
 
 from __future__ import annotations
 
@@ -6,12 +6,12 @@ import math
 
 import numpy as np
 import pytest
-from scipy.optimize import approx_fprime
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.gp_motion import GPMotion, GPVelocityField
-from searchtrack.models.gp_regression import GPHyper, local_predict, matern32, negative_log_marginal
+from searchtrack.models.gp_regression import GPHyper
 from searchtrack.models.particle_models import MotionModel
+from tests.models.gp_reference import exact_gp as _exact_gp
 
 OMEGA = 0.01  # rad/s: v = ω × (x, y)
 
@@ -27,29 +27,6 @@ def rotation_field() -> GPVelocityField:
     x = rng.uniform(-500.0, 500.0, (1500, 2))
     v = _rotation(x) + 0.3 * rng.standard_normal(x.shape)
     return GPVelocityField.fit(x, v, np.random.default_rng(1), cell_m=25.0, n_hyper=300)
-
-
-def test_matern32_matches_the_formula() -> None:
-    """k(0) = σ_f², k(ℓ) = σ_f²(1 + √3)e^{−√3}, and GPHyper.kernel uses Euclidean distance."""
-    r = np.array([0.0, 2.0, 5.0])
-    want = 4.0 * (1 + math.sqrt(3) * r / 2.0) * np.exp(-math.sqrt(3) * r / 2.0)
-    np.testing.assert_allclose(matern32(r, 2.0, 2.0), want)
-    assert matern32(np.array([2.0]), 2.0, 2.0)[0] == pytest.approx(
-        4.0 * (1 + math.sqrt(3)) * math.exp(-math.sqrt(3)))
-    k = GPHyper(2.0, 2.0, 0.1).kernel(np.zeros((1, 2)), np.array([[3.0, 4.0]]))
-    assert k[0, 0] == pytest.approx(matern32(np.array([5.0]), 2.0, 2.0)[0])
-
-
-def test_marginal_likelihood_gradient_matches_finite_differences() -> None:
-    """The analytic gradient of −log p(Y | X, θ) agrees with central differences."""
-    rng = np.random.default_rng(2)
-    x = rng.uniform(0.0, 100.0, (40, 2))
-    y = np.column_stack([np.sin(x[:, 0] / 20.0), np.cos(x[:, 1] / 30.0)])
-    y += 0.1 * rng.standard_normal(y.shape)
-    theta = np.log([15.0, 1.0, 0.2])
-    _, grad = negative_log_marginal(theta, x, y)
-    num = approx_fprime(theta, lambda t: negative_log_marginal(t, x, y)[0], 1e-6)
-    np.testing.assert_allclose(grad, num, rtol=1e-4, atol=1e-4)
 
 
 def test_recovers_a_rotation_field(rotation_field: GPVelocityField) -> None:
@@ -85,16 +62,6 @@ def test_variance_grows_away_from_data() -> None:
     assert np.all(np.diff(var[1:]) > -1e-9)
 
 
-def _exact_gp(x: np.ndarray, y: np.ndarray, h: GPHyper,
-              xs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The textbook GP posterior (R&W eqs. 2.25–2.26) by dense linear algebra."""
-    k = h.kernel(x, x) + h.sigma_n**2 * np.eye(x.shape[0])
-    ks = h.kernel(xs, x)
-    mean = ks @ np.linalg.solve(k, y)
-    var = h.sigma_f**2 - np.sum(ks * np.linalg.solve(k, ks.T).T, axis=1)
-    return mean, var
-
-
 def test_grid_matches_the_exact_gp_at_nodes() -> None:
     """With every sample a neighbour, grid nodes carry the exact GP posterior."""
     rng = np.random.default_rng(6)
@@ -109,19 +76,6 @@ def test_grid_matches_the_exact_gp_at_nodes() -> None:
     m_grid, v_grid = field.predict(nodes)
     np.testing.assert_allclose(m_grid, mean, atol=1e-8)
     np.testing.assert_allclose(v_grid, var, atol=1e-8)
-
-
-def test_nearest_neighbour_gp_is_close_to_the_exact_gp() -> None:
-    """Predicting from the 40 nearest of 400 samples is within 2 % of the exact GP."""
-    rng = np.random.default_rng(9)
-    x = rng.uniform(0.0, 1000.0, (400, 2))
-    v = np.column_stack([np.sin(x[:, 0] / 80.0), np.cos(x[:, 1] / 60.0)])
-    hyper = GPHyper(60.0, 1.0, 0.1)
-    xs = rng.uniform(100.0, 900.0, (50, 2))
-    mean, var = _exact_gp(x, v, hyper, xs)
-    m_nn, v_nn = local_predict(x, v, hyper, xs, 40)
-    np.testing.assert_allclose(m_nn, mean, atol=0.02)
-    np.testing.assert_allclose(v_nn, var, atol=0.02)
 
 
 def test_gp_motion_is_a_motion_model(rotation_field: GPVelocityField) -> None:
@@ -205,14 +159,6 @@ def test_bad_motion(rotation_field: GPVelocityField, kwargs: dict[str, object],
     with pytest.raises(InvalidInputError) as err:
         GPMotion(**args)  # type: ignore[arg-type]
     assert err.value.field == field
-
-
-@pytest.mark.parametrize("name", ["length_m", "sigma_f", "sigma_n"])
-def test_bad_hyper(name: str) -> None:
-    """Non-positive hyper-parameters are refused."""
-    args = {"length_m": 1.0, "sigma_f": 1.0, "sigma_n": 1.0, name: 0.0}
-    with pytest.raises(InvalidInputError, match=name):
-        GPHyper(**args)
 
 
 def test_bad_propagate_input(rotation_field: GPVelocityField) -> None:

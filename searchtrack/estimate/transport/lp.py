@@ -122,8 +122,9 @@ def solve_graph_lp(
     started = time.perf_counter()
     n, k = problem.n_nodes, problem.tails.size
     p, q, total = problem.p, problem.q, problem.total_flow
-    sent: Any = p
-    received: Any = q
+    # cvxpy constants, so that with no arcs ``sent == received`` is a constraint, not an array
+    sent: Any = cp.Constant(p)
+    received: Any = cp.Constant(q)
     constraints: list[Any] = []
     if problem.mass == "partial" and not is_balanced(float(p.sum()), float(q.sum())):
         part = cp.Variable(n, nonneg=True)

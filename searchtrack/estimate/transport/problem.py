@@ -41,7 +41,8 @@ def signature(name: str, values: ArrayLike) -> FloatArray:
     if arr.ndim != 1 or arr.size == 0:
         raise InvalidInputError(name, values, f"must be a non-empty 1-D array (shape {arr.shape})")
     _check_entries(name, arr, "weights")
-    total = float(arr.sum())
+    with np.errstate(over="ignore"):  # an overflowing total is refused below, not warned about
+        total = float(arr.sum())
     if not 0.0 < total < math.inf:
         raise InvalidInputError(name, values, f"total mass must be positive and finite, got "
                                 f"{total}")

@@ -72,7 +72,7 @@ class FlowSolution:
     status: NativeStatus
     arcs: IntArray  # real arc indices with positive flow
     amounts: FloatArray  # their flows
-    artificial_flow: float  # mass left on artificial arcs, i.e. not routed by real arcs
+    artificial_flow: float  # mass not routed by real arcs (through the artificial root)
     pivots: int
     routed: bool  # artificial_flow is round-off only: the real flow is feasible
 
@@ -143,7 +143,11 @@ def min_cost_flow(
         refreshed_clean = False
     arc_of = pred[:n]
     real = (arc_of < n_real) & (tree_flow[:n] > 0.0)
-    artificial_flow = float(tree_flow[:n][arc_of >= n_real].sum())
+    # an unrouted unit rides two artificial arcs (source -> root -> sink): count it once, as
+    # the larger of the flows into and out of the root (they differ if supply does not sum to 0)
+    on_artificial = np.where(arc_of >= n_real, tree_flow[:n], 0.0)
+    artificial_flow = max(float(on_artificial[art_up == 1].sum()),
+                          float(on_artificial[art_up == 0].sum()))
     scale = float(np.abs(supply).sum()) / 2.0 if mass_scale is None else mass_scale
     routed = artificial_flow <= _ROUNDOFF * scale
     if native == "optimal" and not routed:

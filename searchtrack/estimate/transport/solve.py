@@ -63,8 +63,9 @@ def _violations(mass: str, out: FloatArray, into: FloatArray, p: FloatArray, q: 
     if mass == "partial":
         problems += _bounds("flow out of p (4.5)", out, np.zeros_like(p), p + tol)
         problems += _bounds("flow into q (4.6)", into, np.zeros_like(q), q + tol)
-        if abs(float(amounts.sum()) - total) > tol:
-            problems.append(f"total flow {amounts.sum()!r} != {total!r} (4.7)")
+        flow = float(amounts.sum())  # plain floats: a NumPy scalar's repr names its type
+        if abs(flow - total) > tol:
+            problems.append(f"total flow {flow!r} != {float(total)!r} (4.7)")
         return problems
     for name, got, want in (("flow out of p (4.5)", out, p), ("flow into q (4.6)", into, q)):
         err = float(np.abs(got - want).max())

@@ -91,7 +91,8 @@ def uav7(
     Raises
     ------
     InvalidInputError
-        Non-positive limits or inverted ranges.
+        Non-positive limits, inverted ranges, or level cruise out of reach (thrust range
+        without the drag, ``load_factor_max < 1``).
     """
     dyn = Uav7Dynamics() if dynamics is None else dynamics
     for name in ("mass_kg", "gravity_mps2", "lift_n"):
@@ -106,16 +107,16 @@ def uav7(
     t_lo = checks.real("thrust_min_n", thrust_min_n)
     t_hi = checks.real("thrust_max_n", thrust_max_n, low=t_lo, low_open=True)
     turn = checks.positive("turn_input_max", turn_input_max)
-    load = checks.positive("load_factor_max", load_factor_max)
+    load = checks.real("load_factor_max", load_factor_max, low=1.0)  # level flight needs 1
     rate = checks.positive("roll_rate_max_rps", roll_rate_max_rps)
     z_lo, z_hi = (float(v) for v in altitude_band_m)
     if not z_lo < z_hi:
         raise InvalidInputError("altitude_band_m", altitude_band_m,
                                 "must be (low, high) with low < high")
     cruise = dyn.drag_n
-    if not t_lo <= cruise <= t_hi or load < 1.0:
-        raise InvalidInputError("thrust_max_n", (t_lo, t_hi, load),
-                                "level cruise (thrust = drag, load factor 1) must be reachable")
+    if not t_lo <= cruise <= t_hi:
+        raise InvalidInputError("thrust_max_n", (t_lo, t_hi),
+                                "level cruise (thrust = drag) must be reachable")
     return VehicleModel(
         name="uav7",
         state_names=("north_m", "east_m", "down_m", "airspeed_mps", "heading_rad",

@@ -31,6 +31,7 @@ import numpy as np
 
 from searchtrack.core.deadline import Deadline
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.interrupt import watch
 from searchtrack.core.result import Result, Status
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
 from searchtrack.plan.assign.objectives import ExpectedDetectionsFunction, coverage_only
@@ -178,7 +179,9 @@ def _solve_scip(form: Formulation, cuts: list[list[float]], start: list[int] | N
     if deadline.expired():
         return "NOT_SOLVED", None, None
     solver.SetTimeLimit(max(1, int(deadline.remaining() * 1000)))
-    native = solver.Solve()
+    solver.SetSolverSpecificParametersAsString("misc/catchctrlc = FALSE\n")
+    with watch(solver.InterruptSolve):
+        native = solver.Solve()
     names = {pywraplp.Solver.OPTIMAL: "OPTIMAL", pywraplp.Solver.FEASIBLE: "FEASIBLE",
              pywraplp.Solver.INFEASIBLE: "INFEASIBLE", pywraplp.Solver.NOT_SOLVED: "NOT_SOLVED"}
     name = names.get(native, "ERROR")
@@ -232,7 +235,9 @@ def _solve_cpsat(form: Formulation, cuts: list[list[float]], start: list[int] | 
         return "NOT_SOLVED", None, None
     solver.parameters.max_time_in_seconds = max(1e-3, deadline.remaining())
     solver.parameters.num_workers = 1
-    native = solver.solve(model)
+    solver.parameters.catch_sigint_signal = False  # Ctrl-C is core.interrupt's
+    with watch(solver.stop_search):
+        native = solver.solve(model)
     name = {cp_model.OPTIMAL: "OPTIMAL", cp_model.FEASIBLE: "FEASIBLE",
             cp_model.INFEASIBLE: "INFEASIBLE", cp_model.UNKNOWN: "NOT_SOLVED"}.get(native, "ERROR")
     if name not in ("OPTIMAL", "FEASIBLE"):
@@ -270,7 +275,7 @@ def solve_exact(problem: AssignmentProblem, *, time_limit_s: float = 10.0, seed:
     if not isinstance(pieces, int) or pieces < 1:
         raise InvalidInputError("pieces", pieces, "must be a positive integer")
     deadline = Deadline(time_limit_s)
-    backend = f"exact_{solver}"
+    backend = "exact" if solver == "scip" else "exact_cpsat"  # the registry's names
     end = ExpectedDetectionsFunction(problem)
     form = formulate(problem, reduce=reduce)
     cuts = initial_breakpoints(form, pieces)

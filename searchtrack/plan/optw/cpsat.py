@@ -109,6 +109,7 @@ def _parameters(
             form.relation_cut_size, 8
         )
     p.log_search_progress = False
+    p.catch_sigint_signal = False  # Ctrl-C is searchtrack's to handle (core.interrupt)
 
 
 def _status(native: cp_model.CpSolverStatus, has_plan: bool) -> Status:

@@ -20,6 +20,9 @@ from searchtrack.plan.optw.instance import OPTWInstance
 
 _FIELDS = ("i", "x", "y", "d", "S", "f", "a")
 
+#: Most decimals of a travel time (ticks of 10⁻⁶ time units).
+MAX_DECIMALS = 6
+
 #: Largest instance file read (bytes, after bzip2): 100 000 vertices take about 8 MB.
 MAX_INSTANCE_BYTES = 64 * 2**20
 
@@ -67,7 +70,15 @@ def read_optw(
     ------
     ParseError
         Naming file, line and field, for any malformed content.
+    InvalidInputError
+        ``decimals`` outside ``[0, MAX_DECIMALS]``, or ``vehicles`` not an integer from 1 to the
+        number of customers (more routes than customers would only add empty ones).
     """
+    if decimals is not None and (isinstance(decimals, bool) or not isinstance(decimals, int)
+                                 or not 0 <= decimals <= MAX_DECIMALS):
+        raise InvalidInputError("decimals", decimals, f"must be an integer in [0, {MAX_DECIMALS}]")
+    if isinstance(vehicles, bool) or not isinstance(vehicles, int) or vehicles < 1:
+        raise InvalidInputError("vehicles", vehicles, "must be an integer ≥ 1")
     p = Path(path)
     numbered = [(k + 1, ln.split()) for k, ln in enumerate(_lines(p))]
     numbered = [(k, toks) for k, toks in numbered if toks]
@@ -126,8 +137,12 @@ def read_optw(
         profit.append(s)
         opn.append(o)
         close.append(c)
+    customers = len(rows) - 1
+    if vehicles > max(1, customers):
+        raise InvalidInputError("vehicles", vehicles, f"more routes than the {customers} "
+                                f"customers of {p.name}")
     if decimals is None:
-        decimals = min(max(coord_decimals - 1, 0), 6)
+        decimals = min(max(coord_decimals - 1, 0), MAX_DECIMALS)
     scale = 10**decimals
     for name, values in (("d", service), ("O", opn), ("C", close)):
         for (line, _), v in zip(rows, values, strict=True):

@@ -260,6 +260,7 @@ def solve_mip(
     if engine == "SCIP":
         solver.SetSolverSpecificParametersAsString(
             f"randomization/randomseedshift = {int(seed) % 2**31}\n"
+            "misc/catchctrlc = FALSE\n"  # Ctrl-C is core.interrupt's to handle
         )
     solver.SetNumThreads(1)
     solver.SetTimeLimit(max(1, int(deadline.remaining() * 1000) - 50))

@@ -3,9 +3,10 @@
 Every sequence of ``τ`` lattice moves from the current position (eq. 7) that stays in the search
 box is scored ``α E(q) + T(q)`` (eq. 8): ``E`` the exploration bonus along the sequence (eq. 10),
 ``T`` the problem's refinement term. The best sequence is the plan; only its first waypoint is
-flown before replanning. The enumeration is exhaustive (``6^τ`` sequences for 3-D moves), so a
-completed run is ``OPTIMAL`` over the lattice; ties go to the first sequence in lexicographic move
-order (``+x, +y, +z, −x, −y, −z``). Sequences are scored in blocks; a time limit that stops the
+flown before replanning. The enumeration is exhaustive (``6^τ`` sequences for 3-D moves, ``4^τ``
+for the planar moves of ``dims=2``, which keep the altitude), so a completed run is ``OPTIMAL``
+over the lattice; ties go to the first sequence in lexicographic move order
+(``+x, +y, +z, −x, −y, −z``). Sequences are scored in blocks; a time limit that stops the
 scoring returns the best sequence of the blocks scored (``FEASIBLE``).
 """
 
@@ -33,9 +34,7 @@ def solve_receding(problem: SearchProblem, *, time_limit_s: float = 10.0,
     del seed
     deadline = Deadline(time_limit_s)
     settings = problem.settings
-    moves = lattice_moves(settings.step_m, settings.dims)
-    if settings.dims == 2:
-        moves = np.concatenate([moves, np.zeros((moves.shape[0], 1))], axis=1)
+    moves = lattice_moves(settings.step_m, settings.dims)  # (2·dims, 3): planar moves keep z
     seqs = lattice_sequences(problem.position, moves, settings.horizon, problem.bounds)
     total = int(seqs.shape[0])
     if total == 0:

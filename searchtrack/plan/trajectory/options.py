@@ -53,6 +53,8 @@ class NmpcOptions:
     def __post_init__(self) -> None:
         if self.solver not in ("ipopt", "sqpmethod"):
             raise InvalidInputError("solver", self.solver, "must be 'ipopt' or 'sqpmethod'")
+        if self.qpsol not in ("qrqp", "osqp"):  # the CasADi conic plugins nmpc.py configures
+            raise InvalidInputError("qpsol", self.qpsol, "must be 'qrqp' or 'osqp'")
         if self.hessian not in ("exact", "limited-memory"):
             raise InvalidInputError("hessian", self.hessian, "must be exact or limited-memory")
         if self.mu_strategy not in ("adaptive", "monotone"):

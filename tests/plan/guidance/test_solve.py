@@ -120,3 +120,11 @@ def test_two_uavs_one_tracker(backend: str) -> None:
     g = result.plan
     assert g is not None and g.pairing.tracker == (0, -1)
     assert g.mode == (FADING[backend], "search")
+
+
+def test_default_backend_is_search_and_reacquire() -> None:
+    """Without a backend name a fading tracker's UAV flies a reacquisition route."""
+    net = _path(30)
+    result = solve(_problem(net, [[100.0, 20.0]], [(20, 0.2)]), time_limit_s=2.0)
+    assert result.backend == "search_and_reacquire" and result.plan is not None
+    assert result.plan.mode == ("reacquire",)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -12,6 +13,7 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.result import Result, Sense, Status
 from searchtrack.models.vehicles import VehicleModel, unicycle
 from searchtrack.plan.trajectory import BACKENDS, ControlPlan, TrackingProblem, solve
+from tests.plan.trajectory.plans import small_problem
 
 solve_module = importlib.import_module("searchtrack.plan.trajectory.solve")
 
@@ -85,13 +87,20 @@ def test_auto_without_a_closed_form_reports_the_failure(
     assert "no closed-form law" in result.message
 
 
-def test_ipopt_wall_time_ladder() -> None:
-    """Budgets round down to 1 ms · 1.25^k: never above the budget, at most 20 % below, and
-    a handful of distinct solvers for many different budgets."""
-    from searchtrack.plan.trajectory.nmpc import wall_time_limit
+def test_solve_rejects_bad_backend_and_time_limit() -> None:
+    """Unknown backends and non-positive time limits raise InvalidInputError."""
+    problem = small_problem()
+    with pytest.raises(InvalidInputError, match="backend"):
+        solve(problem, backend="simplex")
+    with pytest.raises(InvalidInputError, match="time_limit_s"):
+        solve(problem, backend="nmpc", time_limit_s=-1.0)
+    with pytest.raises(InvalidInputError, match="time_limit_s"):
+        solve(problem, backend="auto", time_limit_s=math.nan)
 
-    budgets = np.linspace(0.001, 0.1, 500)
-    limits = np.array([wall_time_limit(b) for b in budgets])
-    assert np.all(limits <= budgets + 1e-12) and np.all(limits >= budgets / 1.25 - 1e-12)
-    assert len(set(limits.round(12))) <= 21
-    assert wall_time_limit(1e-5) == pytest.approx(1e-3)
+
+@pytest.mark.parametrize("backend", ["nmpc", "ltv_mpc", "closed_form"])
+def test_a_named_backend_answers_itself(course: TrackingProblem, backend: str) -> None:
+    """Asking for one controller gets that controller's plan, with no fallback."""
+    result = solve(course, backend=backend, time_limit_s=5.0)
+    assert result.backend == backend and result.plan is not None
+    assert result.plan.controller == backend

@@ -1,0 +1,95 @@
+"""Generated junk in every file format the commands read: a one-line answer and exit status 2
+(or a plan when the junk happens to be valid), never a traceback."""
+
+from __future__ import annotations
+
+import json
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from searchtrack.cli import main
+
+C101 = Path(__file__).parents[2] / "searchtrack" / "data" / "optw" / "c101.txt"
+
+# Junk: raw bytes, text, text that resembles each format (numbers and its separators).
+numberish = st.text(alphabet="0123456789.-e \n\tnaif", max_size=300)
+junk = st.one_of(st.binary(max_size=300), st.text(max_size=300), numberish)
+json_junk = st.one_of(junk, st.recursive(
+    st.none() | st.booleans() | st.floats(allow_nan=False) | st.text(max_size=5),
+    lambda kids: st.lists(kids, max_size=4) | st.dictionaries(
+        st.sampled_from(["area", "dt", "sensor", "motion", "scans", "pd", "sigma", "q",
+                         "model", "clutter_rate", "x"]), kids, max_size=5),
+    max_leaves=20).map(json.dumps))
+toml_junk = st.one_of(junk, st.lists(st.sampled_from(
+    ["[map]", "grid = { rows = 3, cols = 3 }", "[uavs]", "count = 0", "count = 2", "[sensor]",
+     "pd = 2", "duration_s = -1", "dt_s = 1e400", "osm = \"x\"", "seed = -4", "[targets]",
+     "name = 3", "mode = \"fly\"", "x = ["]), max_size=8).map("\n".join))
+csv_junk = st.one_of(junk, st.lists(st.sampled_from(
+    ["instance,optimum", "c101,320", "c101,", "c101,abc", "c101,nan", ",,", "a,b,c"]),
+    max_size=5).map("\n".join))
+
+
+def _run(argv: Callable[[Path, Path], list[str]], name: str, data: str | bytes) -> None:
+    with tempfile.TemporaryDirectory() as folder:
+        tmp = Path(folder)
+        path = tmp / name
+        if isinstance(data, bytes):
+            path.write_bytes(data)
+        else:
+            path.write_text(data, encoding="utf-8", errors="surrogatepass")
+        try:
+            code = main(argv(path, tmp))
+        except SystemExit as exc:
+            code = exc.code if isinstance(exc.code, int) else 2
+        assert code in (0, 1, 2)
+
+
+FAST = settings(max_examples=40, deadline=None,
+                suppress_health_check=[HealthCheck.function_scoped_fixture])
+
+
+@FAST
+@given(junk)
+def test_optw_instance_junk(data: str | bytes) -> None:
+    """Junk as an OPTW instance file."""
+    _run(lambda p, t: ["optw", "solve", str(p), "--time-limit", "0.05", "--backend", "ils"],
+         "x.txt", data)
+
+
+@FAST
+@given(toml_junk)
+def test_scenario_junk(data: str | bytes) -> None:
+    """Junk as a mission scenario (TOML)."""
+    _run(lambda p, t: ["mission", "run", str(p), "--out", str(t / "o"), "--duration", "0.6"],
+         "s.toml", data)
+
+
+@FAST
+@given(json_junk)
+def test_scans_junk(data: str | bytes) -> None:
+    """Junk as a SCANS.json recording."""
+    _run(lambda p, t: ["track", str(p), "--out", str(t / "e.json"), "--particles", "200"],
+         "s.json", data)
+
+
+@FAST
+@given(csv_junk)
+def test_optima_junk(data: str | bytes) -> None:
+    """Junk as the optima table beside a benchmark set."""
+    def argv(p: Path, t: Path) -> list[str]:
+        (t / "c101.txt").write_text(C101.read_text(encoding="utf-8"), encoding="utf-8")
+        p.rename(t / "optima.csv")
+        return ["optw", "bench", str(t), "--time-limit", "0.05", "--backend", "ils"]
+
+    _run(argv, "optima.tmp", data)
+
+
+@pytest.mark.parametrize("data", [b"", b"\x00" * 50, "\ufeff" + C101.read_text(encoding="utf-8")])
+def test_edge_bytes(data: bytes | str) -> None:
+    """Empty, NUL-filled and BOM-prefixed instance files are answered, not crashed on."""
+    _run(lambda p, t: ["optw", "solve", str(p), "--time-limit", "0.05"], "x.txt", data)

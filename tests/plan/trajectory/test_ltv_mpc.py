@@ -1,0 +1,103 @@
+"""LTV-MPC: bounds and obstacle half-spaces, agreement with NMPC, rounds and the exact optimum."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.result import Status
+from searchtrack.plan.trajectory import (
+    ControlPlan,
+    Obstacles,
+    TrackingProblem,
+    solve_ltv_mpc,
+    solve_nmpc,
+)
+from tests.plan.trajectory.plans import check_limits, clearance, small_problem
+
+
+def test_ltv_mpc_plan_respects_bounds_and_halfspaces(course: TrackingProblem) -> None:
+    """The QP plan meets input and rate bounds and its positions keep the obstacle margin."""
+    result = solve_ltv_mpc(course, time_limit_s=5.0)
+    # FEASIBLE: the QP is solved to optimality, but only for the linearised problem
+    assert result.status is Status.FEASIBLE and result.plan is not None
+    assert result.stats["qp_rounds"] == 3.0 and "after 3 round(s)" in result.message
+    check_limits(course, result.plan)
+    assert clearance(course, result.plan) >= course.safety_margin_m - 1e-3
+
+
+def test_ltv_mpc_warm_start_agrees_with_nmpc(course: TrackingProblem) -> None:
+    """Linearised about the NMPC plan, the QP's first input is close to NMPC's."""
+    free = replace(course, obstacles=Obstacles())
+    nmpc = solve_nmpc(free, time_limit_s=5.0)
+    assert nmpc.plan is not None
+    warm = ControlPlan(inputs=np.vstack([nmpc.plan.inputs[:1], nmpc.plan.inputs]),
+                       states=np.vstack([nmpc.plan.states[:1], nmpc.plan.states]),
+                       dt_s=free.dt_s, controller="nmpc")  # shifting it back gives the plan
+    qp = solve_ltv_mpc(replace(free, warm=warm), time_limit_s=5.0, iterations=3)
+    assert qp.plan is not None
+    np.testing.assert_allclose(qp.plan.inputs[0], nmpc.plan.inputs[0], atol=0.05)
+
+
+def test_on_the_reference_at_cruise_the_plan_is_cruise() -> None:
+    """On a free line at its own speed the nominal rollout is exact and every cost term vanishes
+    at u = (10 m/s, 0): the QP returns that input and the states along the line."""
+    problem = small_problem(obstacles=Obstacles(), horizon=8)
+    result = solve_ltv_mpc(problem, time_limit_s=5.0)
+    assert result.status is Status.FEASIBLE and result.plan is not None
+    np.testing.assert_allclose(result.plan.inputs, np.tile([10.0, 0.0], (8, 1)), atol=1e-3)
+    expected = np.column_stack([np.arange(9) * 1.0, np.zeros(9), np.zeros(9)])
+    np.testing.assert_allclose(result.plan.states, expected, atol=1e-2)
+    assert result.stats["max_slack_m"] == 0.0 and result.plan.controller == "ltv_mpc"
+
+
+@pytest.mark.parametrize(("iterations", "rounds"), [(1, 1.0), (2, 2.0), (None, 3.0)])
+def test_cold_start_runs_the_asked_rounds(iterations: int | None, rounds: float) -> None:
+    """``iterations`` linearise–solve rounds run (three by default on a cold start)."""
+    free = small_problem(obstacles=Obstacles(), state=np.array([0.0, 2.0, 0.3]))
+    result = solve_ltv_mpc(free, time_limit_s=5.0, iterations=iterations)
+    assert result.status is Status.FEASIBLE and result.plan is not None
+    assert result.stats["qp_rounds"] == rounds
+    assert f"after {int(rounds)} round(s)" in result.message
+
+
+def test_one_round_through_an_obstacle_is_no_solution() -> None:
+    """Linearised once about a rollout through the cylinder, the half-spaces point backwards,
+    the slacks exceed the margin and the predicted collision is refused, not returned."""
+    result = solve_ltv_mpc(small_problem(), time_limit_s=5.0, iterations=1)
+    assert result.status is Status.NO_SOLUTION and result.plan is None
+    assert "enters an obstacle" in result.message
+    assert result.stats["max_slack_m"] > small_problem().safety_margin_m
+
+
+def test_warm_start_takes_one_round() -> None:
+    """With a warm plan the default is a single QP."""
+    problem = small_problem()
+    cold = solve_ltv_mpc(problem, time_limit_s=5.0)
+    assert cold.plan is not None
+    warm = solve_ltv_mpc(replace(problem, warm=cold.plan), time_limit_s=5.0)
+    assert warm.stats["qp_rounds"] == 1.0 and warm.plan is not None
+    check_limits(problem, warm.plan)
+
+
+def test_obstacle_on_the_line_is_passed_at_the_margin() -> None:
+    """A cylinder of 3 m on the line 12 m ahead: the plan keeps 3 m + 1 m margin from its
+    centre (half-spaces are conservative), so it leaves the line."""
+    problem = small_problem(obstacles=Obstacles(centers_m=[[12, 0.5]], radii_m=[3.0]),
+                            horizon=20)
+    result = solve_ltv_mpc(problem, time_limit_s=5.0)
+    assert result.plan is not None
+    pos = result.plan.states[1:, :2]
+    assert np.min(np.linalg.norm(pos - [12.0, 0.5], axis=1)) >= 4.0 - 1e-3
+    assert np.max(np.abs(pos[:, 1])) > 1.0
+
+
+@pytest.mark.parametrize("limit", [0.0, -2.0, math.inf * 0])
+def test_bad_time_limit_names_the_field(limit: float) -> None:
+    """A non-positive or NaN time limit raises InvalidInputError naming time_limit_s."""
+    with pytest.raises(InvalidInputError, match="time_limit_s"):
+        solve_ltv_mpc(small_problem(), time_limit_s=limit)
