@@ -28,9 +28,10 @@ from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import stats
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from tables import interval
 
 from searchtrack.models.range_sensor import RangeBearingElevationSensor
 from searchtrack.plan.search import (
@@ -77,15 +78,6 @@ def run(planner: str, seed: int, max_steps: int, resolution_m: float) -> tuple[i
             position = answer.plan.waypoint
         spent += time.perf_counter() - t0
     return max_steps + 1, 1e3 * spent / max_steps
-
-
-def interval(values: FloatArray) -> tuple[float, float]:
-    """Mean and half-width of its 95 % t-interval (nan for one value)."""
-    v = np.asarray(values, dtype=float)
-    if v.size < 2:
-        return float(v.mean()), float("nan")
-    return float(v.mean()), float(stats.t.ppf(0.975, v.size - 1) * v.std(ddof=1)
-                                  / np.sqrt(v.size))
 
 
 def ideal(args: argparse.Namespace) -> None:

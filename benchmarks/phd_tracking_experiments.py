@@ -19,9 +19,10 @@ from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import stats
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from tables import interval
 
 from searchtrack.sim.experiments.phd_tracking import (
     TrackConfig,
@@ -31,15 +32,6 @@ from searchtrack.sim.experiments.phd_tracking import (
 )
 
 FloatArray = NDArray[np.float64]
-
-
-def interval(values: FloatArray) -> tuple[float, float]:
-    """Mean and half-width of its 95 % t-interval (nan for one value)."""
-    v = np.asarray(values, dtype=float)
-    if v.size < 2:
-        return float(v.mean()), float("nan")
-    return float(v.mean()), float(stats.t.ppf(0.975, v.size - 1) * v.std(ddof=1)
-                                  / np.sqrt(v.size))
 
 
 CLAIMS_003 = {

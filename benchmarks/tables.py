@@ -4,6 +4,10 @@ from __future__ import annotations
 
 import sys
 
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy import stats
+
 
 def table(header: list[str], rows: list[list[str]]) -> None:
     """Print an aligned, right-justified text table and flush."""
@@ -18,3 +22,12 @@ def table(header: list[str], rows: list[list[str]]) -> None:
 def table_with_header(rows: list[list[str]]) -> None:
     """:func:`table` for rows whose first row is the header."""
     table(rows[0], rows[1:])
+
+
+def interval(values: ArrayLike) -> tuple[float, float]:
+    """Mean and half-width of its 95 % t-interval (nan for one value)."""
+    v = np.asarray(values, dtype=float)
+    if v.size < 2:
+        return float(v.mean()), float("nan")
+    return float(v.mean()), float(stats.t.ppf(0.975, v.size - 1) * v.std(ddof=1)
+                                  / np.sqrt(v.size))

@@ -13,7 +13,7 @@ from typing import Any, Generic, Protocol, TypeVar
 
 from searchtrack.core.deadline import Deadline, check_time_limit
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.core.result import Result, Status, merge_answers
+from searchtrack.core.result import Result, Status, interrupted, merge_answers
 
 ProblemT = TypeVar("ProblemT", contravariant=True)
 PlanT = TypeVar("PlanT")
@@ -105,6 +105,22 @@ class Registry(Generic[P, Q]):
         if reason is not None:
             raise InvalidInputError("backend", name, reason)
         return chosen
+
+    def solve(self, name: str, problem: P, *, time_limit_s: float, seed: int) -> Result[Q]:
+        """What a family's ``solve()`` does: :meth:`checked`, then the backend's answer, marked
+        ``INTERRUPTED`` if a stop request cut it short (:func:`~searchtrack.core.result.
+        interrupted`), logged at debug level.
+
+        Raises
+        ------
+        InvalidInputError
+            As :meth:`checked`.
+        """
+        chosen = self.checked(name, problem, time_limit_s, seed)
+        result = interrupted(chosen.solve(problem, time_limit_s=time_limit_s, seed=seed))
+        log.debug("%s via %s: %s %s in %.3f s", self.problem, name, result.status.name,
+                  result.objective, result.runtime_s)
+        return result
 
 
 def relabel(result: Result[Q], deadline: Deadline, message: str,

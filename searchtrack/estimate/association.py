@@ -227,5 +227,4 @@ def solve(problem: AssociationProblem, *, backend: str = "greedy", time_limit_s:
     InvalidInputError
         Unknown backend, a bad time limit or seed.
     """
-    chosen = BACKENDS.checked(backend, problem, time_limit_s, seed)
-    return chosen.solve(problem, time_limit_s=time_limit_s, seed=seed)
+    return BACKENDS.solve(backend, problem, time_limit_s=time_limit_s, seed=seed)

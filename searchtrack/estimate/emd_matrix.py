@@ -231,8 +231,7 @@ def solve_emd_matrix(problem: EMDMatrixProblem, *, backend: str = "auto",
     InvalidInputError
         Unknown backend, bad time limit or seed.
     """
-    chosen = EMD_MATRIX_BACKENDS.checked(backend, problem, time_limit_s, seed)
-    return chosen.solve(problem, time_limit_s=time_limit_s, seed=seed)
+    return EMD_MATRIX_BACKENDS.solve(backend, problem, time_limit_s=time_limit_s, seed=seed)
 
 
 def emd_matrix(

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from searchtrack.core.registry import Backend, Registry, SolveFn, Stage, fallback_chain
-from searchtrack.core.result import Result, Status
+from searchtrack.core.result import Result, Status, interrupted
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.transport.lp import solve_graph_lp, solve_transport_lp
 from searchtrack.estimate.transport.network import solve_graph_network, solve_transport_network
@@ -164,14 +164,7 @@ def emd(
         ``mass="equal"``, an unknown ``mass`` or ``backend``, a bad time limit.
     """
     problem = TransportProblem.build(p, q, cost, mass)
-    chosen = EMD_BACKENDS.checked(backend, problem, time_limit_s, 0)
-    warm_up()
-    result = chosen.solve(problem, time_limit_s=time_limit_s, seed=0)
-    if result.plan is not None:
-        result = _checked(result, transport_violations(problem, result.plan))
-    log.debug("emd %dx%d via %s: %s %s in %.4f s", problem.p.size, problem.q.size,
-              result.backend, result.status.name, result.objective, result.runtime_s)
-    return result
+    return _solve_checked(EMD_BACKENDS, problem, backend, time_limit_s, transport_violations)
 
 
 def emd_on_graph(
@@ -214,11 +207,18 @@ def emd_on_graph(
     if isinstance(adjacency, RoadNetwork):
         adjacency = adjacency.adjacency  # edge lengths (m), both ways
     problem = GraphProblem.build(adjacency, p, q, mass)
-    chosen = GRAPH_EMD_BACKENDS.checked(backend, problem, time_limit_s, 0)
+    return _solve_checked(GRAPH_EMD_BACKENDS, problem, backend, time_limit_s, graph_violations)
+
+
+def _solve_checked(registry: Registry[ProblemT, PlanT], problem: ProblemT, backend: str,
+                   time_limit_s: float, check: Callable[[ProblemT, PlanT], list[str]]
+                   ) -> Result[PlanT]:
+    """Solve with the kernels ready (outside the clock), then check the plan independently."""
+    chosen = registry.checked(backend, problem, time_limit_s, 0)
     warm_up()
-    result = chosen.solve(problem, time_limit_s=time_limit_s, seed=0)
+    result = interrupted(chosen.solve(problem, time_limit_s=time_limit_s, seed=0))
     if result.plan is not None:
-        result = _checked(result, graph_violations(problem, result.plan))
-    log.debug("emd_on_graph N=%d via %s: %s %s in %.4f s", problem.n_nodes, result.backend,
+        result = _checked(result, check(problem, result.plan))
+    log.debug("%s via %s: %s %s in %.4f s", registry.problem, result.backend,
               result.status.name, result.objective, result.runtime_s)
     return result

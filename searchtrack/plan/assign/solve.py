@@ -5,17 +5,13 @@ joint action space is small enough."""
 
 from __future__ import annotations
 
-import logging
-
 from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
-from searchtrack.core.result import Result, interrupted
+from searchtrack.core.result import Result
 from searchtrack.plan.assign.branch_and_bound import solve_branch_and_bound
 from searchtrack.plan.assign.brute import solve_brute_force, supports_brute_force
 from searchtrack.plan.assign.greedy import solve_greedy, solve_lazy_greedy
 from searchtrack.plan.assign.objectives import coverage_only
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
-
-log = logging.getLogger("searchtrack.plan.assign")
 
 
 def _exact(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Result[Assignment]:
@@ -90,8 +86,4 @@ def solve(problem: AssignmentProblem, *, backend: str = "auto", time_limit_s: fl
     InvalidInputError
         Unknown backend, a backend that cannot take the problem, a bad limit or seed.
     """
-    chosen = BACKENDS.checked(backend, problem, time_limit_s, seed)
-    result = interrupted(chosen.solve(problem, time_limit_s=time_limit_s, seed=seed))
-    log.info("assignment %s via %s: %s %s in %.3f s", problem.name, backend,
-             result.status.name, result.objective, result.runtime_s)
-    return result
+    return BACKENDS.solve(backend, problem, time_limit_s=time_limit_s, seed=seed)

@@ -10,8 +10,6 @@ The backends are the Ch. 5 strategies (:mod:`searchtrack.plan.guidance.strategie
 
 from __future__ import annotations
 
-import logging
-
 from searchtrack.core.registry import Backend, Registry
 from searchtrack.core.result import Result
 from searchtrack.plan.guidance.problem import GuidanceProblem
@@ -22,8 +20,6 @@ from searchtrack.plan.guidance.strategies import (
     solve_search_and_reacquire,
 )
 from searchtrack.plan.guidance.view import Guidance
-
-log = logging.getLogger("searchtrack.plan.guidance")
 
 #: The guidance strategies by name.
 BACKENDS: Registry[GuidanceProblem, Guidance] = Registry("guidance")
@@ -65,7 +61,4 @@ def solve(problem: GuidanceProblem, *, backend: str = "search_and_reacquire",
     InvalidInputError
         Unknown backend, a bad time limit or seed.
     """
-    chosen = BACKENDS.checked(backend, problem, time_limit_s, seed)
-    result = chosen.solve(problem, time_limit_s=time_limit_s, seed=seed)
-    log.debug("guidance %s at t=%.1f s: %s", backend, problem.view.time_s, result.message)
-    return result
+    return BACKENDS.solve(backend, problem, time_limit_s=time_limit_s, seed=seed)

@@ -3,16 +3,13 @@ horizon (exact over the lattice), ``lawnmower`` follows the 3-D coverage pattern
 
 from __future__ import annotations
 
-import logging
 import math
 
 from searchtrack.core.registry import Backend, Registry
-from searchtrack.core.result import Result, interrupted
+from searchtrack.core.result import Result
 from searchtrack.plan.search.lawnmower import lawnmower_supports, solve_lawnmower
 from searchtrack.plan.search.problem import SearchPlan, SearchProblem
 from searchtrack.plan.search.receding import solve_receding
-
-log = logging.getLogger("searchtrack.plan.search")
 
 BACKENDS: Registry[SearchProblem, SearchPlan] = Registry("search")
 BACKENDS.register(Backend("receding", solve_receding, True,
@@ -34,8 +31,4 @@ def solve(problem: SearchProblem, *, backend: str = "receding", time_limit_s: fl
     InvalidInputError
         Unknown backend, a backend that cannot take the problem, a bad limit or seed.
     """
-    chosen = BACKENDS.checked(backend, problem, time_limit_s, seed)
-    result = interrupted(chosen.solve(problem, time_limit_s=time_limit_s, seed=seed))
-    log.debug("search %s via %s: %s %s in %.3f s", problem.name, backend, result.status.name,
-              result.objective, result.runtime_s)
-    return result
+    return BACKENDS.solve(backend, problem, time_limit_s=time_limit_s, seed=seed)

@@ -8,16 +8,12 @@ fallbacks that fired in ``message`` and ``stats["fallbacks"]``.
 
 from __future__ import annotations
 
-import logging
-
 from searchtrack.core.registry import Backend, Registry, Stage, fallback_chain
 from searchtrack.core.result import Result
 from searchtrack.plan.trajectory.closed_form import MODELS, solve_closed_form
 from searchtrack.plan.trajectory.ltv_mpc import solve_ltv_mpc
 from searchtrack.plan.trajectory.nmpc import prepare, solve_nmpc
 from searchtrack.plan.trajectory.problem import ControlPlan, TrackingProblem
-
-log = logging.getLogger("searchtrack.plan.trajectory")
 
 NMPC_SHARE = 0.6
 _MIN_QP_S = 2e-3
@@ -83,5 +79,4 @@ def solve(problem: TrackingProblem, *, backend: str = "auto", time_limit_s: floa
     InvalidInputError
         Unknown backend, a backend that cannot take this model, or a bad time limit.
     """
-    chosen = BACKENDS.checked(backend, problem, time_limit_s, seed)
-    return chosen.solve(problem, time_limit_s=time_limit_s, seed=seed)
+    return BACKENDS.solve(backend, problem, time_limit_s=time_limit_s, seed=seed)
