@@ -76,7 +76,7 @@ def test_bad_fields_are_named(tmp_path: Path, text: str, key: str) -> None:
 
 def test_unreadable_files(tmp_path: Path) -> None:
     """A missing file and broken TOML are reported with the file name."""
-    with pytest.raises(ParseError, match="missing.toml: no such file"):
+    with pytest.raises(ParseError, match=r"missing\.toml: no such file"):
         load_scenario(tmp_path / "missing.toml")
     with pytest.raises(ParseError, match="not valid TOML"):
         load_scenario(write(tmp_path, "name = [unclosed"))
