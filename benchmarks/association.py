@@ -34,13 +34,14 @@ from threadpoolctl import threadpool_limits
 from searchtrack.estimate.association import Associator
 from searchtrack.estimate.diffusion import GraphDiffusion
 from searchtrack.estimate.emd_association import EMDAssociator
-from searchtrack.estimate.emd_matrix import emd_matrix, truncate_signature
+from searchtrack.estimate.emd_matrix import emd_matrix
 from searchtrack.estimate.node_tracker import (
     NodeTracker,
     TrackerBank,
     measurement_density,
     position_log_likelihood,
 )
+from searchtrack.estimate.signatures import truncate_signature
 from searchtrack.models import RoadNetwork, read_osm
 from searchtrack.models.road_metric import RoadMetric
 from searchtrack.sim.scenario import bundled_map

@@ -35,14 +35,9 @@ from searchtrack.estimate.association import (
     AssociationProblem,
     solve,
 )
-from searchtrack.estimate.emd_matrix import (
-    METHODS,
-    check_gate,
-    check_support_mass,
-    checked_emd_matrix,
-    distributions,
-)
+from searchtrack.estimate.emd_matrix import METHODS, checked_emd_matrix
 from searchtrack.estimate.node_tracker import TrackerBank
+from searchtrack.estimate.signatures import check_gate, check_support_mass, distributions
 from searchtrack.models.road_metric import RoadMetric
 from searchtrack.models.roads import RoadNetwork
 

@@ -1,12 +1,6 @@
 """The trackers × measurements EMD matrix of Algorithm 1 under the road metric (thesis §4.3).
 
-Signatures. A diffused tracker or a Gaussian measurement density is
-nonzero on almost every node, so each is *truncated*: keep the smallest set of nodes holding at
-least ``support_mass`` (default 0.999) of its mass — the heaviest nodes, ties to the lower
-index — and renormalise it to 1. By the triangle inequality for W1, the EMD between truncated
-signatures differs from the full one by at most ``(1 − support_mass)`` times the farthest road
-distance from a dropped node to the kept ones, per side; in practice far less
-(``benchmarks/association.py`` prints the relative error).
+Signatures are truncated (:mod:`.signatures`).
 
 Ground distance: road shortest-path distances in metres, exact (:class:`RoadMetric`).
 
@@ -24,18 +18,8 @@ could not be associated anyway). A pair left unsolved (time limit, solver failur
 ``+inf`` in the cost matrix, but the result says so: :attr:`EMDMatrix.unsolved` marks it and the
 status is ``FEASIBLE`` instead of ``OPTIMAL``.
 
-Two lower bounds, both exact for the truncated signatures
-``p`` (nodes ``i``) and ``q`` (nodes ``j``) and any optimal flow ``f`` (``Σ f = 1``):
-
-* centroid bound, before any distance is computed: with ``κ`` =
-  :attr:`RoadMetric.lower_bound_factor` (road distance ≥ ``κ`` × straight line),
-  ``EMD = Σ f_ij d_ij ≥ κ Σ f_ij ‖ψ_i − ψ_j‖ ≥ κ ‖Σ f_ij (ψ_i − ψ_j)‖ = κ ‖ψ̄_p − ψ̄_q‖``
-  (triangle inequality for the norm; the marginals of ``f`` are ``p`` and ``q``);
-* nearest-support bound, from the distance block: ``Σ_ij f_ij d_ij ≥ Σ_i (Σ_j f_ij) min_j d_ij
-  = Σ_i p_i min_j d_ij``, and symmetrically ``Σ_j q_j min_i d_ij``; both are at least the
-  distance between the two supports' nearest nodes.
-
-A relative slack of 1e-9 protects against round-off in the bounds.
+Pairs are skipped on the lower bounds of :mod:`.signatures` (centroid, then nearest support),
+with a relative slack of 1e-9 against round-off.
 """
 
 from __future__ import annotations
@@ -53,6 +37,16 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.registry import Backend, Registry
 from searchtrack.core.result import Result, Sense, Status
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
+from searchtrack.estimate.signatures import (
+    SLACK,
+    Signature,
+    centroid_bound,
+    check_gate,
+    check_support_mass,
+    distributions,
+    nearest_support_bound,
+    truncate,
+)
 from searchtrack.estimate.transport import emd, emd_on_graph
 from searchtrack.estimate.transport.simplex import warm_up
 from searchtrack.models.road_metric import RoadMetric, SourceDistances
@@ -61,101 +55,7 @@ from searchtrack.models.roads import RoadNetwork
 log = logging.getLogger("searchtrack.estimate.emd_matrix")
 
 
-_SLACK = 1e-9  # relative round-off allowance before a lower bound may skip a pair
 _MASS_RTOL = 1e-9  # per-component masses must agree to this for a finite EMD
-
-
-@dataclass(frozen=True, eq=False)
-class Signature:
-    """A truncated signature: ascending ``nodes`` and their ``weights`` (> 0, summing to 1)."""
-
-    nodes: IntArray
-    weights: FloatArray
-
-    @property
-    def size(self) -> int:
-        """Number of support nodes."""
-        return int(self.nodes.size)
-
-
-def check_support_mass(support_mass: object) -> float:
-    """``support_mass`` as a float in ``(0, 1]``, else :class:`InvalidInputError`."""
-    if isinstance(support_mass, bool) or not isinstance(
-            support_mass, (int, float, np.integer, np.floating)):
-        raise InvalidInputError("support_mass", support_mass, "must be a number in (0, 1]")
-    value = float(support_mass)
-    if not 0.0 < value <= 1.0:
-        raise InvalidInputError("support_mass", support_mass, "must be in (0, 1]")
-    return value
-
-
-def check_gate(gate_m: object, *, inf_ok: bool) -> float:
-    """``gate_m`` as a positive float (finite unless ``inf_ok``)."""
-    if isinstance(gate_m, bool) or not isinstance(gate_m, (int, float, np.integer, np.floating)):
-        raise InvalidInputError("gate_m", gate_m, "must be a positive number of metres")
-    value = float(gate_m)
-    if math.isnan(value) or value <= 0.0 or (value == math.inf and not inf_ok):
-        raise InvalidInputError("gate_m", gate_m, "must be positive" +
-                                ("" if inf_ok else " and finite") + " (m)")
-    return value
-
-
-def distributions(name: str, values: ArrayLike, n_nodes: int) -> FloatArray:
-    """``values`` as an ``(r, n_nodes)`` array of finite, non-negative rows with positive sums."""
-    try:
-        arr = np.asarray(values, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InvalidInputError(name, values, "must be a 2-D array of numbers") from None
-    if arr.ndim != 2 or arr.shape[1] != n_nodes:
-        raise InvalidInputError(name, f"<array of shape {arr.shape}>",
-                                f"must have shape (rows, {n_nodes}), one column per node")
-    if not np.all(np.isfinite(arr)):
-        raise InvalidInputError(name, f"<array of shape {arr.shape}>", "must be finite")
-    if np.any(arr < 0.0):
-        raise InvalidInputError(name, f"<array of shape {arr.shape}>", "must be non-negative")
-    empty = np.flatnonzero(arr.sum(axis=1) <= 0.0)
-    if empty.size:
-        raise InvalidInputError(name, f"<array of shape {arr.shape}>",
-                                f"row {int(empty[0])} has no mass")
-    return arr
-
-
-def truncate_signature(weights: ArrayLike, support_mass: float = 0.999) -> Signature:
-    """The smallest node set holding ≥ ``support_mass`` of ``weights``' mass, renormalised.
-
-    Nodes are taken heaviest first (ties: lower index first); ``support_mass = 1`` keeps every
-    node of positive weight. Only nodes heavier than ``(1 − support_mass) · total / n`` are
-    sorted: the lighter ones hold at most ``(1 − support_mass) · total`` together, so they are
-    exactly the lightest nodes and never needed.
-
-    Raises
-    ------
-    InvalidInputError
-        ``weights`` not a non-empty 1-D array of finite non-negative numbers with a positive
-        sum, or ``support_mass`` outside ``(0, 1]``.
-    """
-    mass = check_support_mass(support_mass)
-    w = np.asarray(weights, dtype=np.float64)
-    if w.ndim != 1 or w.size == 0:
-        raise InvalidInputError("weights", weights, "must be a non-empty 1-D array")
-    return _truncate(distributions("weights", w[None, :], w.size)[0], mass)
-
-
-def _truncate(w: FloatArray, mass: float) -> Signature:
-    """:func:`truncate_signature` for a validated row ``w`` and ``mass``."""
-    total = float(w.sum())
-    if mass >= 1.0:
-        nodes = np.flatnonzero(w > 0.0)
-    else:
-        cand = np.flatnonzero(w > (1.0 - mass) * total / w.size)
-        order = cand[np.lexsort((cand, -w[cand]))]
-        k = int(np.searchsorted(np.cumsum(w[order]), mass * total)) + 1
-        nodes = np.sort(order[:min(k, order.size)])
-    nodes = nodes.astype(np.int64)
-    kept = w[nodes] / w[nodes].sum()
-    nodes.setflags(write=False)
-    kept.setflags(write=False)
-    return Signature(nodes, kept)
 
 
 @dataclass(frozen=True, eq=False)
@@ -292,11 +192,11 @@ def _solve(problem: EMDMatrixProblem, method: str, time_limit_s: float) -> Resul
     warm_up()
     deadline = Deadline(time_limit_s)
     metric, gate_m = problem.metric, problem.gate_m
-    sig_t = [_truncate(row, problem.support_mass) for row in problem.trackers]
-    sig_q = [_truncate(row, problem.support_mass) for row in problem.measured]
+    sig_t = [truncate(row, problem.support_mass) for row in problem.trackers]
+    sig_q = [truncate(row, problem.support_mass) for row in problem.measured]
     out = np.full((len(sig_t), len(sig_q)), math.inf)
     unsolved = np.zeros(out.shape, dtype=bool)
-    pairs = np.argwhere(centroid_bound(metric, sig_t, sig_q) < gate_m * (1.0 + _SLACK))
+    pairs = np.argwhere(centroid_bound(metric, sig_t, sig_q) < gate_m * (1.0 + SLACK))
     pair_solver = (None if pairs.size == 0 else _GraphPairs(metric) if method == "graph"
                    else _TransportPairs(metric, sig_t, sig_q, pairs))
     inexact = 0
@@ -338,24 +238,6 @@ def checked_emd_matrix(metric: RoadMetric, trackers: FloatArray, measured: Float
 
 #: Names of the pair solvers (the backends of :data:`EMD_MATRIX_BACKENDS`).
 METHODS: tuple[str, ...] = tuple(EMD_MATRIX_BACKENDS.names())
-
-
-def centroid_bound(metric: RoadMetric, left: list[Signature],
-                   right: list[Signature]) -> FloatArray:
-    """``(len(left), len(right))`` lower bounds ``κ ‖ψ̄_p − ψ̄_q‖`` on the EMD (m)."""
-    xy = metric.network.coords
-
-    def centroids(sigs: list[Signature]) -> FloatArray:
-        return np.array([s.weights @ xy[s.nodes] for s in sigs]).reshape(len(sigs), 2)
-
-    a, b = centroids(left), centroids(right)
-    gap = np.linalg.norm(a[:, None, :] - b[None, :, :], axis=2)
-    return np.asarray(metric.lower_bound_factor * gap, dtype=np.float64)
-
-
-def nearest_support_bound(cost: FloatArray, p: FloatArray, q: FloatArray) -> float:
-    """``max(Σ_i p_i min_j d_ij, Σ_j q_j min_i d_ij)`` ≤ EMD (``inf`` if some mass is cut off)."""
-    return float(max(p @ cost.min(axis=1), q @ cost.min(axis=0)))
 
 
 def _value(result: Result[Any], what: str) -> tuple[float, bool | None]:
@@ -435,7 +317,7 @@ class _TransportPairs:
     def __call__(self, i: int, j: int, p: Signature, q: Signature, gate: float,
                  deadline: Deadline) -> tuple[float, bool | None]:
         cost = self.block(i, j)
-        if nearest_support_bound(cost, p.weights, q.weights) >= gate * (1.0 + _SLACK):
+        if nearest_support_bound(cost, p.weights, q.weights) >= gate * (1.0 + SLACK):
             return math.inf, True
         what = f"emd (tracker {i}, measurement {j})"
         if np.isfinite(cost).all():
