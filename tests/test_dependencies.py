@@ -1,4 +1,5 @@
-"""The dependency set: OR-Tools and cvxpy import together in either order (no HiGHS clash)."""
+"""The dependency set: OR-Tools and cvxpy import together in either order (no HiGHS clash);
+Dask distributed and DuckDB import beside OR-Tools, CasADi and numba."""
 
 from __future__ import annotations
 
@@ -28,6 +29,28 @@ def test_solvers_import_in_any_order(order: str) -> None:
                           timeout=120)
     assert proc.returncode == 0, proc.stderr[-2000:]
 
+_CAMPAIGN = ("import dask.distributed\nimport duckdb\n"
+             "assert duckdb.connect().execute('SELECT 1 + 1').fetchone() == (2,)\n")
+_SOLVERS = ("from ortools.sat.python import cp_model\nfrom ortools.linear_solver import pywraplp\n"
+            "assert pywraplp.Solver.CreateSolver('SCIP')\nimport casadi\nimport numba\n"
+            "x = casadi.SX.sym('x'); assert casadi.Function('f', [x], [x * 2])(3) == 6\n"
+            "assert numba.njit(lambda a: a + 1)(1) == 2\n")
+CAMPAIGN_ORDERS = {
+    "dask and duckdb first": _CAMPAIGN + _SOLVERS,
+    "solvers first": _SOLVERS + _CAMPAIGN,
+    "searchtrack campaigns first": "import searchtrack.sim.campaigns.runner\n" + _SOLVERS
+    + _CAMPAIGN,
+}
+
+
+@pytest.mark.parametrize("order", sorted(CAMPAIGN_ORDERS))
+def test_campaign_engines_import_beside_the_solvers(order: str) -> None:
+    """dask.distributed and duckdb work beside OR-Tools, CasADi and numba in a fresh
+    interpreter, whichever is imported first."""
+    proc = subprocess.run([sys.executable, "-c", CAMPAIGN_ORDERS[order]], capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+
 
 def test_no_dependency_pulls_in_highspy() -> None:
     """searchtrack depends on cvxpy-base (not cvxpy, which requires highspy), so no HiGHS clash."""
@@ -36,3 +59,4 @@ def test_no_dependency_pulls_in_highspy() -> None:
              for r in requires}
     assert "cvxpy-base" in names
     assert "cvxpy" not in names and "highspy" not in names
+    assert {"dask", "duckdb"} <= names

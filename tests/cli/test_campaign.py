@@ -1,0 +1,100 @@
+"""``searchtrack campaign run|status|export``: exit statuses, resume, one-line bad input that
+writes nothing."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import duckdb
+import pytest
+
+from searchtrack.cli import main
+from tests.sim.campaigns.toy import write_toy_file
+
+
+def test_run_status_and_export(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A toy campaign runs in-process (exit 0), resumes, reports its status and exports."""
+    path, db = write_toy_file(tmp_path), tmp_path / "r.duckdb"
+    assert main(["campaign", "run", str(path), "--db", str(db), "--workers", "0"]) == 0
+    assert "4 ok" in capsys.readouterr().out
+    assert main(["campaign", "run", str(path), "--db", str(db), "--workers", "0"]) == 0
+    assert "4 already recorded" in capsys.readouterr().out
+    assert main(["campaign", "status", str(db)]) == 0
+    assert "toy-file" in capsys.readouterr().out
+    out = tmp_path / "runs.csv"
+    assert main(["campaign", "export", str(db), str(out)]) == 0
+    assert len(out.read_text(encoding="utf-8").splitlines()) == 5
+
+
+def test_default_database_sits_beside_the_file(tmp_path: Path) -> None:
+    """Without --db the results go to FILE with suffix .duckdb."""
+    path = write_toy_file(tmp_path)
+    assert main(["campaign", "run", str(path), "--workers", "0"]) == 0
+    assert path.with_suffix(".duckdb").is_file()
+
+
+def test_failed_runs_exit_1_and_can_be_retried(tmp_path: Path) -> None:
+    """Some failed runs give exit status 1, also after a retry that fails again."""
+    path = write_toy_file(tmp_path, "[grid]\nfail = [false, true]\n")
+    db = tmp_path / "r.duckdb"
+    assert main(["campaign", "run", str(path), "--db", str(db), "--workers", "0"]) == 1
+    assert main(["campaign", "run", str(path), "--db", str(db), "--workers", "0",
+                 "--retry-failed"]) == 1
+    assert main(["campaign", "status", str(db)]) == 1
+
+
+@pytest.mark.parametrize(("body", "key"), [
+    ("[grid]\ncolour = [1]\n", "grid.colour"),
+    ('[grid]\nvalue = ["x"]\n', "grid.value"),
+    ("[grid]\nvalue = []\n", "grid.value"),
+])
+def test_bad_files_exit_2_and_write_nothing(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                            body: str, key: str) -> None:
+    """A bad campaign file is one line naming the key, status 2, and no database."""
+    path, db = write_toy_file(tmp_path, body), tmp_path / "r.duckdb"
+    assert main(["campaign", "run", str(path), "--db", str(db), "--workers", "0"]) == 2
+    err = capsys.readouterr().err
+    assert key in err and len(err.strip().splitlines()) == 1
+    assert not db.exists()
+
+
+def test_another_campaigns_database_exits_2(tmp_path: Path,
+                                            capsys: pytest.CaptureFixture[str]) -> None:
+    """A --db holding another campaign is refused naming --db; its rows are untouched."""
+    db = tmp_path / "r.duckdb"
+    first = write_toy_file(tmp_path)
+    assert main(["campaign", "run", str(first), "--db", str(db), "--workers", "0"]) == 0
+    other = write_toy_file(tmp_path, head='name = "other"\nexperiment = "toy"\nseeds = [7]\n')
+    capsys.readouterr()
+    assert main(["campaign", "run", str(other), "--db", str(db), "--workers", "0"]) == 2
+    assert "--db" in capsys.readouterr().err
+    with duckdb.connect(str(db), read_only=True) as con:
+        assert con.execute("SELECT count(*) FROM runs").fetchone() == (4,)
+
+
+def test_bad_paths_exit_2(tmp_path: Path) -> None:
+    """A folder as --db, a missing database, or an export suffix we cannot write: status 2."""
+    path = write_toy_file(tmp_path)
+    assert main(["campaign", "run", str(path), "--db", str(tmp_path), "--workers", "0"]) == 2
+    assert main(["campaign", "status", str(tmp_path / "missing.duckdb")]) == 2
+    with pytest.raises(SystemExit) as usage:
+        main(["campaign", "run", str(path), "--workers", "-1"])
+    assert usage.value.code == 2
+    db = tmp_path / "r.duckdb"
+    assert main(["campaign", "run", str(path), "--db", str(db), "--workers", "0"]) == 0
+    assert main(["campaign", "export", str(db), str(tmp_path / "runs.json")]) == 2
+
+
+def test_report_prints_the_groups_and_draws_figures(tmp_path: Path,
+                                                    capsys: pytest.CaptureFixture[str]) -> None:
+    """``campaign report`` prints one row per grid point with mean ± CI and writes one PNG per
+    metric against the varying parameter."""
+    spec = write_toy_file(tmp_path, "[grid]\nvalue = [1.0, 2.0, 4.0]\n")
+    db = tmp_path / "r.duckdb"
+    assert main(["campaign", "run", str(spec), "--db", str(db), "--workers", "0"]) == 0
+    capsys.readouterr()
+    assert main(["campaign", "report", str(db), "--out", str(tmp_path / "fig")]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "value" in out and "4 ± 0" in out and "result" in out
+    assert sorted(p.name for p in (tmp_path / "fig").iterdir()) == [
+        "toy-file-result.png", "toy-file-seed_echo.png"]

@@ -1,0 +1,58 @@
+"""Campaign reports: grouped means with 95 % intervals, failed runs counted, figures drawn."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from searchtrack.sim.campaigns.report import plot_metric, summarise, table_rows
+
+ROWS = [
+    {"uavs": 3, "map": "a", "seed": 0, "status": "ok", "t": 10.0},
+    {"uavs": 3, "map": "a", "seed": 1, "status": "ok", "t": 14.0},
+    {"uavs": 3, "map": "a", "seed": 2, "status": "error", "t": None},
+    {"uavs": 6, "map": "a", "seed": 0, "status": "ok", "t": 5.0},
+    {"uavs": 6, "map": "a", "seed": 1, "status": "ok", "t": 7.0},
+    {"uavs": 6, "map": "a", "seed": 2, "status": "ok", "t": math.nan},
+]
+
+
+def test_groups_estimate_only_their_ok_runs() -> None:
+    """Each group's mean and t-interval use its ok, finite values; failures are counted."""
+    groups = summarise(ROWS, ["uavs", "map"], ["t"])
+    assert [g.label() for g in groups] == ["uavs=3, map=a", "uavs=6, map=a"]
+    three, six = groups
+    assert (three.runs, three.failed, six.failed) == (3, 1, 0)
+    assert three.metrics["t"].mean == pytest.approx(12.0)
+    # t(0.975, 1) = 12.706, s.d. = 2.828, n = 2: half-width 12.706 · 2.828 / √2 = 25.41
+    assert three.metrics["t"].half_width == pytest.approx(25.4124, rel=1e-4)
+    assert six.metrics["t"].n == 2 and six.metrics["t"].mean == pytest.approx(6.0)
+
+
+def test_table_has_one_row_per_group() -> None:
+    """The table starts with the parameters and runs, then one column per metric."""
+    rows = table_rows(summarise(ROWS, ["uavs"], ["t"]), ["t"])
+    assert rows[0] == ["uavs", "runs", "t"]
+    assert rows[1][:2] == ["3", "3 (1 failed)"] and rows[1][2].startswith("12 ± ")
+
+
+def test_figure_is_written_as_png(tmp_path: Path) -> None:
+    """The metric against one parameter is drawn to a PNG and nothing else is left behind."""
+    out = plot_metric(summarise(ROWS, ["uavs", "map"], ["t"]), "t", tmp_path / "t.png",
+                      x_key="uavs", unit="s")
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["t.png"]
+
+
+def test_report_groups_by_what_varies_and_finds_the_claim() -> None:
+    """The groups are the parameters that take more than one value; the claim of a detect-mode
+    mission campaign is the thesis's experiment 1 claim."""
+    from searchtrack.sim.campaigns.report import CLAIMS, build_report
+
+    rows = [{**r, "mode": "detect", "targets": 8} for r in ROWS]
+    report = build_report("exp1", "mission", ["map", "mode", "uavs", "targets"], ["t"], rows)
+    assert report.group_keys == ("uavs",) and report.metrics == ("t",)
+    assert report.claim == CLAIMS["mission/detect"]
+    assert [g.label() for g in report.groups] == ["uavs=3", "uavs=6"]
