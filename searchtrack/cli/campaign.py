@@ -97,8 +97,9 @@ def report(args: argparse.Namespace, console: Console) -> int:
         rows = store.rows()
         definition = store.experiment
         name = store.campaign
+        metrics = store.metrics
     result = build_report(name, definition.name, [p.name for p in definition.params],
-                          list(definition.metrics), rows)
+                          list(metrics), rows)
     table = Table(title=f"{name} ({definition.name}): mean ± 95 % CI over seeds")
     cells = table_rows(list(result.groups), list(result.metrics))
     for col in cells[0]:

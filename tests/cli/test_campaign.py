@@ -98,3 +98,16 @@ def test_report_prints_the_groups_and_draws_figures(tmp_path: Path,
     assert "value" in out and "4 ± 0" in out and "result" in out
     assert sorted(p.name for p in (tmp_path / "fig").iterdir()) == [
         "toy-file-result.png", "toy-file-seed_echo.png"]
+
+
+def test_report_keeps_to_the_campaigns_metrics(tmp_path: Path,
+                                               capsys: pytest.CaptureFixture[str]) -> None:
+    """A campaign that lists its metrics is reported and drawn for those only."""
+    spec = write_toy_file(tmp_path, '[grid]\nvalue = [1.0, 2.0]\n',
+                          head='name = "toy-m"\nexperiment = "toy"\nseeds = {count = 2}\n'
+                               'metrics = ["result"]\n')
+    db = tmp_path / "m.duckdb"
+    assert main(["campaign", "run", str(spec), "--db", str(db), "--workers", "0"]) == 0
+    assert main(["campaign", "report", str(db), "--out", str(tmp_path / "fig")]) == 0
+    assert "seed_echo" not in capsys.readouterr().out
+    assert [p.name for p in (tmp_path / "fig").iterdir()] == ["toy-m-result.png"]

@@ -36,18 +36,24 @@ class GroupSummary:
 
 def summarise(rows: Sequence[Row], group_keys: Sequence[str],
               metrics: Sequence[str]) -> list[GroupSummary]:
-    """Group ``rows`` by ``group_keys`` (in order of first appearance) and estimate every metric
-    over the ``ok`` runs of each group (NaN and missing values dropped)."""
+    """Group ``rows`` by ``group_keys`` (sorted: numbers by value, text alphabetically) and
+    estimate every metric over the ``ok`` runs of each group (NaN and missing values dropped)."""
     groups: dict[tuple[Any, ...], list[Row]] = {}
     for row in rows:
         groups.setdefault(tuple(row.get(k) for k in group_keys), []).append(row)
     out = []
-    for values, members in groups.items():
+    for values, members in sorted(groups.items(), key=lambda item: _order(item[0])):
         ok = [r for r in members if r.get("status") == "ok"]
         est = {m: estimate([_number(r.get(m)) for r in ok]) for m in metrics}
         out.append(GroupSummary(tuple(zip(group_keys, values, strict=True)), len(members),
                                 len(members) - len(ok), est))
     return out
+
+
+def _order(values: tuple[Any, ...]) -> tuple[tuple[int, float, str], ...]:
+    """A sort key for mixed parameter values: numbers by value, then everything else by text."""
+    return tuple((0, float(v), "") if isinstance(v, (int, float)) and not isinstance(v, bool)
+                 else (1, 0.0, str(v)) for v in values)
 
 
 def _number(value: Any) -> float:

@@ -267,7 +267,7 @@ def run_campaign(spec: CampaignSpec, db_path: str | Path, *, workers: int | None
     runs = spec.runs()
     started = time.perf_counter()
     count = _Count()
-    with ResultStore(db_path, spec.name, spec.definition) as store:
+    with ResultStore(db_path, spec.name, spec.definition, spec.metrics) as store:
         finished = store.finished_keys(include_failed=not retry_failed)
         todo = [r for r in runs if r.key not in finished]
         log.info("campaign %s: %d runs, %d recorded, %d to run", spec.name, len(runs),

@@ -9,8 +9,9 @@ each row is committed as its run completes.
 
 from __future__ import annotations
 
+import json
 import logging
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
@@ -63,6 +64,8 @@ class ResultStore:
         The campaign's name; a database holding another campaign is refused.
     experiment
         Its experiment (defines the columns).
+    metrics
+        The metrics the campaign reports (kept with it; all of the experiment's when empty).
 
     Raises
     ------
@@ -70,9 +73,11 @@ class ResultStore:
         The file holds another campaign, another experiment, or is not a results database.
     """
 
-    def __init__(self, path: str | Path, campaign: str, experiment: Experiment) -> None:
+    def __init__(self, path: str | Path, campaign: str, experiment: Experiment,
+                 metrics: Sequence[str] = ()) -> None:
         self.path = Path(path)
         self.campaign, self.experiment = campaign, experiment
+        self.metrics: tuple[str, ...] = tuple(metrics) or tuple(experiment.metrics)
         self._columns = columns(experiment)
         try:
             self._db = duckdb.connect(str(self.path))
@@ -88,8 +93,10 @@ class ResultStore:
         tables = {r[0] for r in self._db.execute("SELECT table_name FROM information_schema."
                                                  "tables").fetchall()}
         if "campaign" in tables:
-            row = self._db.execute("SELECT name, experiment FROM campaign").fetchone()
-            if row is None or tuple(row) != (self.campaign, self.experiment.name):
+            row = self._db.execute("SELECT name, experiment, metrics FROM campaign").fetchone()
+            if row is not None and row[2]:
+                self.metrics = tuple(json.loads(row[2]))
+            if row is None or tuple(row[:2]) != (self.campaign, self.experiment.name):
                 held = "nothing" if row is None else f"campaign {row[0]!r} ({row[1]})"
                 raise StoreError(self.path, f"holds {held}, not campaign {self.campaign!r} "
                                  f"({self.experiment.name}); give another --db")
@@ -104,9 +111,10 @@ class ResultStore:
             raise StoreError(self.path, f"holds tables {sorted(tables)}, not a campaign")
         cols = ", ".join(f"{_quote(c)} {t}" for c, t in self._columns.items())
         self._db.execute("BEGIN TRANSACTION")
-        self._db.execute("CREATE TABLE campaign (name VARCHAR, experiment VARCHAR)")
-        self._db.execute("INSERT INTO campaign VALUES (?, ?)",
-                         [self.campaign, self.experiment.name])
+        self._db.execute("CREATE TABLE campaign (name VARCHAR, experiment VARCHAR, "
+                         "metrics VARCHAR)")
+        self._db.execute("INSERT INTO campaign VALUES (?, ?, ?)",
+                         [self.campaign, self.experiment.name, json.dumps(list(self.metrics))])
         self._db.execute(f"CREATE TABLE runs ({cols})")
         self._db.execute("COMMIT")
         log.info("created results database %s for campaign %s", self.path, self.campaign)
