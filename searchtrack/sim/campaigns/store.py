@@ -85,6 +85,10 @@ class ResultStore:
             raise StoreError(self.path, f"not a DuckDB database ({exc})") from None
         try:
             self._open()
+        except duckdb.Error as exc:
+            self._db.close()
+            raise StoreError(self.path, f"cannot read it as a campaign database "
+                             f"({str(exc).splitlines()[0]})") from None
         except BaseException:
             self._db.close()
             raise
@@ -93,7 +97,11 @@ class ResultStore:
         tables = {r[0] for r in self._db.execute("SELECT table_name FROM information_schema."
                                                  "tables").fetchall()}
         if "campaign" in tables:
-            row = self._db.execute("SELECT name, experiment, metrics FROM campaign").fetchone()
+            kept = {r[0] for r in self._db.execute(
+                "SELECT column_name FROM information_schema.columns WHERE table_name = "
+                "'campaign'").fetchall()}
+            listed = "metrics" if "metrics" in kept else "NULL"  # databases before the column
+            row = self._db.execute(f"SELECT name, experiment, {listed} FROM campaign").fetchone()
             if row is not None and row[2]:
                 self.metrics = tuple(json.loads(row[2]))
             if row is None or tuple(row[:2]) != (self.campaign, self.experiment.name):
