@@ -29,9 +29,9 @@ DESCRIPTION = "The ``searchtrack`` command: solve and benchmark planning problem
 #: Exit statuses of every subcommand.
 EXIT_OK, EXIT_NO_PLAN, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
 
-EPILOG = ("exit status: 0 solved; 1 no plan (or, for bench, some instance failed); 2 bad input; "
-          "130 interrupted (Ctrl-C stops cleanly and keeps what was done; a second Ctrl-C "
-          "aborts at once)")
+EPILOG = ("exit status: 0 solved; 1 no plan (or some bench instance or campaign run failed); "
+          "2 bad input; 130 interrupted (Ctrl-C stops cleanly and keeps what was done; a second "
+          "Ctrl-C aborts at once)")
 
 
 class _Parser(argparse.ArgumentParser):
