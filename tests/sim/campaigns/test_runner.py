@@ -128,3 +128,25 @@ def test_a_killed_worker_loses_no_run(tmp_path: Path) -> None:
     assert killed
     assert (summary.ok, summary.failed, summary.not_run) == (20, 0, 0)
     _assert_every_key_once(spec, db)
+
+
+@pytest.mark.slow
+def test_a_stop_on_a_local_cluster_keeps_the_database_consistent(tmp_path: Path) -> None:
+    """A stop request (what Ctrl-C sends) after four runs on a 2-process LocalCluster: the runs
+    in flight are dropped, every recorded key once, and running again finishes the rest."""
+    spec, db = toy_spec((1.0, 2.0), seeds=6, sleep_s=0.1), tmp_path / "r.duckdb"
+
+    def stop_after_four(t: Tally) -> None:
+        if t.done >= 4:
+            request_stop()
+
+    try:
+        first = run_campaign(spec, db, workers=2, progress=stop_after_four)
+    finally:
+        clear_stop()
+    assert first.interrupted and 4 <= first.ok < 12 and first.ok + first.not_run == 12
+    keys = _keys(db)
+    assert sum(keys.values()) == first.ok and max(keys.values()) == 1
+    second = run_campaign(spec, db, workers=0)
+    assert second.skipped == first.ok and second.ok == 12 - first.ok
+    _assert_every_key_once(spec, db)
