@@ -23,7 +23,7 @@ import hashlib
 import itertools
 import json
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
@@ -37,6 +37,9 @@ from searchtrack.sim.campaigns.experiments import Experiment, ParamValue, get
 
 #: Largest number of runs one campaign may hold (grid size × seeds).
 MAX_RUNS = 10_000_000
+
+#: The grid key whose values are tables of parameters varying together.
+CELLS = "cells"
 
 _TOP_KEYS = ("name", "experiment", "settings", "grid", "seeds", "metrics")
 
@@ -77,7 +80,9 @@ class CampaignSpec:
     settings
         Fixed parameter values (the others keep the experiment's defaults).
     grid
-        Parameter name -> the values it takes (at least one parameter, each a non-empty list).
+        Parameter name -> the values it takes (at least one parameter, each a non-empty list);
+        the key ``cells`` instead lists tables of parameters that vary together (e.g.
+        ``[{uavs = 1, targets = 4}, {uavs = 3, targets = 2}]``), one axis of the product.
     seeds
         The seeds every grid point is run with (distinct, in ``[0, MAX_SEED]``).
     metrics
@@ -92,7 +97,7 @@ class CampaignSpec:
     name: str
     experiment: str
     settings: Mapping[str, ParamValue]
-    grid: Mapping[str, tuple[ParamValue, ...]]
+    grid: Mapping[str, tuple[Any, ...]]
     seeds: tuple[int, ...]
     metrics: tuple[str, ...] = ()
 
@@ -109,13 +114,16 @@ class CampaignSpec:
         if not self.grid:
             raise InvalidInputError("grid", {}, "must vary at least one parameter "
                                     "(a one-value list is fine)")
-        grid = {}
+        grid: dict[str, tuple[Any, ...]] = {}
         for k, values in self.grid.items():
             key = f"grid.{k}"
-            if k in settings:
-                raise InvalidInputError(key, values, "is also in [settings]")
             if not values:
                 raise InvalidInputError(key, [], "must list at least one value")
+            if k == CELLS:
+                grid[k] = _cells(exp, values, settings, [n for n in self.grid if n != CELLS])
+                continue
+            if k in settings:
+                raise InvalidInputError(key, values, "is also in [settings]")
             try:
                 param = exp.param(k)
                 grid[k] = tuple(param.check(v) for v in values)
@@ -154,10 +162,40 @@ class CampaignSpec:
         names = list(self.grid)
         out = []
         for combo in itertools.product(*self.grid.values()):
-            params = exp.resolve({**self.settings, **dict(zip(names, combo, strict=True))})
+            point: dict[str, Any] = {}
+            for name, value in zip(names, combo, strict=True):
+                point.update(value if name == CELLS else {name: value})
+            params = exp.resolve({**self.settings, **point})
             for seed in self.seeds:
                 out.append(RunSpec(run_key(exp.name, params, seed), exp.name, params, seed))
         return out
+
+
+def _cells(exp: Experiment, values: Any, settings: Mapping[str, Any],
+           others: Sequence[str]) -> tuple[Mapping[str, ParamValue], ...]:
+    """``grid.cells``: tables of parameters that vary together, all with the same keys, none of
+    them in ``[settings]`` or elsewhere in the grid, no table repeated."""
+    if not isinstance(values, (list, tuple)) or not all(isinstance(v, Mapping) for v in values):
+        raise InvalidInputError(f"grid.{CELLS}", values, "must be a list of tables of parameters")
+    keys = set(values[0])
+    cells = []
+    for i, cell in enumerate(values):
+        where = f"grid.{CELLS}[{i}]"
+        if set(cell) != keys or not keys:
+            raise InvalidInputError(where, dict(cell), f"must set the same parameters as the "
+                                    f"first table ({sorted(keys)})")
+        checked: dict[str, ParamValue] = {}
+        for k, v in cell.items():
+            if k in settings or k in others:
+                raise InvalidInputError(f"{where}.{k}", v, "is also in [settings] or the grid")
+            try:
+                checked[k] = exp.param(k).check(v)
+            except InvalidInputError as exc:
+                raise _field(f"{where}.{k}", exc) from None
+        cells.append(MappingProxyType(checked))
+    if len({tuple(sorted(c.items())) for c in cells}) != len(cells):
+        raise InvalidInputError(f"grid.{CELLS}", list(values), "repeats a table")
+    return tuple(cells)
 
 
 def _seeds(value: Any) -> tuple[int, ...]:

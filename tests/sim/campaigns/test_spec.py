@@ -65,3 +65,31 @@ def test_malformed_toml_names_the_line(tmp_path: Path) -> None:
     path = write_toy_file(tmp_path, "[grid\n")
     with pytest.raises(ParseError, match="line 4"):
         read_spec(path)
+
+
+def test_cells_vary_parameters_together(tmp_path: Path) -> None:
+    """``grid.cells`` lists tables of parameters that vary together: one axis of the product,
+    not the product of their values."""
+    path = write_toy_file(tmp_path, "[grid]\ncells = [{value = 1.0, sleep_s = 0.0}, "
+                          "{value = 2.0, sleep_s = 0.01}]\nfail = [false, true]\n")
+    runs = read_spec(path).runs()
+    points = {(r.params["value"], r.params["sleep_s"], r.params["fail"]) for r in runs}
+    assert points == {(1.0, 0.0, False), (1.0, 0.0, True), (2.0, 0.01, False),
+                      (2.0, 0.01, True)}
+    assert len(runs) == 4 * 2 and len({r.key for r in runs}) == 8
+
+
+@pytest.mark.parametrize(("cells", "field"), [
+    ("[{value = 1.0}, {sleep_s = 0.1}]", "grid.cells[1]"),
+    ("[{value = 1.0}, {value = 1.0}]", "grid.cells"),
+    ("[{value = \"x\"}]", "grid.cells[0].value"),
+    ("[{fail = true}]", "grid.cells[0].fail"),
+    ("[1.0, 2.0]", "grid.cells"),
+])
+def test_bad_cells_name_the_key(tmp_path: Path, cells: str, field: str) -> None:
+    """Tables with other keys, a repeated table, a wrong type, a parameter also varied
+    elsewhere, or values that are not tables are refused naming the key."""
+    path = write_toy_file(tmp_path, f"[grid]\ncells = {cells}\nfail = [false]\n")
+    with pytest.raises(ParseError) as info:
+        read_spec(path)
+    assert info.value.field == field, str(info.value)
