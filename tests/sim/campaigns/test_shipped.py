@@ -21,6 +21,7 @@ EXPECTED = {
     "p003_tracking.toml": ("phd_tracking_episode", 3 * 2 * 3 * 3),
     "p004_search.toml": ("phd_search_episode", 3 * 10),
     "p004_horizon.toml": ("phd_search_episode", 3 * 10),
+    "p004_search_mi.toml": ("phd_search_episode", 2 * 10),
 }
 
 
