@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from searchtrack.core.registry import Backend, Registry, SolveFn, Stage, fallback_chain
-from searchtrack.core.result import Result, Status, interrupted
+from searchtrack.core.result import Result, Status
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.transport.lp import solve_graph_lp, solve_transport_lp
 from searchtrack.estimate.transport.network import solve_graph_network, solve_transport_network
@@ -87,14 +87,20 @@ def _checked(result: Result[Any], problems: list[str]) -> Result[Any]:
                                plan=None, message="plan check failed: " + "; ".join(problems))
 
 
-def _auto(
-    network: SolveFn[ProblemT, PlanT], lp: SolveFn[ProblemT, PlanT],
-    check: Callable[[ProblemT, PlanT], list[str]],
-) -> SolveFn[ProblemT, PlanT]:
-    def checked(problem: ProblemT, result: Result[PlanT]) -> Result[PlanT]:
+def _verified(backend: SolveFn[ProblemT, PlanT],
+              check: Callable[[ProblemT, PlanT], list[str]]) -> SolveFn[ProblemT, PlanT]:
+    """``backend`` whose every plan is checked independently (a rejected plan is an ERROR)."""
+    def solve(problem: ProblemT, /, *, time_limit_s: float, seed: int) -> Result[PlanT]:
+        result = backend(problem, time_limit_s=time_limit_s, seed=seed)
         return result if result.plan is None else _checked(result, check(problem, result.plan))
 
-    stages = (Stage("network", network, check=checked), Stage("lp", lp, check=checked))
+    return solve
+
+
+def _auto(network: SolveFn[ProblemT, PlanT], lp: SolveFn[ProblemT, PlanT],
+          check: Callable[[ProblemT, PlanT], list[str]]) -> SolveFn[ProblemT, PlanT]:
+    """The network simplex, the LP if its checked answer is an ERROR."""
+    stages = (Stage("network", _verified(network, check)), Stage("lp", _verified(lp, check)))
 
     def solve(problem: ProblemT, /, *, time_limit_s: float, seed: int) -> Result[PlanT]:
         return fallback_chain(problem, stages, time_limit_s=time_limit_s, seed=seed,
@@ -107,22 +113,27 @@ def _not_error(result: Result[Any]) -> bool:
     return result.status is not Status.ERROR
 
 
+_NETWORK = _verified(solve_transport_network, transport_violations)
+_LP = _verified(solve_transport_lp, transport_violations)
 EMD_BACKENDS: Registry[TransportProblem, TransportPlan] = Registry("emd")
-EMD_BACKENDS.register(Backend(
-    "auto", _auto(solve_transport_network, solve_transport_lp, transport_violations), True,
-    "network simplex; the cvxpy LP if it fails"))
-EMD_BACKENDS.register(Backend("network", solve_transport_network, True,
+EMD_BACKENDS.register(Backend("auto", _auto(solve_transport_network, solve_transport_lp,
+                                            transport_violations), True,
+                              "network simplex; the cvxpy LP if it fails"))
+EMD_BACKENDS.register(Backend("network", _NETWORK, True,
                               "primal network simplex on the bipartite graph of the supports"))
-EMD_BACKENDS.register(Backend("lp", solve_transport_lp, True,
+EMD_BACKENDS.register(Backend("lp", _LP, True,
                               "transportation LP (4.3)–(4.7) in cvxpy, HiGHS simplex"))
 
+_GRAPH_NETWORK = _verified(solve_graph_network, graph_violations)
+_GRAPH_LP = _verified(solve_graph_lp, graph_violations)
 GRAPH_EMD_BACKENDS: Registry[GraphProblem, GraphFlow] = Registry("emd_on_graph")
-GRAPH_EMD_BACKENDS.register(Backend(
-    "auto", _auto(solve_graph_network, solve_graph_lp, graph_violations), True,
-    "network simplex on the graph's arcs; the cvxpy LP if it fails"))
-GRAPH_EMD_BACKENDS.register(Backend("network", solve_graph_network, True,
+GRAPH_EMD_BACKENDS.register(Backend("auto", _auto(solve_graph_network, solve_graph_lp,
+                                                  graph_violations), True,
+                                    "network simplex on the graph's arcs; the cvxpy LP if it "
+                                    "fails"))
+GRAPH_EMD_BACKENDS.register(Backend("network", _GRAPH_NETWORK, True,
                                     "primal network simplex on the graph's arcs"))
-GRAPH_EMD_BACKENDS.register(Backend("lp", solve_graph_lp, True,
+GRAPH_EMD_BACKENDS.register(Backend("lp", _GRAPH_LP, True,
                                     "min-cost flow LP B f = p − q in cvxpy, HiGHS simplex"))
 
 
@@ -163,8 +174,7 @@ def emd(
         Wrong shapes, negative or non-finite weights or costs, unequal masses with
         ``mass="equal"``, an unknown ``mass`` or ``backend``, a bad time limit.
     """
-    problem = TransportProblem.build(p, q, cost, mass)
-    return _solve_checked(EMD_BACKENDS, problem, backend, time_limit_s, transport_violations)
+    return _solve(EMD_BACKENDS, TransportProblem.build(p, q, cost, mass), backend, time_limit_s)
 
 
 def emd_on_graph(
@@ -206,19 +216,14 @@ def emd_on_graph(
     """
     if isinstance(adjacency, RoadNetwork):
         adjacency = adjacency.adjacency  # edge lengths (m), both ways
-    problem = GraphProblem.build(adjacency, p, q, mass)
-    return _solve_checked(GRAPH_EMD_BACKENDS, problem, backend, time_limit_s, graph_violations)
+    return _solve(GRAPH_EMD_BACKENDS, GraphProblem.build(adjacency, p, q, mass), backend,
+                  time_limit_s)
 
 
-def _solve_checked(registry: Registry[ProblemT, PlanT], problem: ProblemT, backend: str,
-                   time_limit_s: float, check: Callable[[ProblemT, PlanT], list[str]]
-                   ) -> Result[PlanT]:
-    """Solve with the kernels ready (outside the clock), then check the plan independently."""
-    chosen = registry.checked(backend, problem, time_limit_s, 0)
+def _solve(registry: Registry[ProblemT, PlanT], problem: ProblemT, backend: str,
+           time_limit_s: float) -> Result[PlanT]:
+    """Solve with the kernels ready (compiled outside the clock); every backend's plan is
+    checked once, inside the backend (:func:`_verified`)."""
+    registry.checked(backend, problem, time_limit_s, 0)  # bad input first, then the warm-up
     warm_up()
-    result = interrupted(chosen.solve(problem, time_limit_s=time_limit_s, seed=0))
-    if result.plan is not None:
-        result = _checked(result, check(problem, result.plan))
-    log.debug("%s via %s: %s %s in %.4f s", registry.problem, result.backend,
-              result.status.name, result.objective, result.runtime_s)
-    return result
+    return registry.solve(backend, problem, time_limit_s=time_limit_s, seed=0)
