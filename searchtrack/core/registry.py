@@ -187,9 +187,6 @@ class Stage(Generic[P, Q]):
         Least time limit the stage is given, even when the chain's time is nearly spent.
     supports
         ``None`` when the stage can take the problem, else the reason it is skipped.
-    check
-        Turns the stage's answer into the one the chain judges (e.g. a validator that makes a
-        rejected plan an ``ERROR``); the identity by default.
     """
 
     name: str
@@ -197,7 +194,6 @@ class Stage(Generic[P, Q]):
     share: float | None = None
     min_s: float = 1e-3
     supports: Callable[[P], str | None] = lambda _problem: None
-    check: Callable[[P, Result[Q]], Result[Q]] = lambda _problem, result: result
 
 
 def fallback_chain(
@@ -224,8 +220,7 @@ def fallback_chain(
             notes.append(f"{stage.name} skipped ({reason})")
             continue
         limit = deadline.remaining() if stage.share is None else stage.share * time_limit_s
-        answer = stage.check(problem, stage.solve(problem, time_limit_s=max(stage.min_s, limit),
-                                                  seed=seed))
+        answer = stage.solve(problem, time_limit_s=max(stage.min_s, limit), seed=seed)
         if accept(answer):
             return relabel(answer, deadline, "auto: " + "".join(f"{n}; " for n in notes)
                            + f"{stage.name} answered", {"fallbacks": float(tried)})
