@@ -47,8 +47,7 @@ def run_one(run: RunSpec) -> dict[str, Any]:
     ``error`` with the exception's message; with host, version, start, end and runtime."""
     started = datetime.now(UTC)
     t0 = time.perf_counter()
-    row: dict[str, Any] = {"key": run.key, "experiment": run.experiment, **run.params,
-                           "seed": run.seed}
+    row = _identity(run)
     try:
         experiment = get(run.experiment)
         with threadpool_limits(limits=1):
@@ -61,9 +60,14 @@ def run_one(run: RunSpec) -> dict[str, Any]:
         log.warning("run %s (seed %d) failed: %s", run.key[:12], run.seed, exc)
         row.update(status="error", error=f"{type(exc).__name__}: {exc}")
     row.update(runtime_s=time.perf_counter() - t0, host=socket.gethostname(),
-               version=searchtrack.__version__, started_utc=utc_naive(started),
-               ended_utc=utc_naive(datetime.now(UTC)))
+               started_utc=utc_naive(started), ended_utc=utc_naive(datetime.now(UTC)))
     return row
+
+
+def _identity(run: RunSpec) -> dict[str, Any]:
+    """The columns that name a run: key, experiment, parameters, seed, package version."""
+    return {"key": run.key, "experiment": run.experiment, **run.params, "seed": run.seed,
+            "version": searchtrack.__version__}
 
 
 @dataclass(frozen=True)
@@ -181,10 +185,8 @@ def _error_row(run: RunSpec, exc: BaseException) -> dict[str, Any]:
     """The row of a run whose task failed outside :func:`run_one` (e.g. its workers kept
     dying)."""
     now = utc_naive(datetime.now(UTC))
-    return {"key": run.key, "experiment": run.experiment, **run.params, "seed": run.seed,
-            "status": "error", "error": f"{type(exc).__name__}: {exc}", "runtime_s": 0.0,
-            "host": None, "version": searchtrack.__version__, "started_utc": now,
-            "ended_utc": now}
+    return {**_identity(run), "status": "error", "error": f"{type(exc).__name__}: {exc}",
+            "runtime_s": 0.0, "host": None, "started_utc": now, "ended_utc": now}
 
 
 def _distributed(client: Any, todo: list[RunSpec], store: ResultStore, count: _Count,
