@@ -32,7 +32,7 @@ from typing import Any
 import searchtrack
 from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.core.files import read_text
-from searchtrack.core.registry import MAX_SEED
+from searchtrack.core.registry import MAX_SEED, check_seed
 from searchtrack.sim.campaigns.experiments import Experiment, ParamValue, get
 
 #: Largest number of runs one campaign may hold (grid size × seeds).
@@ -134,8 +134,10 @@ class CampaignSpec:
         if not self.seeds:
             raise InvalidInputError("seeds", [], "must hold at least one seed")
         for s in self.seeds:
-            if isinstance(s, bool) or not isinstance(s, int) or not 0 <= s <= MAX_SEED:
-                raise InvalidInputError("seeds", s, f"must be integers in [0, {MAX_SEED}]")
+            try:
+                check_seed(s)
+            except InvalidInputError as exc:
+                raise _field("seeds", exc) from None
         if len(set(self.seeds)) != len(self.seeds):
             raise InvalidInputError("seeds", list(self.seeds), "repeats a seed")
         for m in self.metrics:
