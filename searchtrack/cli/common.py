@@ -22,30 +22,24 @@ def positive_float(text: str) -> float:
 def int_at_least(low: int) -> Callable[[str], int]:
     """An argument type: the text as an integer ≥ ``low``, else an
     :class:`argparse.ArgumentTypeError`."""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-        if value < low:
-            raise argparse.ArgumentTypeError(f"must be ≥ {low}: {text!r}")
-        return value
-
-    return parse
+    return _integer(low, None)
 
 
 def int_in(low: int, high: int) -> Callable[[str], int]:
     """An argument type: the text as an integer in ``[low, high]``, else an
     :class:`argparse.ArgumentTypeError` naming the range."""
+    return _integer(low, high)
 
+
+def _integer(low: int, high: int | None) -> Callable[[str], int]:
     def parse(text: str) -> int:
         try:
             value = int(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-        if not low <= value <= high:
-            raise argparse.ArgumentTypeError(f"must be in [{low}, {high}]: {text!r}")
+        if value < low or (high is not None and value > high):
+            wanted = f"≥ {low}" if high is None else f"in [{low}, {high}]"
+            raise argparse.ArgumentTypeError(f"must be {wanted}: {text!r}")
         return value
 
     return parse
