@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import linear_sum_assignment
 
+from searchtrack.core.checks import positive
 from searchtrack.core.deadline import Deadline
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
@@ -71,15 +72,6 @@ class Associator(Protocol):
         ...
 
 
-def _check_gate(gate_m: object) -> float:
-    """``gate_m`` as a float, or :class:`InvalidInputError` unless positive and finite."""
-    ok = isinstance(gate_m, (int, float, np.integer, np.floating)) and not isinstance(
-        gate_m, bool) and math.isfinite(float(gate_m)) and float(gate_m) > 0.0
-    if not ok:
-        raise InvalidInputError("gate_m", gate_m, "must be a positive finite distance (m)")
-    return float(gate_m)  # type: ignore[arg-type]
-
-
 def _cost_matrix(costs: ArrayLike) -> FloatArray:
     """``costs`` as a read-only 2-D float copy, finite or ``+inf`` (never associable)."""
     try:
@@ -112,7 +104,7 @@ class AssociationProblem:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "costs", _cost_matrix(self.costs))
-        object.__setattr__(self, "gate_m", _check_gate(self.gate_m))
+        object.__setattr__(self, "gate_m", positive("gate_m", self.gate_m))
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -131,8 +123,12 @@ def greedy_pairs(costs: ArrayLike, gate_m: float) -> Pairs:
     Repeatedly take the smallest entry while it is ``< gate_m``, then remove its row and column.
     Ties go to the lowest tracker index, then the lowest measurement index.
     """
-    c = np.array(_cost_matrix(costs), copy=True)
-    gate = _check_gate(gate_m)
+    return _greedy(_cost_matrix(costs), positive("gate_m", gate_m))
+
+
+def _greedy(costs: FloatArray, gate: float) -> Pairs:
+    """:func:`greedy_pairs` on a checked cost matrix (left unchanged) and gate."""
+    c = np.array(costs, copy=True)
     pairs: list[tuple[int, int]] = []
     while c.size:
         i, j = divmod(int(np.argmin(c)), c.shape[1])  # first minimum in row-major order
@@ -155,8 +151,11 @@ def optimal_pairs(costs: ArrayLike, gate_m: float) -> Pairs:
     ``min(c − gate, 0)`` (an entry at 0 is a dummy in disguise and is dropped afterwards).
     The assignment LP has an integral optimum, which ``linear_sum_assignment`` finds exactly.
     """
-    c = _cost_matrix(costs)
-    gate = _check_gate(gate_m)
+    return _optimal(_cost_matrix(costs), positive("gate_m", gate_m))
+
+
+def _optimal(c: FloatArray, gate: float) -> Pairs:
+    """:func:`optimal_pairs` on a checked cost matrix and gate."""
     if c.size == 0:
         return ()
     rows, cols = linear_sum_assignment(np.minimum(c - gate, 0.0))
@@ -167,7 +166,7 @@ def optimal_pairs(costs: ArrayLike, gate_m: float) -> Pairs:
 def gated_objective(costs: ArrayLike, pairs: Pairs, gate_m: float) -> float:
     """``Σ (c_ij − gate)`` over ``pairs``: the objective :func:`optimal_pairs` minimises."""
     c = _cost_matrix(costs)
-    gate = _check_gate(gate_m)
+    gate = positive("gate_m", gate_m)
     return float(sum(c[i, j] - gate for i, j in pairs))
 
 
@@ -176,7 +175,7 @@ def solve_greedy(problem: AssociationProblem, *, time_limit_s: float,
     """Algorithm 1 (:func:`greedy_pairs`): ``FEASIBLE``, no bound. Deterministic and
     ``O(min(k, q) · k q)``; ``time_limit_s`` and ``seed`` are not needed."""
     deadline = Deadline(time_limit_s)
-    pairs = greedy_pairs(problem.costs, problem.gate_m)
+    pairs = _greedy(problem.costs, problem.gate_m)
     return Result(Status.FEASIBLE, problem.saving(pairs), None, deadline.elapsed(), "greedy",
                   Association(pairs), message=f"{len(pairs)} pairs, global minimum first")
 
@@ -186,7 +185,7 @@ def solve_optimal(problem: AssociationProblem, *, time_limit_s: float,
     """The exact gated assignment (:func:`optimal_pairs`): ``OPTIMAL``, bound = objective.
     A linear assignment in ``O((k + q)³)``; ``time_limit_s`` and ``seed`` are not needed."""
     deadline = Deadline(time_limit_s)
-    pairs = optimal_pairs(problem.costs, problem.gate_m)
+    pairs = _optimal(problem.costs, problem.gate_m)
     saving = problem.saving(pairs)
     return Result(Status.OPTIMAL, saving, saving, deadline.elapsed(), "optimal",
                   Association(pairs), message=f"{len(pairs)} pairs, linear assignment")

@@ -54,18 +54,28 @@ class WeightedParticles:
     weights: FloatArray
 
     def __post_init__(self) -> None:
-        pos = np.array(self.positions, dtype=np.float64, copy=True)
-        if pos.ndim != 2 or pos.shape[1] not in (2, 3) or not np.all(np.isfinite(pos)):
-            raise InvalidInputError("positions", pos.shape, "must be a finite (N, 2|3) array")
-        w = np.array(self.weights, dtype=np.float64, copy=True)
-        if w.shape != (pos.shape[0],) or not np.all(np.isfinite(w)) or np.any(w < 0.0):
-            raise InvalidInputError("weights", w.shape,
-                                    f"must be {pos.shape[0]} finite non-negative numbers")
-        pos.setflags(write=False)
-        w.setflags(write=False)
+        pos, w = checked_arrays(self.positions, self.weights)
         object.__setattr__(self, "positions", pos)
         object.__setattr__(self, "weights", w)
 
     def expected_count(self) -> float:
         """Expected number of targets ``λ = Σ w_i``."""
         return float(self.weights.sum())
+
+
+def checked_arrays(positions: NDArray[np.floating], weights: NDArray[np.floating], *,
+                   prefix: str = "") -> tuple[FloatArray, FloatArray]:
+    """Read-only float copies of a belief's ``(N, 2|3)`` finite positions and ``(N,)`` finite
+    non-negative weights; :class:`InvalidInputError` naming ``prefix + "positions"`` or
+    ``prefix + "weights"`` otherwise."""
+    pos = np.array(positions, dtype=np.float64, copy=True)
+    if pos.ndim != 2 or pos.shape[1] not in (2, 3) or not np.all(np.isfinite(pos)):
+        raise InvalidInputError(f"{prefix}positions", pos.shape,
+                                "must be a finite (N, 2|3) array")
+    w = np.array(weights, dtype=np.float64, copy=True)
+    if w.shape != (pos.shape[0],) or not np.all(np.isfinite(w)) or np.any(w < 0.0):
+        raise InvalidInputError(f"{prefix}weights", w.shape,
+                                f"must be {pos.shape[0]} finite non-negative numbers")
+    pos.setflags(write=False)
+    w.setflags(write=False)
+    return pos, w

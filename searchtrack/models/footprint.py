@@ -13,13 +13,12 @@ clutter) plus a CasADi expression, so a nonlinear program can differentiate it.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
-from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.checks import positive, real
 from searchtrack.core.types import FloatArray
 from searchtrack.models.particle_models import DetectionSensor
 
@@ -62,12 +61,9 @@ class GaussianFieldOfView:
     scale_z_m: float = 30.0
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.peak_pd) and 0.0 < self.peak_pd <= 1.0):
-            raise InvalidInputError("peak_pd", self.peak_pd, "must be in (0, 1]")
-        for name in ("scale_xy_m", "scale_z_m"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v > 0.0):
-                raise InvalidInputError(name, v, "must be finite and > 0")
+        real("peak_pd", self.peak_pd, low=0.0, high=1.0, low_open=True)
+        positive("scale_xy_m", self.scale_xy_m)
+        positive("scale_z_m", self.scale_z_m)
 
     @property
     def meas_dim(self) -> int:

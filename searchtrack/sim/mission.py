@@ -32,6 +32,7 @@ from numpy.typing import NDArray
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.interrupt import stop_requested
+from searchtrack.core.registry import MAX_SEED
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate import (
     Association,
@@ -135,13 +136,13 @@ class Mission:
         self.scenario = scenario
         self.world = world if world is not None else World.build(scenario)
         net = self.world.network
-        fits = (("uavs.count", scenario.uav_count, "UAVs start on distinct road nodes")
-                if scenario.uav_start == "random" else None,
-                ("targets.count", scenario.target_count, "targets spawn on the road nodes"))
-        for fit in fits:
-            if fit is not None and fit[1] > net.n_nodes:
-                raise InvalidInputError(fit[0], fit[1], f"more than the {net.n_nodes} road nodes "
-                                        f"of {scenario.map.describe()} ({fit[2]})")
+        fits = [("targets.count", scenario.target_count, "targets spawn on the road nodes")]
+        if scenario.uav_start == "random":
+            fits.insert(0, ("uavs.count", scenario.uav_count, "UAVs start on distinct road nodes"))
+        for name, wanted, why in fits:
+            if wanted > net.n_nodes:
+                raise InvalidInputError(name, wanted, f"more than the {net.n_nodes} road nodes "
+                                        f"of {scenario.map.describe()} ({why})")
         f = scenario.filter
         self.associator = TimedAssociator(EMDAssociator(net, f.associator, gate_m=f.gate_m))
         detect = (scenario.sensor.pd * scenario.sensor.hit_rate if f.negative_information
@@ -229,7 +230,7 @@ class Mission:
                                    self.world.tracker_diffusion)
             answer = solve_guidance(problem, backend=sc.guidance.strategy,
                                     time_limit_s=sc.guidance.optw_budget_s,
-                                    seed=int(rng.integers(0, 2**31 - 1)))
+                                    seed=int(rng.integers(0, MAX_SEED)))
             if answer.plan is None:
                 raise RuntimeError(f"guidance {answer.backend} gave no plan: {answer.message}")
             guidance = answer.plan

@@ -23,6 +23,7 @@ from functools import cached_property
 import numpy as np
 
 from searchtrack.core.angles import wrap_angle
+from searchtrack.core.checks import positive, real
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 from searchtrack.models.vehicles import VehicleModel, fixed_wing
@@ -30,11 +31,11 @@ from searchtrack.models.vehicles import VehicleModel, fixed_wing
 _Z, _YAW, _PITCH = 2, 3, 4
 
 
-def _values(name: str, values: tuple[float, ...], positive: bool = False) -> None:
+def _values(name: str, values: tuple[float, ...], strictly_positive: bool = False) -> None:
     if not isinstance(values, tuple) or not values or not all(
             isinstance(v, (int, float)) and math.isfinite(v) for v in values):
         raise InvalidInputError(name, values, "must be a non-empty tuple of finite numbers")
-    if positive and min(values) <= 0.0:
+    if strictly_positive and min(values) <= 0.0:
         raise InvalidInputError(name, values, "must all be > 0")
 
 
@@ -69,17 +70,15 @@ class FixedWingPrimitives:
     max_pitch_rad: float = 0.6
 
     def __post_init__(self) -> None:
-        _values("speeds_mps", self.speeds_mps, positive=True)
+        _values("speeds_mps", self.speeds_mps, strictly_positive=True)
         _values("yaw_rates_rps", self.yaw_rates_rps)
         _values("pitch_rates_rps", self.pitch_rates_rps)
         if not isinstance(self.steps, int) or self.steps < 1:
             raise InvalidInputError("steps", self.steps, "must be a positive integer")
-        for name in ("step_s", "euler_dt_s", "max_pitch_rad"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v > 0.0):
-                raise InvalidInputError(name, v, "must be finite and > 0")
-        if self.max_pitch_rad >= 0.5 * math.pi:
-            raise InvalidInputError("max_pitch_rad", self.max_pitch_rad, "must be below π/2")
+        positive("step_s", self.step_s)
+        positive("euler_dt_s", self.euler_dt_s)
+        real("max_pitch_rad", self.max_pitch_rad, low=0.0, high=0.5 * math.pi, low_open=True,
+             high_open=True)
         if self.euler_dt_s > self.step_s:
             raise InvalidInputError("euler_dt_s", self.euler_dt_s, "must be <= step_s")
         if not (math.isfinite(self.z_min_m) and math.isfinite(self.z_max_m)

@@ -9,13 +9,13 @@ one per UAV. Every objective is zero on the empty selection, so greedy's ½ guar
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 import numpy as np
 
+from searchtrack.core.checks import non_negative
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 from searchtrack.models.footprint import detection_matrix
@@ -109,8 +109,7 @@ class MutualInformation:
             raise InvalidInputError("exact_max", self.exact_max, "must be an integer in [0, 20]")
         if not isinstance(self.samples, int) or self.samples < 10:
             raise InvalidInputError("samples", self.samples, "must be an integer >= 10")
-        if not (math.isfinite(self.clutter_rate) and self.clutter_rate >= 0.0):
-            raise InvalidInputError("clutter_rate", self.clutter_rate, "must be finite and >= 0")
+        non_negative("clutter_rate", self.clutter_rate)
         if not isinstance(self.seed, int) or self.seed < 0:
             raise InvalidInputError("seed", self.seed, "must be a non-negative integer")
 

@@ -21,7 +21,7 @@ import numpy as np
 from searchtrack.core.checks import readonly
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import BoolArray, FloatArray
-from searchtrack.estimate.particle_belief import ParticleBelief
+from searchtrack.estimate.particle_belief import ParticleBelief, checked_arrays
 from searchtrack.models.footprint import detection_matrix
 from searchtrack.models.particle_models import DetectionSensor
 from searchtrack.plan.assign.objectives import ExpectedDetections, Objective
@@ -86,14 +86,7 @@ class AssignmentProblem:
                 raise InvalidInputError(f"actions[{r}]", "non-finite", "poses must be finite")
         if not isinstance(self.belief, ParticleBelief):
             raise InvalidInputError("belief", self.belief, "must implement ParticleBelief")
-        pos = readonly(np.asarray(self.belief.positions, dtype=np.float64))
-        if pos.ndim != 2 or pos.shape[1] not in (2, 3) or not np.all(np.isfinite(pos)):
-            raise InvalidInputError("belief.positions", pos.shape,
-                                    "must be a finite (N, 2|3) array")
-        w = readonly(np.asarray(self.belief.weights, dtype=np.float64))
-        if w.shape != (pos.shape[0],) or not np.all(np.isfinite(w)) or np.any(w < 0.0):
-            raise InvalidInputError("belief.weights", w.shape,
-                                    f"must be {pos.shape[0]} finite non-negative numbers")
+        pos, w = checked_arrays(self.belief.positions, self.belief.weights, prefix="belief.")
         if not isinstance(self.sensor, DetectionSensor):
             raise InvalidInputError("sensor", self.sensor, "must implement DetectionSensor")
         if not isinstance(self.objective, Objective):

@@ -36,8 +36,6 @@ def _points(name: str, value: ArrayLike) -> FloatArray:
     return xy
 
 
-
-
 def default_spring_k(sensor_range_m: float, typical_gradient: float = 4.0) -> float:
     """``K`` of ∇Q (5.11): a spring stretched by ``ρ`` pulls as hard as a typical ``|Δφ|``.
 

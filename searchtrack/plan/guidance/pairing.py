@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike
 from scipy.optimize import linear_sum_assignment
 
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray
 from searchtrack.estimate.belief import BeliefBank, TrackBelief
 from searchtrack.models.roads import RoadNetwork
 
@@ -93,12 +94,20 @@ def pair_uavs(network: RoadNetwork, uav_xy_m: ArrayLike, bank: BeliefBank) -> Pa
         raise InvalidInputError("bank", bank,
                                 f"must be a BeliefBank (e.g. a TrackerBank) on {network.n_nodes} "
                                 "nodes")
-    n_uav = xy.shape[0]
+    return pair_checked(network, xy, bank)
+
+
+def pair_checked(network: RoadNetwork, uav_xy_m: FloatArray, bank: BeliefBank) -> Pairing:
+    """:func:`pair_uavs` on inputs already checked, e.g. those of a
+    :class:`~searchtrack.plan.guidance.view.GuidanceView`: ``uav_xy_m`` finite ``(O, 2)``
+    points, ``bank`` a :class:`~searchtrack.estimate.belief.BeliefBank` on the network's nodes
+    (the guidance backends pair every step and skip the protocol check)."""
+    n_uav = uav_xy_m.shape[0]
     if n_uav == 0 or len(bank) == 0:
         return Pairing.none(n_uav)
     beliefs = [bank[t] for t in range(len(bank))]
     peaks = np.array([b.peak_node() for b in beliefs], dtype=np.int64)
-    diff = xy[:, None, :] - network.coords[peaks][None, :, :]
+    diff = uav_xy_m[:, None, :] - network.coords[peaks][None, :, :]
     cost = np.hypot(diff[..., 0], diff[..., 1])
     rows, cols = linear_sum_assignment(cost)
     tracker = [-1] * n_uav

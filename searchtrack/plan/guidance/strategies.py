@@ -32,10 +32,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from searchtrack.core.deadline import Deadline
-from searchtrack.core.registry import SolveFn
+from searchtrack.core.registry import MAX_SEED, SolveFn
 from searchtrack.core.result import Result, Status
 from searchtrack.plan.guidance.forces import pauli_force, spring_force
-from searchtrack.plan.guidance.pairing import Pairing, pair_uavs
+from searchtrack.plan.guidance.pairing import Pairing, pair_checked
 from searchtrack.plan.guidance.problem import GuidanceProblem
 from searchtrack.plan.guidance.reacquire import (
     plan_reacquisition,
@@ -125,7 +125,7 @@ def potential(rule: ModeRule, name: str) -> SolveFn[GuidanceProblem, Guidance]:
         clock = Deadline(time_limit_s)
         rng = np.random.default_rng(seed)
         view = problem.view
-        pairing = pair_uavs(view.network, view.uav_xy_m, view.bank)
+        pairing = pair_checked(view.network, view.uav_xy_m, view.bank)
         modes = rule(problem, pairing)
         force = assemble(problem, rng, modes, _peak_anchors(view, pairing))
         guidance = Guidance(force, pairing, tuple(modes), ((),) * view.n_uavs, 0.0)
@@ -153,7 +153,7 @@ def _plan(problem: GuidanceProblem, uav: int, tracker: int, rng: np.random.Gener
     inst, node_ids = reacquisition_instance(
         view.network, probability, view.uav_xy_m[uav], cfg.speed_mps, horizon,
         max_nodes=cfg.max_route_nodes, support_mass=cfg.support_mass)
-    seed = int(rng.integers(0, 2**31 - 1))
+    seed = int(rng.integers(0, MAX_SEED))
     nodes, result = plan_reacquisition(inst, node_ids, backend=cfg.optw_backend,
                                        time_limit_s=max(1e-3, budget.remaining() / waiting),
                                        seed=seed)
@@ -178,7 +178,7 @@ def solve_search_and_reacquire(problem: GuidanceProblem, *, time_limit_s: float,
     clock = Deadline(time_limit_s)
     rng = np.random.default_rng(seed)
     view, rho = problem.view, problem.config.sensor_range_m
-    pairing = pair_uavs(view.network, view.uav_xy_m, view.bank)
+    pairing = pair_checked(view.network, view.uav_xy_m, view.bank)
     modes = search_and_loiter_modes(problem, pairing)
     anchors = _peak_anchors(view, pairing)
     fading = {pairing.track_id[j]: j for j, m in enumerate(modes) if m == "loiter"}

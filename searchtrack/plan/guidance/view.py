@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from searchtrack.core.checks import positive
+from searchtrack.core.checks import count, positive
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.belief import BeliefBank, SearchField
 from searchtrack.models.dubins import MPS_PER_MPH
@@ -20,8 +20,6 @@ from searchtrack.plan.guidance.pairing import Pairing
 from searchtrack.plan.optw.solve import BACKENDS
 
 MODES = ("search", "loiter", "reacquire")
-
-
 
 
 @dataclass(frozen=True)
@@ -201,18 +199,15 @@ class Reacquisition:
     served: tuple[bool, ...]
 
     def __post_init__(self) -> None:
-        for name in ("track_id", "uav"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
-                raise InvalidInputError(name, v, "must be an integer ≥ 0")
+        track_id, uav = count("track_id", self.track_id), count("uav", self.uav)
         nodes = tuple(int(v) for v in self.nodes)
         served = tuple(bool(v) for v in self.served)
         if len(served) != len(nodes) or any(v < 0 for v in nodes):
             raise InvalidInputError("served", self.served,
                                     f"must have one flag per node of {nodes} (indices ≥ 0)")
         set_ = object.__setattr__
-        set_(self, "track_id", int(self.track_id))
-        set_(self, "uav", int(self.uav))
+        set_(self, "track_id", track_id)
+        set_(self, "uav", uav)
         set_(self, "nodes", nodes)
         set_(self, "served", served)
 

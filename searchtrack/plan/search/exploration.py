@@ -18,6 +18,7 @@ from functools import cached_property
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
+from searchtrack.core.checks import positive
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 from searchtrack.models.footprint import detection_matrix
@@ -48,8 +49,7 @@ class ExplorationBonus:
         if b.ndim != 2 or b.shape[0] not in (2, 3) or b.shape[1] != 2 or not np.all(
                 np.isfinite(b)) or np.any(b[:, 1] <= b[:, 0]):
             raise InvalidInputError("bounds", self.bounds, "must be (2|3, 2) with lo < hi")
-        if not (math.isfinite(self.resolution_m) and self.resolution_m > 0.0):
-            raise InvalidInputError("resolution_m", self.resolution_m, "must be finite and > 0")
+        positive("resolution_m", self.resolution_m)
         b.setflags(write=False)
         axes = tuple(np.linspace(lo, hi, max(2, math.ceil((hi - lo) / self.resolution_m) + 1))
                      for lo, hi in b)

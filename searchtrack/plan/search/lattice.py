@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import itertools
-import math
 
 import numpy as np
 
+from searchtrack.core.checks import positive
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 
@@ -14,8 +14,7 @@ from searchtrack.core.types import FloatArray
 def lattice_moves(step_m: float, dims: int = 3) -> FloatArray:
     """The ``2·dims`` axis moves ``±step_m`` of paper 004 (Fig. 4: six moves of 12 m in 3-D),
     ordered ``+x, +y(, +z), −x, −y(, −z)``."""
-    if not (math.isfinite(step_m) and step_m > 0.0):
-        raise InvalidInputError("step_m", step_m, "must be finite and > 0")
+    positive("step_m", step_m)
     if dims not in (2, 3):
         raise InvalidInputError("dims", dims, "must be 2 or 3")
     eye = np.eye(3)[:dims]

@@ -7,11 +7,11 @@ and for the refinement term ``T`` the particle belief and the estimated target c
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from searchtrack.core.checks import finite_array, non_negative, positive
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.particle_belief import ParticleBelief
@@ -50,21 +50,17 @@ class SearchSettings:
     lawnmower_spacing_m: float = 48.0
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.step_m) and self.step_m > 0.0):
-            raise InvalidInputError("step_m", self.step_m, "must be finite and > 0")
+        positive("step_m", self.step_m)
         if not isinstance(self.horizon, int) or not 1 <= self.horizon <= 5:
             raise InvalidInputError("horizon", self.horizon, "must be an integer in [1, 5]")
-        if not (math.isfinite(self.alpha) and self.alpha >= 0.0):
-            raise InvalidInputError("alpha", self.alpha, "must be finite and >= 0")
+        non_negative("alpha", self.alpha)
         if not isinstance(self.refinement, Refinement):
             raise InvalidInputError("refinement", self.refinement,
                                     "must be CentreProbability(), EmptyHorizonMI() or "
                                     "NoRefinement()")
         if self.dims not in (2, 3):
             raise InvalidInputError("dims", self.dims, "must be 2 or 3")
-        if not (math.isfinite(self.lawnmower_spacing_m) and self.lawnmower_spacing_m > 0.0):
-            raise InvalidInputError("lawnmower_spacing_m", self.lawnmower_spacing_m,
-                                    "must be finite and > 0")
+        positive("lawnmower_spacing_m", self.lawnmower_spacing_m)
 
 
 @dataclass(frozen=True, eq=False)
@@ -122,11 +118,7 @@ class SearchProblem:
         if self.belief is not None and not isinstance(self.belief, ParticleBelief):
             raise InvalidInputError("belief", self.belief, "must implement ParticleBelief")
         if self.centres is not None:
-            c = np.array(self.centres, dtype=np.float64)
-            if c.ndim != 2 or c.shape[1] != 3 or not np.all(np.isfinite(c)):
-                raise InvalidInputError("centres", c.shape, "must be a finite (c, 3) array")
-            c.setflags(write=False)
-            object.__setattr__(self, "centres", c)
+            object.__setattr__(self, "centres", finite_array("centres", self.centres, (None, 3)))
         for arr in (q, b):
             arr.setflags(write=False)
         object.__setattr__(self, "position", q)
