@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import logging
 from pathlib import Path
+from typing import Any
 
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskID, TextColumn, TimeRemainingColumn
@@ -16,7 +17,13 @@ from searchtrack.cli.output import OutputError, output_dir, output_file
 from searchtrack.sim.campaigns.report import build_report, table_rows, write_figures
 from searchtrack.sim.campaigns.runner import Tally, run_campaign
 from searchtrack.sim.campaigns.spec import read_spec
-from searchtrack.sim.campaigns.store import EXPORTS, StoreError, describe, open_existing
+from searchtrack.sim.campaigns.store import (
+    EXPORTS,
+    StoreBusy,
+    StoreError,
+    describe,
+    open_existing,
+)
 
 
 def _db_error(exc: StoreError) -> OutputError:
@@ -65,8 +72,13 @@ def _failed_in(db: Path) -> int:
 
 
 def status(args: argparse.Namespace, console: Console) -> int:
-    """Handler of ``searchtrack campaign status``."""
-    name, experiment, counts = describe(args.db)
+    """Handler of ``searchtrack campaign status`` (of a campaign running now, too)."""
+    try:
+        name, experiment, counts = describe(args.db)
+    except StoreBusy as busy:
+        if busy.progress is None:
+            raise
+        return _running(args.db, busy.progress, console)
     table = Table(title=f"{name} ({experiment}): {args.db}")
     table.add_column("status")
     table.add_column("runs", justify="right")
@@ -75,6 +87,20 @@ def status(args: argparse.Namespace, console: Console) -> int:
     table.add_row("total", str(sum(counts.values())))
     console.print(table)
     return 1 if counts.get("error", 0) else 0
+
+
+def _running(db: Path, progress: dict[str, Any], console: Console) -> int:
+    """The status of a campaign still running, from its progress report."""
+    table = Table(title=f"{progress.get('campaign')} ({progress.get('experiment')}): {db}, "
+                        f"running (PID {progress['pid']}), as of {progress.get('updated_utc')} "
+                        "UTC")
+    table.add_column("this run")
+    table.add_column("runs", justify="right")
+    for label, key in (("ok", "done"), ("error", "failed"), ("running", "running"),
+                       ("runs this time", "total")):
+        table.add_row(label, str(progress.get(key, "?")))
+    console.print(table)
+    return 0
 
 
 def export(args: argparse.Namespace, console: Console) -> int:

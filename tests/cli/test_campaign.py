@@ -3,12 +3,15 @@ writes nothing."""
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from pathlib import Path
 
 import duckdb
 import pytest
 
 from searchtrack.cli import main
+from searchtrack.sim.campaigns.store import progress_path, write_progress
 from tests.sim.campaigns.toy import write_toy_file
 
 
@@ -111,3 +114,30 @@ def test_report_keeps_to_the_campaigns_metrics(tmp_path: Path,
     assert main(["campaign", "report", str(db), "--out", str(tmp_path / "fig")]) == 0
     assert "seed_echo" not in capsys.readouterr().out
     assert [p.name for p in (tmp_path / "fig").iterdir()] == ["toy-m-result.png"]
+
+
+def test_status_of_a_running_campaign_reads_its_progress(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """While a campaign holds its database, `status` shows the progress it reports (exit 0);
+    `export` says the database is busy (exit 2); the report is gone once the run ends."""
+    path, db = write_toy_file(tmp_path), tmp_path / "r.duckdb"
+    assert main(["campaign", "run", str(path), "--db", str(db), "--workers", "0"]) == 0
+    assert not progress_path(db).exists()
+    capsys.readouterr()
+    code = ("import duckdb, sys, time; c = duckdb.connect(sys.argv[1]); print('held', flush=True);"
+            " time.sleep(60)")
+    holder = subprocess.Popen([sys.executable, "-c", code, str(db)], stdout=subprocess.PIPE,
+                              text=True)
+    try:
+        assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
+        write_progress(db, {"campaign": "toy-file", "experiment": "toy", "done": 2,
+                            "failed": 1, "running": 1, "total": 4})
+        assert main(["campaign", "status", str(db)]) == 0
+        out = capsys.readouterr().out
+        assert "running" in out and "toy-file" in out
+        assert main(["campaign", "export", str(db), str(tmp_path / "x.csv")]) == 2
+        assert "being written by a running campaign" in capsys.readouterr().err
+        assert not (tmp_path / "x.csv").exists()
+    finally:
+        holder.kill()
+        holder.wait()

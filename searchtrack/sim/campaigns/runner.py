@@ -12,7 +12,9 @@ pending; the rows written stay, so running the campaign again resumes.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
+import math
 import os
 import socket
 import time
@@ -31,7 +33,12 @@ from searchtrack.core.interrupt import stop_requested
 from searchtrack.sim.campaigns.experiments import get
 from searchtrack.sim.campaigns.schedule import LongestFirst
 from searchtrack.sim.campaigns.spec import CampaignSpec, RunSpec
-from searchtrack.sim.campaigns.store import ResultStore, utc_naive
+from searchtrack.sim.campaigns.store import (
+    ResultStore,
+    clear_progress,
+    utc_naive,
+    write_progress,
+)
 
 log = logging.getLogger("searchtrack.sim.campaigns.runner")
 
@@ -227,6 +234,33 @@ def _distributed(client: Any, todo: list[RunSpec], store: ResultStore, count: _C
     return len(queue), slots
 
 
+_REPORT_EVERY_S = 1.0
+
+
+@contextmanager
+def _reporting(db_path: str | Path, spec: CampaignSpec,
+               progress: Progress | None) -> Iterator[Progress]:
+    """``progress``, also reported beside the database (at most once a second, and at the
+    start) for ``campaign status`` to read while the database is held; the report is removed
+    when the campaign stops."""
+    last = -math.inf
+
+    def report(tally: Tally) -> None:
+        nonlocal last
+        if progress is not None:
+            progress(tally)
+        now = time.monotonic()
+        if now - last >= _REPORT_EVERY_S:
+            last = now
+            write_progress(db_path, {"campaign": spec.name, "experiment": spec.experiment,
+                                     **dataclasses.asdict(tally)})
+
+    try:
+        yield report
+    finally:
+        clear_progress(db_path)
+
+
 def run_campaign(spec: CampaignSpec, db_path: str | Path, *, workers: int | None = None,
                  scheduler: str | None = None, retry_failed: bool = False,
                  progress: Progress | None = None,
@@ -263,14 +297,14 @@ def run_campaign(spec: CampaignSpec, db_path: str | Path, *, workers: int | None
     runs = spec.runs()
     started = time.perf_counter()
     count = _Count()
-    with ResultStore(db_path, spec.name, spec.definition, spec.metrics) as store:
+    with ResultStore(db_path, spec.name, spec.definition, spec.metrics) as store, \
+            _reporting(db_path, spec, progress) as progress:
         finished = store.finished_keys(include_failed=not retry_failed)
         todo = [r for r in runs if r.key not in finished]
         log.info("campaign %s: %d runs, %d recorded, %d to run", spec.name, len(runs),
                  len(runs) - len(todo), len(todo))
         total = len(todo)
-        if progress is not None:
-            progress(Tally(0, 0, 0, total))
+        progress(Tally(0, 0, 0, total))
         dashboard: str | None = None
         startup = 0.0
         if not todo:

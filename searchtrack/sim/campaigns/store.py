@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import logging
+import os
 from collections.abc import Mapping, Sequence
 from datetime import UTC, datetime
 from pathlib import Path
@@ -82,6 +83,8 @@ class ResultStore:
         try:
             self._db = duckdb.connect(str(self.path))
         except duckdb.Error as exc:
+            if _is_lock_conflict(exc):
+                raise StoreBusy(self.path, read_progress(self.path)) from None
             raise StoreError(self.path, f"not a DuckDB database ({exc})") from None
         try:
             self._open()
@@ -181,12 +184,59 @@ class ResultStore:
         return target
 
 
+class StoreBusy(StoreError):
+    """The database is held by a running campaign (DuckDB allows one writing process);
+    ``progress`` is what that campaign last reported (:func:`read_progress`), if anything."""
+
+    def __init__(self, path: Path, progress: dict[str, Any] | None) -> None:
+        who = f" (PID {progress['pid']})" if progress else ""
+        super().__init__(path, f"is being written by a running campaign{who}; try again "
+                               "when it stops")
+        self.progress = progress
+
+
+def progress_path(db_path: str | Path) -> Path:
+    """The file beside ``db_path`` where a running campaign reports its progress."""
+    p = Path(db_path)
+    return p.with_name(p.name + ".progress.json")
+
+
+def write_progress(db_path: str | Path, progress: Mapping[str, Any]) -> None:
+    """Report a running campaign's progress beside its database (atomically), with this
+    process's PID and the time."""
+    data = {**progress, "pid": os.getpid(),
+            "updated_utc": datetime.now(UTC).strftime("%Y-%m-%d %H:%M:%S")}
+    with atomic_path(progress_path(db_path)) as tmp:
+        tmp.write_text(json.dumps(data), encoding="utf-8")
+
+
+def read_progress(db_path: str | Path) -> dict[str, Any] | None:
+    """What the campaign writing ``db_path`` last reported, or ``None`` (none running, or no
+    readable report)."""
+    try:
+        data = json.loads(progress_path(db_path).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return data if isinstance(data, dict) and "pid" in data else None
+
+
+def clear_progress(db_path: str | Path) -> None:
+    """Remove the progress report of ``db_path`` (the campaign stopped)."""
+    progress_path(db_path).unlink(missing_ok=True)
+
+
+def _is_lock_conflict(exc: duckdb.Error) -> bool:
+    return isinstance(exc, duckdb.IOException) and "lock" in str(exc).lower()
+
+
 def describe(path: str | Path) -> tuple[str, str, dict[str, int]]:
     """Campaign name, experiment and row counts per status of the database at ``path``, opened
     read-only.
 
     Raises
     ------
+    StoreBusy
+        A running campaign holds the database.
     StoreError
         Missing file or not a campaign database.
     """
@@ -198,6 +248,8 @@ def describe(path: str | Path) -> tuple[str, str, dict[str, int]]:
             row = db.execute("SELECT name, experiment FROM campaign").fetchone()
             counts = db.execute("SELECT status, count(*) FROM runs GROUP BY status").fetchall()
     except duckdb.Error as exc:
+        if _is_lock_conflict(exc):
+            raise StoreBusy(p, read_progress(p)) from None
         raise StoreError(p, f"cannot read it as a campaign database ({str(exc).splitlines()[0]})"
                          ) from None
     if row is None:

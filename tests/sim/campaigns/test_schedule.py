@@ -35,7 +35,7 @@ def test_a_cell_still_running_counts_as_slow() -> None:
 def test_every_run_comes_out_exactly_once() -> None:
     runs = _runs({"a": 0, "b": 0, "c": 0, "d": 0}, 5)
     queue = LongestFirst(runs)
-    out = []
+    out: list[RunSpec] = []
     while queue:
         run = queue.pop()
         queue.record(run, float(len(out) % 3))

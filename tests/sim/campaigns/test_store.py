@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import duckdb
@@ -9,7 +12,17 @@ import pytest
 
 from searchtrack.sim.campaigns.experiments import get
 from searchtrack.sim.campaigns.runner import run_one
-from searchtrack.sim.campaigns.store import ResultStore, StoreError, describe, open_existing
+from searchtrack.sim.campaigns.store import (
+    ResultStore,
+    StoreBusy,
+    StoreError,
+    clear_progress,
+    describe,
+    open_existing,
+    progress_path,
+    read_progress,
+    write_progress,
+)
 from tests.sim.campaigns.toy import toy_spec
 
 
@@ -75,3 +88,51 @@ def test_export_round_trips_the_row_count(tmp_path: Path, suffix: str) -> None:
     assert len(rows) == n and len(rows[0]) == columns
     with open_existing(db) as store, pytest.raises(StoreError, match="by suffix"):
         store.export(tmp_path / "runs.json")
+
+
+def _holder(db: Path) -> subprocess.Popen[str]:
+    """Another process holding ``db`` open for writing (as a running campaign does)."""
+    code = ("import duckdb, sys, time; c = duckdb.connect(sys.argv[1]); print('held', flush=True);"
+            " time.sleep(60)")
+    proc = subprocess.Popen([sys.executable, "-c", code, str(db)], stdout=subprocess.PIPE,
+                            text=True)
+    assert proc.stdout is not None and proc.stdout.readline().strip() == "held"
+    return proc
+
+
+def test_a_database_held_by_a_running_campaign_is_busy_with_its_progress(
+        tmp_path: Path) -> None:
+    """Reading or opening a database another process writes raises StoreBusy, carrying the
+    progress that campaign reported; without a report the error still says why."""
+    db = tmp_path / "r.duckdb"
+    _filled(db)
+    holder = _holder(db)
+    try:
+        with pytest.raises(StoreBusy, match="being written by a running campaign") as busy:
+            describe(db)
+        assert busy.value.progress is None
+        write_progress(db, {"campaign": "toy-test", "done": 3, "total": 10})
+        with pytest.raises(StoreBusy, match=f"PID {os.getpid()}") as busy:
+            describe(db)
+        assert busy.value.progress is not None and busy.value.progress["done"] == 3
+        with pytest.raises(StoreBusy):
+            ResultStore(db, "toy-test", get("toy"))
+    finally:
+        holder.kill()
+        holder.wait()
+    clear_progress(db)
+    assert read_progress(db) is None
+    assert describe(db)[0] == "toy-test"
+
+
+def test_progress_reports_round_trip_and_ignore_junk(tmp_path: Path) -> None:
+    db = tmp_path / "r.duckdb"
+    assert read_progress(db) is None
+    write_progress(db, {"done": 1})
+    report = read_progress(db)
+    assert report is not None and report["done"] == 1 and report["pid"] == os.getpid()
+    progress_path(db).write_text("{not json", encoding="utf-8")
+    assert read_progress(db) is None
+    clear_progress(db)
+    clear_progress(db)  # removing twice is fine
+    assert not progress_path(db).exists()
