@@ -15,57 +15,110 @@ A road step: per UAV, :meth:`ScanUpdater.update` (associate, update trackers, up
 with the rest); :meth:`LRTInitiator.initiate` (detect, birth, suppress);
 :meth:`TrackerDeleter.delete` (dissolve); then :meth:`LRTPredictor.predict` and
 :meth:`TrackerPredictor.predict`.
+
+The names below are imported on first use, so ``import searchtrack.estimate`` stays cheap (the
+association solvers load SciPy's optimisers, the transport kernels Numba).
 """
 
 from __future__ import annotations
 
-from searchtrack.estimate.association import BACKENDS as ASSOCIATION_BACKENDS
-from searchtrack.estimate.association import (
-    Association,
-    AssociationProblem,
-    Associator,
-)
-from searchtrack.estimate.association import solve as associate
-from searchtrack.estimate.belief import (
-    BeliefBank,
-    NodeBelief,
-    NodePredictor,
-    SearchField,
-    SparseNodePredictor,
-    TrackBelief,
-    entropy_nats,
-)
-from searchtrack.estimate.diffusion import GraphDiffusion
-from searchtrack.estimate.emd_association import EMDAssociator
-from searchtrack.estimate.emd_matrix import (
-    EMD_MATRIX_BACKENDS,
-    EMDMatrix,
-    EMDMatrixProblem,
-    emd_matrix,
-    solve_emd_matrix,
-)
-from searchtrack.estimate.lrt import (
-    LikelihoodField,
-    LRTInitiator,
-    LRTPredictor,
-    llr_increment,
-    update_likelihood_field,
-)
-from searchtrack.estimate.metrics import gospa, ospa, ospa2
-from searchtrack.estimate.node_tracker import (
-    NodeTracker,
-    TrackerBank,
-    TrackerDeleter,
-    TrackerPredictor,
-    measurement_density,
-    position_log_likelihood,
-    update_tracker,
-)
-from searchtrack.estimate.particle_belief import ParticleBelief, WeightedParticles
-from searchtrack.estimate.phd import PHDConfig, PHDState, SensorScan
-from searchtrack.estimate.phd import step as phd_step
-from searchtrack.estimate.scan import ScanUpdate, ScanUpdater
-from searchtrack.estimate.transport import emd, emd_on_graph
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from searchtrack.estimate.association import BACKENDS as ASSOCIATION_BACKENDS
+    from searchtrack.estimate.association import Association, AssociationProblem, Associator
+    from searchtrack.estimate.association import solve as associate
+    from searchtrack.estimate.belief import (
+        BeliefBank,
+        NodeBelief,
+        NodePredictor,
+        RoadParticleBelief,
+        SearchField,
+        SparseNodePredictor,
+        TrackBelief,
+        entropy_nats,
+    )
+    from searchtrack.estimate.diffusion import GraphDiffusion
+    from searchtrack.estimate.emd_association import EMDAssociator
+    from searchtrack.estimate.emd_matrix import (
+        EMD_MATRIX_BACKENDS,
+        EMDMatrix,
+        EMDMatrixProblem,
+        emd_matrix,
+        solve_emd_matrix,
+    )
+    from searchtrack.estimate.lrt import (
+        LikelihoodField,
+        LRTInitiator,
+        LRTPredictor,
+        llr_increment,
+        update_likelihood_field,
+    )
+    from searchtrack.estimate.metrics import gospa, ospa, ospa2
+    from searchtrack.estimate.node_tracker import (
+        NodeTracker,
+        TrackerBank,
+        TrackerDeleter,
+        TrackerPredictor,
+        measurement_density,
+        position_log_likelihood,
+        update_tracker,
+    )
+    from searchtrack.estimate.particle_belief import ParticleBelief, WeightedParticles
+    from searchtrack.estimate.phd import PHDConfig, PHDState, SensorScan
+    from searchtrack.estimate.phd import step as phd_step
+    from searchtrack.estimate.scan import ScanUpdate, ScanUpdater
+    from searchtrack.estimate.transport import emd, emd_on_graph
+
+#: Each exported name: (module under searchtrack.estimate, attribute there).
+_HOME: dict[str, tuple[str, str]] = {
+    "ASSOCIATION_BACKENDS": ("association", "BACKENDS"),
+    "Association": ("association", "Association"),
+    "AssociationProblem": ("association", "AssociationProblem"),
+    "Associator": ("association", "Associator"),
+    "BeliefBank": ("belief", "BeliefBank"),
+    "EMDAssociator": ("emd_association", "EMDAssociator"),
+    "EMDMatrix": ("emd_matrix", "EMDMatrix"),
+    "EMDMatrixProblem": ("emd_matrix", "EMDMatrixProblem"),
+    "EMD_MATRIX_BACKENDS": ("emd_matrix", "EMD_MATRIX_BACKENDS"),
+    "GraphDiffusion": ("diffusion", "GraphDiffusion"),
+    "LRTInitiator": ("lrt", "LRTInitiator"),
+    "LRTPredictor": ("lrt", "LRTPredictor"),
+    "LikelihoodField": ("lrt", "LikelihoodField"),
+    "NodeBelief": ("belief", "NodeBelief"),
+    "NodePredictor": ("belief", "NodePredictor"),
+    "NodeTracker": ("node_tracker", "NodeTracker"),
+    "PHDConfig": ("phd", "PHDConfig"),
+    "PHDState": ("phd", "PHDState"),
+    "ParticleBelief": ("particle_belief", "ParticleBelief"),
+    "RoadParticleBelief": ("belief", "RoadParticleBelief"),
+    "ScanUpdate": ("scan", "ScanUpdate"),
+    "ScanUpdater": ("scan", "ScanUpdater"),
+    "SearchField": ("belief", "SearchField"),
+    "SensorScan": ("phd", "SensorScan"),
+    "SparseNodePredictor": ("belief", "SparseNodePredictor"),
+    "TrackBelief": ("belief", "TrackBelief"),
+    "TrackerBank": ("node_tracker", "TrackerBank"),
+    "TrackerDeleter": ("node_tracker", "TrackerDeleter"),
+    "TrackerPredictor": ("node_tracker", "TrackerPredictor"),
+    "WeightedParticles": ("particle_belief", "WeightedParticles"),
+    "associate": ("association", "solve"),
+    "emd": ("transport", "emd"),
+    "emd_matrix": ("emd_matrix", "emd_matrix"),
+    "emd_on_graph": ("transport", "emd_on_graph"),
+    "entropy_nats": ("belief", "entropy_nats"),
+    "gospa": ("metrics", "gospa"),
+    "llr_increment": ("lrt", "llr_increment"),
+    "measurement_density": ("node_tracker", "measurement_density"),
+    "ospa": ("metrics", "ospa"),
+    "ospa2": ("metrics", "ospa2"),
+    "phd_step": ("phd", "step"),
+    "position_log_likelihood": ("node_tracker", "position_log_likelihood"),
+    "solve_emd_matrix": ("emd_matrix", "solve_emd_matrix"),
+    "update_likelihood_field": ("lrt", "update_likelihood_field"),
+    "update_tracker": ("node_tracker", "update_tracker"),
+}
 
 __all__ = [
     "ASSOCIATION_BACKENDS",
@@ -87,6 +140,7 @@ __all__ = [
     "PHDConfig",
     "PHDState",
     "ParticleBelief",
+    "RoadParticleBelief",
     "ScanUpdate",
     "ScanUpdater",
     "SearchField",
@@ -113,3 +167,13 @@ __all__ = [
     "update_likelihood_field",
     "update_tracker",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    """The exported ``name``, imported from its module on first use."""
+    if name not in _HOME:
+        raise AttributeError(f"module 'searchtrack.estimate' has no attribute {name!r}")
+    module, attribute = _HOME[name]
+    value = getattr(importlib.import_module(f"searchtrack.estimate.{module}"), attribute)
+    globals()[name] = value
+    return value

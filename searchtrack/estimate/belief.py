@@ -15,6 +15,9 @@ seam), so they are written against these protocols, never against the concrete e
 - :class:`NodePredictor`: one prediction step of a node belief over ``dt_s`` seconds, and
   :class:`SparseNodePredictor`, which also exposes its one-step matrix so that a local belief can
   be propagated on its support only (a :class:`~searchtrack.estimate.diffusion.GraphDiffusion`).
+- :class:`RoadParticleBelief`: ``M`` targets as weighted particles ``(directed edge, arc
+  length)`` on a :class:`~searchtrack.models.road_particles.DirectedRoads` (paper 000's road
+  particle filters), with one entropy per target; what the road-search planners read.
 
 All are ``runtime_checkable``: a planner checks its inputs with ``isinstance`` against them.
 """
@@ -136,6 +139,36 @@ class SparseNodePredictor(NodePredictor, Protocol):
     @property
     def decay_factor(self) -> float:
         """The scalar each step multiplies by besides ``A`` (1 without decay)."""
+        ...
+
+
+@runtime_checkable
+class RoadParticleBelief(Protocol):
+    """``M`` targets, each a weighted particle cloud on directed roads (Moore et al. 2021, Eq. 8).
+
+    ``target_particles()`` returns ``(edge, s, w)``, each ``(M, N)``: directed edge index,
+    arc length (m) from the edge's tail, and weights summing to 1 per target. For a
+    Rao-Blackwellized filter these are the clouds of the association hypothesis the planner
+    should use (the best top-level particle). ``target_entropy()`` is ``(M,)`` in nats (Eq. 19,
+    on road bins).
+    """
+
+    @property
+    def roads(self) -> Any:
+        """The :class:`~searchtrack.models.road_particles.DirectedRoads` the particles live on."""
+        ...
+
+    @property
+    def n_targets(self) -> int:
+        """Number of targets ``M``."""
+        ...
+
+    def target_particles(self) -> tuple[NDArray[np.int64], FloatArray, FloatArray]:
+        """``(edge, s, w)``, each ``(M, N)`` (new arrays the caller may change)."""
+        ...
+
+    def target_entropy(self) -> FloatArray:
+        """``(M,)`` entropy (nats) of each target's position on road bins."""
         ...
 
 
