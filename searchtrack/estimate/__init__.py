@@ -9,6 +9,9 @@
   solver family (:mod:`.association`, :mod:`.emd_association`, :mod:`.emd_matrix`,
   :mod:`.transport`).
 - Particle PHD filtering (papers 003, 004): :mod:`searchtrack.estimate.phd`.
+- Targets on directed roads (paper 000): the road particle filter and its bank
+  (:mod:`.road_pf`), the Rao-Blackwellized filter over association histories (:mod:`.road_rbpf`),
+  entropy on road bins (:mod:`.road_entropy`) and batch resampling (:mod:`.road_resampling`).
 - Metrics: OSPA, GOSPA, OSPA(2).
 
 A road step: per UAV, :meth:`ScanUpdater.update` (associate, update trackers, update the LRT
@@ -68,11 +71,34 @@ if TYPE_CHECKING:
     from searchtrack.estimate.particle_belief import ParticleBelief, WeightedParticles
     from searchtrack.estimate.phd import PHDConfig, PHDState, SensorScan
     from searchtrack.estimate.phd import step as phd_step
+    from searchtrack.estimate.road_entropy import RoadBins
+    from searchtrack.estimate.road_entropy import combined_entropy as road_combined_entropy
+    from searchtrack.estimate.road_entropy import entropy as road_target_entropy
+    from searchtrack.estimate.road_entropy import map_positions as road_map_positions
+    from searchtrack.estimate.road_pf import RoadClouds, RoadFilterBank, RoadParticleFilter
+    from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
+    from searchtrack.estimate.road_resampling import (
+        ResamplePolicy,
+        effective_sample_size,
+        systematic_indices,
+    )
     from searchtrack.estimate.scan import ScanUpdate, ScanUpdater
     from searchtrack.estimate.transport import emd, emd_on_graph
 
 #: Each exported name: (module under searchtrack.estimate, attribute there).
 _HOME: dict[str, tuple[str, str]] = {
+    "RBPFConfig": ("road_rbpf", "RBPFConfig"),
+    "ResamplePolicy": ("road_resampling", "ResamplePolicy"),
+    "RoadBins": ("road_entropy", "RoadBins"),
+    "RoadClouds": ("road_pf", "RoadClouds"),
+    "RoadFilterBank": ("road_pf", "RoadFilterBank"),
+    "RoadParticleFilter": ("road_pf", "RoadParticleFilter"),
+    "RoadRBPF": ("road_rbpf", "RoadRBPF"),
+    "effective_sample_size": ("road_resampling", "effective_sample_size"),
+    "road_combined_entropy": ("road_entropy", "combined_entropy"),
+    "road_target_entropy": ("road_entropy", "entropy"),
+    "road_map_positions": ("road_entropy", "map_positions"),
+    "systematic_indices": ("road_resampling", "systematic_indices"),
     "ASSOCIATION_BACKENDS": ("association", "BACKENDS"),
     "Association": ("association", "Association"),
     "AssociationProblem": ("association", "AssociationProblem"),
@@ -140,7 +166,14 @@ __all__ = [
     "PHDConfig",
     "PHDState",
     "ParticleBelief",
+    "RBPFConfig",
+    "ResamplePolicy",
+    "RoadBins",
+    "RoadClouds",
+    "RoadFilterBank",
     "RoadParticleBelief",
+    "RoadParticleFilter",
+    "RoadRBPF",
     "ScanUpdate",
     "ScanUpdater",
     "SearchField",
@@ -152,6 +185,7 @@ __all__ = [
     "TrackerPredictor",
     "WeightedParticles",
     "associate",
+    "effective_sample_size",
     "emd",
     "emd_matrix",
     "emd_on_graph",
@@ -163,7 +197,11 @@ __all__ = [
     "ospa2",
     "phd_step",
     "position_log_likelihood",
+    "road_combined_entropy",
+    "road_map_positions",
+    "road_target_entropy",
     "solve_emd_matrix",
+    "systematic_indices",
     "update_likelihood_field",
     "update_tracker",
 ]

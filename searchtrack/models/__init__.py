@@ -2,6 +2,9 @@
 
 * Roads (thesis 001 Ch. 2): :class:`RoadNetwork` from OpenStreetMap (:func:`read_osm`) or
   synthetic (:func:`grid_network`, :func:`random_network`), in a :class:`LocalProjection`.
+* Targets on directed roads (paper 000): :class:`DirectedRoads` (positions ``(edge, arc
+  length)``) and the along-road motion model :class:`RoadMotion` (Eq. 9), seen by the
+  downward disc sensor :class:`DiscSensor` (Eq. 10–11).
 * Targets: courier-like vehicles on the roads (001 §1.2, §6; :class:`CourierModel`); particle
   motion models (:class:`ConstantVelocity`, :class:`RandomWalk`, :class:`Static`, and the GP
   velocity field of paper 003 in :mod:`.gp_motion`, not imported here since it loads
@@ -19,6 +22,7 @@
 from __future__ import annotations
 
 from searchtrack.models.camera import DownwardCamera
+from searchtrack.models.disc_sensor import DiscSensor
 from searchtrack.models.dubins import (
     DubinsLimits,
     UavState,
@@ -43,6 +47,7 @@ from searchtrack.models.position_sensor import PositionSensor
 from searchtrack.models.projection import LocalProjection
 from searchtrack.models.range_sensor import RangeBearingElevationSensor
 from searchtrack.models.road_builder import network_from_polylines
+from searchtrack.models.road_particles import DirectedRoads, RoadMotion
 from searchtrack.models.road_synthetic import grid_network, random_network
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.models.targets import CourierModel, CourierMotion, TargetState
@@ -56,6 +61,8 @@ __all__ = [
     "CourierModel",
     "CourierMotion",
     "DetectionSensor",
+    "DirectedRoads",
+    "DiscSensor",
     "DownwardCamera",
     "DubinsLimits",
     "LocalProjection",
@@ -65,6 +72,7 @@ __all__ = [
     "PositionSensor",
     "RandomWalk",
     "RangeBearingElevationSensor",
+    "RoadMotion",
     "RoadNetwork",
     "SensorModel",
     "Static",

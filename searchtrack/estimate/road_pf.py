@@ -1,0 +1,360 @@
+"""Particle filters of targets on directed roads (Moore et al. 2021, §2.1–2.5).
+
+A particle is ``(directed edge, arc length)`` (Eq. 8). The filter starts uniform over the road
+length (Eq. 1), predicts with :class:`~searchtrack.models.road_particles.RoadMotion` (Eq. 2,
+Eq. 9), weighs by Bayes' rule (Eq. 4) with the detection likelihood (Eq. 10) or the negative
+information of a miss (Eq. 11 as intended, see :mod:`searchtrack.models.disc_sensor`) and
+resamples by the low-variance method, after every update or when ``N_eff`` is low (Eq. 5–6,
+:class:`~searchtrack.estimate.road_resampling.ResamplePolicy`).
+
+:class:`RoadClouds` holds ``F`` clouds of ``N`` particles as ``(F, N)`` arrays and updates any
+subset of them in place with numba kernels; :class:`RoadParticleFilter` (one target),
+:class:`RoadFilterBank` (``M`` targets with known association, Eq. 12) and the Rao-Blackwellized
+filter of :mod:`searchtrack.estimate.road_rbpf` are built on it. The filters are mutable: each
+``predict`` / ``update`` changes them in place (``copy()`` gives a snapshot).
+"""
+
+from __future__ import annotations
+
+import copy as _copy
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate import road_filter_kernels as kern
+from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
+from searchtrack.estimate.particle_belief import WeightedParticles
+from searchtrack.estimate.road_entropy import RoadBins, combined_entropy, entropy, map_positions
+from searchtrack.estimate.road_resampling import ResamplePolicy, effective_sample_size
+from searchtrack.models.disc_sensor import DiscSensor
+from searchtrack.models.road_particles import DirectedRoads, RoadMotion
+
+
+class RoadClouds:
+    """``F`` weighted particle clouds of ``N`` particles on directed roads, updated in place.
+
+    Parameters
+    ----------
+    roads
+        The directed roads.
+    edge, s
+        ``(F, N)`` directed edges and arc lengths (m).
+    w
+        ``(F, N)`` non-negative weights with positive row sums (normalized here); uniform if
+        ``None``.
+    sensor, resample
+        The measurement model and when to resample.
+    """
+
+    def __init__(self, roads: DirectedRoads, edge: ArrayLike, s: ArrayLike,
+                 w: ArrayLike | None = None, *, sensor: DiscSensor,
+                 resample: ResamplePolicy) -> None:
+        e = np.array(edge, copy=True)
+        if e.ndim != 2 or e.shape[0] < 1 or e.shape[1] < 1 or e.dtype.kind not in "iu":
+            raise InvalidInputError("edge", e.shape, "must be an integer (F, N) array, F, N ≥ 1")
+        pos = np.array(s, dtype=np.float64, copy=True)
+        e = e.astype(np.int64)
+        roads.check_positions(e, pos)
+        if w is None:
+            ww = np.full(e.shape, 1.0 / e.shape[1])
+        else:
+            ww = np.array(w, dtype=np.float64, copy=True)
+            total = ww.sum(axis=1, keepdims=True) if ww.shape == e.shape else None
+            if total is None or not np.all(np.isfinite(ww)) or np.any(ww < 0.0) \
+                    or np.any(total <= 0.0):
+                raise InvalidInputError("w", ww.shape, f"must be {e.shape}, finite, ≥ 0, "
+                                        "with positive row sums")
+            ww /= total
+        self.roads, self.sensor, self.resample_policy = roads, sensor, resample
+        self.edge, self.s, self.w = e, pos, ww
+        self._tail = np.ascontiguousarray(roads.tail_xy)
+        self._step = np.ascontiguousarray(roads.step_xy)
+        self._lik = np.empty(e.shape)
+
+    @classmethod
+    def uniform(cls, roads: DirectedRoads, n_clouds: int, n_particles: int,
+                rng: np.random.Generator, *, sensor: DiscSensor,
+                resample: ResamplePolicy) -> RoadClouds:
+        """``n_clouds`` clouds drawn uniformly over the road length (Eq. 1)."""
+        f = checks.count("n_clouds", n_clouds, 1)
+        n = checks.count("n_particles", n_particles, 1)
+        edge, s = roads.uniform((f, n), checks.generator("rng", rng))
+        return cls(roads, edge, s, sensor=sensor, resample=resample)
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(F, N)``."""
+        return (int(self.edge.shape[0]), int(self.edge.shape[1]))
+
+    def copy(self) -> RoadClouds:
+        """An independent copy."""
+        out = _copy.copy(self)
+        out.edge, out.s, out.w = self.edge.copy(), self.s.copy(), self.w.copy()
+        out._lik = np.empty_like(self._lik)
+        return out
+
+    def points(self) -> FloatArray:
+        """``(F, N, 2)`` planar points ``G(x)``."""
+        return self.roads.point(self.edge, self.s)
+
+    def predict(self, motion: RoadMotion, dt_s: float, rng: np.random.Generator) -> None:
+        """Eq. 2 with the motion model of Eq. 9, every particle ``dt_s`` seconds on."""
+        edge, s = motion.step(self.roads, self.edge, self.s, dt_s, rng)
+        self.edge, self.s = np.ascontiguousarray(edge), np.ascontiguousarray(s)
+
+    def detection_sums(self, y: FloatArray, clutter_density: float) -> FloatArray:
+        """``(F,)`` ``Σ_n w p(y | x)`` per cloud (Eq. 16 with the Eq. 10 likelihood); keeps the
+        per-particle likelihoods for :meth:`weigh`."""
+        sensor = self.sensor
+        sums = np.empty(self.edge.shape[0])
+        kern.detection_likelihood(self.edge, self.s, self.w, self._tail, self._step,
+                                  float(y[0]), float(y[1]), sensor.detection_gain,
+                                  0.5 / sensor.sigma2_m2, sensor.p_fa * clutter_density,
+                                  self._lik, sums)
+        return sums
+
+    def weigh(self, rows: IntArray, rng: np.random.Generator) -> None:
+        """Bayes' rule (Eq. 4) on ``rows`` with the likelihoods of the last
+        :meth:`detection_sums`, then resampling as the policy says."""
+        kern.weigh_rows(self.w, self._lik, rows)
+        self.resample(rows, rng)
+
+    def miss(self, uav_xy: FloatArray, rows: IntArray, rng: np.random.Generator) -> FloatArray:
+        """Negative information (Eq. 11) on ``rows`` for a UAV at ``uav_xy``; returns each row's
+        no-detection likelihood ``Σ_n w p(z | x)`` (1 for a cloud outside the view)."""
+        sums = np.empty(rows.size)
+        touched = np.zeros(rows.size, dtype=np.bool_)
+        kern.miss_update(self.edge, self.s, self.w, rows, self._tail, self._step,
+                         float(uav_xy[0]), float(uav_xy[1]), self.sensor.negative_radius_m ** 2,
+                         self.sensor.p_fn, sums, touched)
+        self.resample(rows[touched], rng)
+        return sums
+
+    def resample(self, rows: IntArray, rng: np.random.Generator) -> None:
+        """Low-variance resampling of those ``rows`` the policy says are due."""
+        if rows.size == 0:
+            return
+        if self.resample_policy.threshold is not None:
+            rows = rows[self.resample_policy.due(self.w[rows])]
+        if rows.size:
+            kern.resample_rows(self.edge, self.s, self.w, rows, rng.random(rows.size))
+
+    def take(self, rows: IntArray) -> None:
+        """Replace the clouds by ``rows`` of themselves (a top-level resampling)."""
+        self.edge, self.s, self.w = self.edge[rows], self.s[rows], self.w[rows]
+
+
+def node_trackers(roads: DirectedRoads, edge: IntArray, s: FloatArray,
+                  w: FloatArray) -> tuple[NodeTracker, ...]:
+    """One :class:`~searchtrack.estimate.node_tracker.NodeTracker` per cloud of a ``(M, N)``
+    batch (track id = row): each particle's weight goes to the nearer end node of its edge."""
+    node = np.where(s < 0.5 * roads.length[edge], roads.tail[edge], roads.head[edge])
+    n = roads.network.n_nodes
+    key = (node + np.arange(edge.shape[0])[:, None] * n).ravel()
+    mass = np.bincount(key, weights=w.ravel(), minlength=edge.shape[0] * n).reshape(-1, n)
+    mass = mass / mass.sum(axis=1, keepdims=True)
+    return tuple(NodeTracker(mass[m], m) for m in range(mass.shape[0]))
+
+
+class RoadParticleFilter:
+    """One target's particle filter on directed roads (paper §2.1), ``N`` particles.
+
+    Parameters
+    ----------
+    roads
+        The directed roads.
+    n_particles
+        ``N ≥ 1`` (500 in the paper).
+    rng
+        Draws the uniform initial cloud (Eq. 1).
+    motion, sensor, resample
+        Motion model (Eq. 9), measurement model (Eq. 10–11), resampling policy.
+    """
+
+    def __init__(self, roads: DirectedRoads, n_particles: int, rng: np.random.Generator, *,
+                 motion: RoadMotion | None = None, sensor: DiscSensor | None = None,
+                 resample: ResamplePolicy | None = None) -> None:
+        self.motion = motion or RoadMotion()
+        self.clouds = RoadClouds.uniform(roads, 1, n_particles, rng,
+                                         sensor=sensor or DiscSensor(),
+                                         resample=resample or ResamplePolicy())
+
+    @classmethod
+    def from_particles(cls, roads: DirectedRoads, edge: ArrayLike, s: ArrayLike,
+                       w: ArrayLike | None = None, *, motion: RoadMotion | None = None,
+                       sensor: DiscSensor | None = None,
+                       resample: ResamplePolicy | None = None) -> RoadParticleFilter:
+        """A filter holding the given ``(N,)`` particles (uniform weights if ``w`` is None)."""
+        out = cls.__new__(cls)
+        out.motion = motion or RoadMotion()
+        ww = None if w is None else np.asarray(w, dtype=np.float64)[None]
+        out.clouds = RoadClouds(roads, np.asarray(edge)[None], np.asarray(s)[None], ww,
+                                sensor=sensor or DiscSensor(),
+                                resample=resample or ResamplePolicy())
+        return out
+
+    @property
+    def roads(self) -> DirectedRoads:
+        """The directed roads."""
+        return self.clouds.roads
+
+    @property
+    def n_particles(self) -> int:
+        """``N``."""
+        return self.clouds.shape[1]
+
+    def particles(self) -> tuple[IntArray, FloatArray, FloatArray]:
+        """``(edge, s, w)``, each ``(N,)`` (copies)."""
+        c = self.clouds
+        return c.edge[0].copy(), c.s[0].copy(), c.w[0].copy()
+
+    def points(self) -> FloatArray:
+        """``(N, 2)`` planar particle points ``G(x)``."""
+        return np.asarray(self.clouds.points()[0], dtype=np.float64)
+
+    def n_eff(self) -> float:
+        """Effective sample size (Eq. 5)."""
+        return float(effective_sample_size(self.clouds.w[0]))
+
+    def predict(self, dt_s: float, rng: np.random.Generator) -> None:
+        """Move every particle ``dt_s`` seconds on (Eq. 2, Eq. 9)."""
+        self.clouds.predict(self.motion, dt_s, checks.generator("rng", rng))
+
+    def likelihood_sum(self, y: ArrayLike, uav_xy: ArrayLike | None = None) -> float:
+        """Eq. 16's sum for this filter: ``Σ_n w^n p(y | x^n)`` (Eq. 10), i.e.
+        ``(1/N) Σ_n p(y | x^n)`` after resampling; ``uav_xy`` is needed by the ``"view"`` clutter
+        convention only."""
+        yy = checks.finite_array("y", y, (2,))
+        c = self.clouds.sensor.clutter_density(self.roads, uav_xy)
+        return float(self.clouds.detection_sums(yy, c)[0])
+
+    def update(self, y: ArrayLike | None, uav_xy: ArrayLike, rng: np.random.Generator) -> float:
+        """Weigh by a detection ``y`` ``(2,)`` (Eq. 10) or, if ``y`` is None, by the miss of a
+        UAV at ``uav_xy`` (Eq. 11); resample as the policy says. Returns the measurement's
+        likelihood ``Σ_n w p(· | x)`` before the update."""
+        uav = checks.finite_array("uav_xy", uav_xy, (2,))
+        checks.generator("rng", rng)
+        rows = np.zeros(1, dtype=np.int64)
+        if y is None:
+            return float(self.clouds.miss(uav, rows, rng)[0])
+        total = self.likelihood_sum(y, uav)
+        self.clouds.weigh(rows, rng)
+        return total
+
+    def entropy(self, bin_m: float = 5.0) -> float:
+        """Entropy (nats) on road bins of ``bin_m`` metres (Eq. 19)."""
+        c = self.clouds
+        return float(entropy(RoadBins(self.roads, bin_m), c.edge, c.s, c.w)[0])
+
+    def map_position(self, bin_m: float = 5.0) -> FloatArray:
+        """``(2,)`` centre of the densest bin."""
+        c = self.clouds
+        return np.asarray(map_positions(RoadBins(self.roads, bin_m), c.edge, c.s, c.w)[0],
+                          dtype=np.float64)
+
+
+class RoadFilterBank:
+    """``M`` independent road particle filters with known association (paper §2.5, Eq. 12).
+
+    A detection labelled with its target updates that target's filter; every target without a
+    detection in the scan gets the negative update. It is a
+    :class:`~searchtrack.estimate.belief.RoadParticleBelief`: the belief of a planner that knows
+    the associations (the paper's ideal baseline knows even the positions).
+
+    Parameters
+    ----------
+    roads
+        The directed roads.
+    n_targets, n_particles
+        ``M ≥ 1`` and ``N ≥ 1``.
+    rng
+        Draws the uniform initial clouds.
+    motion, sensor, resample
+        As :class:`RoadParticleFilter`.
+    bin_m
+        Bin length (m) of :meth:`target_entropy` and :meth:`map_positions`.
+    """
+
+    def __init__(self, roads: DirectedRoads, n_targets: int, n_particles: int,
+                 rng: np.random.Generator, *, motion: RoadMotion | None = None,
+                 sensor: DiscSensor | None = None, resample: ResamplePolicy | None = None,
+                 bin_m: float = 5.0) -> None:
+        self.motion = motion or RoadMotion()
+        self.clouds = RoadClouds.uniform(roads, checks.count("n_targets", n_targets, 1),
+                                         n_particles, rng, sensor=sensor or DiscSensor(),
+                                         resample=resample or ResamplePolicy())
+        self.bins = RoadBins(roads, bin_m)
+
+    @property
+    def roads(self) -> DirectedRoads:
+        """The directed roads."""
+        return self.clouds.roads
+
+    @property
+    def n_targets(self) -> int:
+        """``M``."""
+        return self.clouds.shape[0]
+
+    def predict(self, dt_s: float, rng: np.random.Generator) -> None:
+        """Move every particle ``dt_s`` seconds on (Eq. 9)."""
+        self.clouds.predict(self.motion, dt_s, checks.generator("rng", rng))
+
+    def update(self, detections: ArrayLike, targets: ArrayLike, uav_xy: ArrayLike,
+               rng: np.random.Generator) -> None:
+        """One scan: detection ``j`` of ``detections`` ``(k, 2)`` came from target
+        ``targets[j]`` (−1: a false alarm, ignored); the targets without a detection get the
+        negative update (Eq. 11)."""
+        ys = checks.points("detections", detections)
+        ids = np.asarray(targets)
+        if ids.shape != (ys.shape[0],) or (ids.size and (ids.dtype.kind not in "iu"
+                                                         or ids.min() < -1
+                                                         or ids.max() >= self.n_targets)):
+            raise InvalidInputError("targets", targets, f"must be {ys.shape[0]} target indices "
+                                    f"in [-1, {self.n_targets})")
+        uav = checks.finite_array("uav_xy", uav_xy, (2,))
+        checks.generator("rng", rng)
+        density = self.clouds.sensor.clutter_density(self.roads, uav)
+        for y, m in zip(ys, ids.astype(np.int64), strict=True):
+            if m >= 0:
+                self.clouds.detection_sums(y, density)
+                self.clouds.weigh(np.array([m], dtype=np.int64), rng)
+        missed = np.setdiff1d(np.arange(self.n_targets), ids)
+        self.clouds.miss(uav, missed.astype(np.int64), rng)
+
+    def target_particles(self) -> tuple[IntArray, FloatArray, FloatArray]:
+        """``(edge, s, w)``, each ``(M, N)`` (copies)."""
+        c = self.clouds
+        return c.edge.copy(), c.s.copy(), c.w.copy()
+
+    def target_entropy(self) -> FloatArray:
+        """``(M,)`` entropy (nats) of each target on bins of ``bin_m``."""
+        c = self.clouds
+        return entropy(self.bins, c.edge, c.s, c.w)
+
+    def combined_entropy(self, bin_m: float | None = None) -> float:
+        """Entropy (nats) of all targets pooled (the paper's combined entropy)."""
+        bins = self.bins if bin_m is None else RoadBins(self.roads, bin_m)
+        c = self.clouds
+        return combined_entropy(bins, c.edge, c.s, c.w)
+
+    def map_positions(self) -> FloatArray:
+        """``(M, 2)`` centre of each target's densest bin."""
+        c = self.clouds
+        return map_positions(self.bins, c.edge, c.s, c.w)
+
+    def node_beliefs(self) -> tuple[NodeTracker, ...]:
+        """One node belief per target (each particle's weight on the nearer end node)."""
+        c = self.clouds
+        return node_trackers(self.roads, c.edge, c.s, c.w)
+
+    def belief_bank(self) -> TrackerBank:
+        """The node beliefs as a :class:`~searchtrack.estimate.belief.BeliefBank`."""
+        return TrackerBank(self.roads.network.n_nodes, self.node_beliefs(), self.n_targets)
+
+    def particle_belief(self) -> WeightedParticles:
+        """All particles as planar points, each target's weights summing to 1."""
+        c = self.clouds
+        return WeightedParticles(c.points().reshape(-1, 2), c.w.ravel())
