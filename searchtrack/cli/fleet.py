@@ -1,0 +1,181 @@
+"""``searchtrack fleet-size MAP``: the fewest UAVs whose entropy bound meets a variance requirement.
+
+Paper 000's Theorem 1 (Moore et al. 2021) bounds the average tracking entropy for ``M`` targets
+and ``Q`` UAVs on a road map; Corollary 1 turns the bound into a positional variance. The command
+prints, for ``Q = 1…max-uavs``, the revisit time, the post-update variance, ``B_L`` and the variance
+bound, then the smallest ``Q`` with ``B_L`` at most the entropy of the required variance. MAP is
+``grid:RxC[:BLOCK]`` (an ``R × C`` grid of intersections ``BLOCK`` m apart, default 100 m, nodes at
+the intersections only) or a bundled OpenStreetMap extract by name.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import re
+from collections.abc import Sequence
+
+from rich.console import Console
+from rich.markup import escape
+from rich.table import Table
+
+from searchtrack.cli.common import int_at_least, int_in, positive_float
+from searchtrack.cli.output import output_file
+from searchtrack.core.errors import SearchtrackError
+from searchtrack.core.files import write_text_atomic
+from searchtrack.plan.fleet import BoundConfig, BoundMap, FleetSizing, fleet_size, subdivisions
+from searchtrack.plan.fleet.entropy_bound import BINNINGS
+from searchtrack.sim.scenario import BUNDLED_MAPS, MapSpec, bundled_map
+
+#: Most Dijkstra sources for ``S_node`` on a large map (a seeded sample beyond this).
+S_NODE_SOURCES = 2000
+
+#: Largest fleet the command will size.
+MAX_FLEET = 1000
+
+_GRID = re.compile(r"grid:(\d+)x(\d+)(?::([0-9.eE+-]+))?")
+
+
+def map_arg(text: str) -> MapSpec:
+    """An argument type: ``grid:RxC[:BLOCK]`` or a bundled map name as a :class:`MapSpec`, else
+    an :class:`argparse.ArgumentTypeError`."""
+    if text in BUNDLED_MAPS:
+        return MapSpec("osm", bundled_map(text))
+    match = _GRID.fullmatch(text.strip())
+    if match is None:
+        raise argparse.ArgumentTypeError(f"{text!r}: expected grid:RxC[:BLOCK] or one of "
+                                         f"{list(BUNDLED_MAPS)}")
+    rows, cols = int(match[1]), int(match[2])
+    block = positive_float(match[3]) if match[3] else 100.0
+    if rows < 2 or cols < 2 or not math.isfinite(block):
+        raise argparse.ArgumentTypeError(f"{text!r}: a grid needs R, C ≥ 2 and a finite BLOCK")
+    try:
+        return MapSpec("grid", rows=rows, cols=cols, block_m=block, spacing_m=block)
+    except SearchtrackError as exc:
+        raise argparse.ArgumentTypeError(f"{text!r}: {exc}") from None
+
+
+def sizing_table(sizing: FleetSizing, title: str) -> Table:
+    """One row per fleet size: revisit time, ``σ²_{p0}``, ``B_L`` and the variance bound."""
+    table = Table(title=title)
+    for name in ("Q", "revisit (s)", "σ²_p0 (m²)", "B_L (nats)", "σ_p² bound (m²)", "meets"):
+        table.add_column(name, justify="right")
+    for option in sizing.options:
+        b = option.bound
+        var = "-" if math.isnan(option.variance_m2) else f"{option.variance_m2:.2f}"
+        table.add_row(str(b.uavs), f"{b.revisit_s:.2f}", f"{b.variance0_m2:.3f}",
+                      f"{b.bound:.4f}", var, "yes" if option.meets else "no")
+    return table
+
+
+def _finite(x: float) -> float | None:
+    return x if math.isfinite(x) else None
+
+
+def sizing_record(spec: MapSpec, bound_map: BoundMap, config: BoundConfig,
+                  sizing: FleetSizing) -> dict[str, object]:
+    """The JSON document ``--json`` writes."""
+    return {
+        "map": spec.describe(),
+        "config": {"targets": config.targets, "uav_speed_mps": config.uav_speed_mps,
+                   "target_speed_mps": config.target_speed_mps,
+                   "sigma_v_mps": config.sigma_v_mps, "meas_var_m2": config.meas_var_m2,
+                   "dt_s": config.dt_s, "bin_m": config.bin_m, "binning": config.binning},
+        "s_node_m": bound_map.s_node_m,
+        "length_m": bound_map.length_m,
+        "round_trip_s": bound_map.round_trip_s(config),
+        "max_variance_m2": sizing.required_variance_m2,
+        "required_entropy": sizing.required_entropy,
+        "rows": [{"uavs": o.bound.uavs, "revisit_s": o.bound.revisit_s, "steps": o.bound.steps,
+                  "variance0_m2": o.bound.variance0_m2, "bound": o.bound.bound,
+                  "variance_bound_m2": _finite(o.variance_m2), "meets": o.meets}
+                 for o in sizing.options],
+        "uavs": sizing.uavs,
+    }
+
+
+def fleet_size_command(args: argparse.Namespace, console: Console) -> int:
+    """Handler of ``searchtrack fleet-size``: 0 when some fleet meets the requirement, 1 if none
+    up to ``--max-uavs`` does (bad input raises, which the caller reports with status 2)."""
+    out = None if args.json is None else output_file("--json", args.json)
+    config = BoundConfig(targets=args.targets, uav_speed_mps=args.uav_speed,
+                         target_speed_mps=args.target_speed, sigma_v_mps=args.sigma_v,
+                         meas_var_m2=args.R, dt_s=args.dt, binning=args.binning)
+    spec: MapSpec = args.map
+    with console.status(f"measuring {spec.describe()}"):
+        network = spec.build()
+        sources = S_NODE_SOURCES if network.n_nodes > S_NODE_SOURCES else None
+        bound_map = BoundMap.from_network(network, config, sources=sources)
+        sizing = fleet_size(bound_map, config, max_variance_m2=args.max_variance,
+                            max_uavs=args.max_uavs)
+    groups = len(subdivisions(bound_map.chains))
+    console.print(f"{escape(spec.describe())}: {network.n_nodes} nodes, "
+                  f"{bound_map.length_m:.0f} m of road, {bound_map.chains.n_chains} directed "
+                  f"chains in {groups} subdivisions, S_node {bound_map.s_node_m:.2f} m, round "
+                  f"trip T {bound_map.round_trip_s(config):.2f} s for {config.targets} targets")
+    console.print(sizing_table(sizing, f"entropy bound (Theorem 1), σ² ≤ {args.max_variance:g} "
+                               f"m² ⇔ B_L ≤ {sizing.required_entropy:.4f} nats"))
+    if sizing.uavs is None:
+        console.print(f"no fleet of up to {args.max_uavs} UAVs meets σ² ≤ {args.max_variance:g} "
+                      "m²")
+    else:
+        console.print(f"[bold]{sizing.uavs} UAV{'s' if sizing.uavs > 1 else ''}[/] meet "
+                      f"σ² ≤ {args.max_variance:g} m²")
+    if out is not None:
+        record = sizing_record(spec, bound_map, config, sizing)
+        written = write_text_atomic(out, json.dumps(record, indent=1) + "\n")
+        console.print(f"wrote {written}")
+    return 0 if sizing.uavs is not None else 1
+
+
+def configure(parser: argparse.ArgumentParser) -> None:
+    """Add the arguments of ``fleet-size`` to ``parser``."""
+    parser.add_argument("map", metavar="MAP", type=map_arg,
+                        help=f"grid:RxC[:BLOCK] (BLOCK in m, default 100) or one of "
+                        f"{', '.join(BUNDLED_MAPS)}")
+    parser.add_argument("--targets", type=int_at_least(2), required=True, metavar="M",
+                        help="number of targets (≥ 2)")
+    parser.add_argument("--max-variance", type=positive_float, required=True, metavar="V",
+                        help="required bound on a mode's positional variance (m²)")
+    parser.add_argument("--uav-speed", type=positive_float, default=40.0, metavar="MPS",
+                        help="UAV airspeed V_a (m/s, default 40)")
+    parser.add_argument("--target-speed", type=positive_float, default=10.0, metavar="MPS",
+                        help="target speed (m/s, default 10)")
+    parser.add_argument("--sigma-v", type=positive_float, default=4.0, metavar="MPS",
+                        help="target velocity noise σ_v (m/s, default 4)")
+    parser.add_argument("--R", type=positive_float, default=5.0, metavar="M2",
+                        help="measurement variance along the road (m², default 5)")
+    parser.add_argument("--dt", type=positive_float, default=0.1, metavar="S",
+                        help="time step δ_t (s, default 0.1)")
+    parser.add_argument("--binning", choices=BINNINGS, default="density",
+                        help="Gaussian on 1 m bins: density at bin points as in Eq. 47 (default; "
+                        "needs variances ≥ 0.25 m²) or bin probabilities")
+    parser.add_argument("--max-uavs", type=int_in(1, MAX_FLEET), default=10, metavar="Q",
+                        help="largest fleet to consider (default 10)")
+    parser.add_argument("--json", default=None, metavar="OUT", help="write the table as JSON")
+    parser.set_defaults(run=fleet_size_command)
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Register ``fleet-size`` on the top-level subparsers."""
+    p = sub.add_parser("fleet-size", help="fewest UAVs for a tracking-variance requirement",
+                       description=__doc__.split("\n\n")[0] if __doc__ else None)
+    configure(p)
+
+
+def run(argv: Sequence[str], console: Console | None = None) -> int:
+    """Run ``fleet-size`` with its own parser (arguments after the subcommand name); the exit
+    status as ``searchtrack fleet-size`` would give it (2 for bad input)."""
+    parser = argparse.ArgumentParser(prog="searchtrack fleet-size")
+    configure(parser)
+    try:
+        args = parser.parse_args(list(argv))
+    except SystemExit as exc:
+        return exc.code if isinstance(exc.code, int) else 2
+    try:
+        code: int = args.run(args, console or Console())
+    except (SearchtrackError, ValueError) as exc:
+        Console(stderr=True).print("[bold red]error:[/]", escape(str(exc)), soft_wrap=True)
+        return 2
+    return code
