@@ -141,8 +141,9 @@ def entropy(bins: RoadBins, edge: IntArray, s: FloatArray, w: FloatArray) -> Flo
     """
     idx, p = _checked(bins, edge, s, w)
     row, _, mass = _masses(bins, idx, p)
-    return np.asarray(np.bincount(row, weights=-mass * np.log(mass), minlength=idx.shape[0]),
-                      dtype=np.float64)
+    h = np.bincount(row, weights=-mass * np.log(mass), minlength=idx.shape[0])
+    # A cloud in one bin has mass 1 − ε there: −(1−ε)·log(1−ε) rounds to ±1e-16; entropy ≥ 0.
+    return np.maximum(np.asarray(h, dtype=np.float64), 0.0)
 
 
 def combined_entropy(bins: RoadBins, edge: IntArray, s: FloatArray, w: FloatArray) -> float:
@@ -150,7 +151,7 @@ def combined_entropy(bins: RoadBins, edge: IntArray, s: FloatArray, w: FloatArra
     target's mass ``1/M`` (the paper's "combined entropy", Fig. 10–11)."""
     idx, p = _checked(bins, edge, s, w)
     _, _, mass = _masses(bins, idx.reshape(1, -1), p.reshape(1, -1) / idx.shape[0])
-    return float(-(mass * np.log(mass)).sum())
+    return max(0.0, float(-(mass * np.log(mass)).sum()))
 
 
 def map_bins(bins: RoadBins, edge: IntArray, s: FloatArray, w: FloatArray) -> IntArray:

@@ -129,3 +129,26 @@ def test_bad_input_names_the_field(grid3: DirectedRoads) -> None:
         entropy(bins, edge, np.full((2, 3), 500.0), np.ones((2, 3)))
     with pytest.raises(InvalidInputError, match="bin_m"):
         RoadBins(grid3, 0.0)
+
+
+def test_a_cloud_in_one_bin_has_entropy_zero_not_minus_epsilon() -> None:
+    """Normalised weights in one bin can add up to 1 + 2.2e-16, whose −p log p is −2.2e-16
+    (seen with these 27 weights); an entropy is never negative (planners refuse one)."""
+    from searchtrack.models.road_particles import DirectedRoads
+    from searchtrack.models.road_synthetic import grid_network
+
+    roads = DirectedRoads(grid_network(3, 3, 100.0, spacing_m=100.0))
+    bins = RoadBins(roads, 5.0)
+    w = np.array([[0.06608249672407474, 0.8413172796123832, 0.0666900087671014,
+                   0.34430997880412517, 0.4302987319478333, 0.9660620807840702,
+                   0.562231842228457, 0.25886459317093224, 0.24167571409434496,
+                   0.8881183206591798, 0.22586942841732438, 0.1245547058352835,
+                   0.2883307570075776, 0.5861230648127328, 0.5540905021732678,
+                   0.8097107759127777, 0.5604759520061858, 0.2884212144312105,
+                   0.4128963426808927, 0.8181209709709104, 0.6265064624197535,
+                   0.9590776426974422, 0.3694044110916809, 0.5526115105212872,
+                   0.5939242016131683, 0.84829120827506, 0.14547353818653175]] * 2)
+    edge = np.zeros(w.shape, dtype=np.int64)
+    s = np.full(w.shape, 1.0)
+    assert np.all(entropy(bins, edge, s, w) == 0.0)
+    assert combined_entropy(bins, edge, s, w) >= 0.0

@@ -1,0 +1,64 @@
+"""Solve a road-search problem by backend name (Moore et al. 2021, §4.2 and §6).
+
+``auto`` runs the beam search at once, then the CP-SAT program in the time left to improve or
+prove it (:func:`~searchtrack.core.registry.heuristic_then_exact`); its result names the stage
+whose plan it is. CP-SAT (OR-Tools) is imported only when ``exact`` or ``auto`` first needs it.
+"""
+
+from __future__ import annotations
+
+from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
+from searchtrack.core.result import Result
+from searchtrack.plan.road_search.baselines import solve_ideal, solve_random, supports_ideal
+from searchtrack.plan.road_search.beam import solve_beam
+from searchtrack.plan.road_search.exhaustive import solve_exhaustive, supports_exhaustive
+from searchtrack.plan.road_search.greedy import solve_greedy
+from searchtrack.plan.road_search.problem import RoadPlan, RoadSearchProblem
+
+
+def _exact(problem: RoadSearchProblem, *, time_limit_s: float, seed: int) -> Result[RoadPlan]:
+    from searchtrack.plan.road_search.exact import solve_exact
+
+    return solve_exact(problem, time_limit_s=time_limit_s, seed=seed)
+
+
+def _prove(problem: RoadSearchProblem, first: Result[RoadPlan], limit_s: float,
+           seed: int) -> Result[RoadPlan]:
+    from searchtrack.plan.road_search.exact import solve_exact
+
+    return solve_exact(problem, time_limit_s=limit_s, seed=seed, initial=first.plan)
+
+
+def _auto(problem: RoadSearchProblem, *, time_limit_s: float, seed: int) -> Result[RoadPlan]:
+    return heuristic_then_exact(problem, solve_beam, _prove, time_limit_s=time_limit_s,
+                                seed=seed, heuristic_limit_s=time_limit_s, tol=1e-7)
+
+
+BACKENDS: Registry[RoadSearchProblem, RoadPlan] = Registry("road search")
+BACKENDS.register(Backend("auto", _auto, True,
+                          "beam at once, then CP-SAT in the time left to improve or prove it"))
+BACKENDS.register(Backend("exhaustive", solve_exhaustive, True,
+                          "the paper's RHC: every path (every joint choice when small)",
+                          supports=supports_exhaustive))
+BACKENDS.register(Backend("beam", solve_beam, False,
+                          "beam search of the look-ahead tree, UAVs in turn"))
+BACKENDS.register(Backend("exact", _exact, True,
+                          "maximum coverage on the time-expanded graph, CP-SAT"))
+BACKENDS.register(Backend("greedy", solve_greedy, False,
+                          "best weighted edge value (Eq. 21) at each node"))
+BACKENDS.register(Backend("random", solve_random, False,
+                          "uniform choice of the next edge (baseline)"))
+BACKENDS.register(Backend("ideal", solve_ideal, False,
+                          "shortest path to the true targets (baseline)", supports=supports_ideal))
+
+
+def solve(problem: RoadSearchProblem, *, backend: str = "auto", time_limit_s: float = 1.0,
+          seed: int = 0) -> Result[RoadPlan]:
+    """Plan every UAV's look-ahead path with the named backend within ``time_limit_s``.
+
+    Raises
+    ------
+    InvalidInputError
+        Unknown backend, a backend that cannot take the problem, a bad limit or seed.
+    """
+    return BACKENDS.solve(backend, problem, time_limit_s=time_limit_s, seed=seed)
