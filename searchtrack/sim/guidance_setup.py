@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from searchtrack.estimate import GraphDiffusion, LikelihoodField, TrackerBank
+from searchtrack.estimate import BeliefBank, GraphDiffusion, SearchField
 from searchtrack.models import RoadNetwork, UavState
 from searchtrack.plan.guidance import Guidance, GuidanceProblem, GuidanceView, StrategyConfig
 from searchtrack.sim.scenario import Scenario
@@ -25,9 +25,11 @@ def strategy_config(scenario: Scenario) -> StrategyConfig:
     )
 
 
-def view(network: RoadNetwork, uavs: UavState, field: LikelihoodField, bank: TrackerBank,
+def view(network: RoadNetwork, uavs: UavState, field: SearchField, bank: BeliefBank,
          time_s: float) -> GuidanceView:
-    """What the guidance sees at ``time_s``: the LRT field to climb and the tracker bank."""
+    """What the guidance sees at ``time_s``: the search field to climb (the LRT field, or any
+    :class:`~searchtrack.estimate.belief.SearchField`) and the track beliefs (any
+    :class:`~searchtrack.estimate.belief.BeliefBank`)."""
     return GuidanceView(network=network, uav_xy_m=uavs.xy_m,
                         uav_heading_rad=np.asarray(uavs.heading_rad),
                         uav_speed_mps=np.asarray(uavs.speed_mps), field=field, bank=bank,

@@ -13,6 +13,11 @@ literally, one ``ζ`` for the disc makes the born tracker nearly uniform over hu
 below ``P_min`` at once). A position measurement enters association only when the node nearest
 to it measured ``ζ > c = m/2`` (§4.1).
 
+With ``filter.belief = "rbpf"`` the mission estimates instead with the Rao-Blackwellized
+particle filter of Moore et al. 2021 (paper 000), updated from the position measurements only
+and read by the same guidance (:mod:`searchtrack.sim.rbpf_mission_belief`); the world, the
+guidance and the scores are the same.
+
 Association and guidance are chosen by name from their registries
 (:data:`searchtrack.estimate.association.BACKENDS`,
 :data:`searchtrack.plan.guidance.BACKENDS`). The guidance of each step is seeded with an
@@ -55,11 +60,12 @@ from searchtrack.models import (
     position_measurements,
     step_force,
 )
-from searchtrack.models.measurements import FALSE_ALARM
+from searchtrack.models.measurements import FALSE_ALARM, LrtScan, PositionScan
 from searchtrack.plan.guidance import Guidance, GuidanceProblem
 from searchtrack.plan.guidance import solve as solve_guidance
 from searchtrack.sim.guidance_setup import next_problem, strategy_config, view
 from searchtrack.sim.metrics import StepScore, match_trackers
+from searchtrack.sim.rbpf_mission_belief import RBPFMissionBelief
 from searchtrack.sim.record import MissionLog, PairRecord, Recorder, StepTimes
 from searchtrack.sim.scenario import Scenario
 
@@ -167,10 +173,10 @@ class Mission:
         uavs = initial_uavs(sc, net, rng)
         field = LikelihoodField.neutral(net.n_nodes)
         bank = TrackerBank(net.n_nodes)
+        particles = RBPFMissionBelief(sc, net) if sc.filter.belief == "rbpf" else None
         first_detection = np.full(sc.target_count, np.nan)
         detected = np.zeros(sc.target_count, dtype=bool)
         record = Recorder(sc, net, uavs.xy_m, targets.xy_m(net))
-        m = sc.sensor.sensitivity
         self.associator.lap()
         for k in range(sc.n_steps):
             if stop_requested():
@@ -187,47 +193,34 @@ class Mission:
 
             tic = time.perf_counter()
             uav_xy = uavs.xy_m
-            lrt_scan = lrt_measurements(net, uav_xy, targets.nodes(net)[visible], sc.sensor, rng)
+            if particles is None:
+                lrt_scan = lrt_measurements(net, uav_xy, targets.nodes(net)[visible], sc.sensor,
+                                            rng)
             pos = position_measurements(uav_xy, truth_xy[visible], sc.sensor, rng)
             pos_target = np.where(pos.target == FALSE_ALARM, FALSE_ALARM, visible[pos.target])
             times.sense = time.perf_counter() - tic
 
-            peaks = net.coords[[t.peak_node() for t in bank]] if len(bank) else np.empty((0, 2))
-            match = match_trackers(peaks, truth_xy, sc.valid_distance_m)
-            n_valid_assoc = n_false_assoc = 0
-            pairs: list[PairRecord] = []
-            tic = time.perf_counter()
-            for j in range(sc.uav_count):
-                mine = lrt_scan.uav == j
-                if not np.any(mine):
-                    continue  # no road node under this UAV: nothing measured
-                footprint, zeta = lrt_scan.node[mine], lrt_scan.zeta[mine]
-                rows = self._confirmed(pos.xy_m, np.flatnonzero(pos.uav == j), footprint, zeta)
-                out = self.updater.update(field, bank, zeta=zeta, footprint=footprint,
-                                          sensitivity=m, positions_m=pos.xy_m[rows],
-                                          noise_sd_m=sc.sensor.position_noise_m)
-                field, bank = out.field, out.bank
-                for tr, q in out.association.pairs:
-                    truth = pos_target[rows[q]]
-                    pairs.append((j, bank[tr].track_id, int(truth)))
-                    if tr < match.size and truth != FALSE_ALARM and match[tr] == truth:
-                        n_valid_assoc += 1
-                    else:
-                        n_false_assoc += 1
-            times.associate = self.associator.lap()
-            times.update = time.perf_counter() - tic - times.associate
+            if particles is not None:
+                pairs, n_valid_assoc, n_false_assoc = particles.filter(
+                    pos, pos_target, uav_xy, truth_xy, t_now, detected, first_detection, record,
+                    times)
+                bank = particles.bank
+            else:
+                field, bank, pairs, n_valid_assoc, n_false_assoc = self._lrt_filter(
+                    lrt_scan, pos, pos_target, truth_xy, field, bank, times)
+                tic = time.perf_counter()
+                before = {t.track_id for t in bank}
+                field, bank = self.initiator.initiate(field, bank)
+                born = [i for i, t in enumerate(bank) if t.track_id not in before]
+                bank = self._attribute(bank, born, truth_xy, detected, first_detection, t_now,
+                                       record)
+                bank = self.deleter.delete(bank)
+                times.initiate = time.perf_counter() - tic
 
             tic = time.perf_counter()
-            before = {t.track_id for t in bank}
-            field, bank = self.initiator.initiate(field, bank)
-            born = [i for i, t in enumerate(bank) if t.track_id not in before]
-            bank = self._attribute(bank, born, truth_xy, detected, first_detection, t_now, record)
-            bank = self.deleter.delete(bank)
-            times.initiate = time.perf_counter() - tic
-
-            tic = time.perf_counter()
-            problem = next_problem(previous, view(net, uavs, field, bank, t_now), config,
-                                   self.world.tracker_diffusion)
+            seen = (view(net, uavs, field, bank, t_now) if particles is None
+                    else particles.view(uavs, t_now))
+            problem = next_problem(previous, seen, config, self.world.tracker_diffusion)
             answer = solve_guidance(problem, backend=sc.guidance.strategy,
                                     time_limit_s=sc.guidance.optw_budget_s,
                                     seed=int(rng.integers(0, MAX_SEED)))
@@ -239,11 +232,18 @@ class Mission:
             times.guide = time.perf_counter() - tic
 
             tic = time.perf_counter()
-            field = self.lrt_predictor.predict(field)
-            bank = self.tracker_predictor.predict(bank)
+            if particles is not None:
+                particles.predict(sc.dt_s)
+            else:
+                field = self.lrt_predictor.predict(field)
+                bank = self.tracker_predictor.predict(bank)
             times.predict = time.perf_counter() - tic
 
-            peaks = net.coords[[t.peak_node() for t in bank]] if len(bank) else np.empty((0, 2))
+            if particles is not None:
+                peaks = particles.peaks_xy  # the RBPF's MAP positions
+            else:
+                peaks = (net.coords[[t.peak_node() for t in bank]] if len(bank)
+                         else np.empty((0, 2)))
             now_match = match_trackers(peaks, truth_xy, sc.valid_distance_m)
             if sc.mode == "track":
                 fresh = now_match[now_match >= 0]
@@ -257,7 +257,43 @@ class Mission:
             if sc.mode == "detect" and detected.all():
                 log.info("all %d targets detected at t=%.1f s", sc.target_count, t_now)
                 break
-        return record.finish(field, bank, first_detection)
+        final = field if particles is None else particles.field.as_likelihood_field()
+        return record.finish(final, bank, first_detection)
+
+    def _lrt_filter(self, lrt_scan: LrtScan, pos: PositionScan, pos_target: NDArray[np.int64],
+                    truth_xy: FloatArray, field: LikelihoodField, bank: TrackerBank,
+                    times: StepTimes) -> tuple[LikelihoodField, TrackerBank, list[PairRecord],
+                                               int, int]:
+        """Per UAV associate and update (Algorithm 1); the step's associations and the numbers
+        of valid and false ones (matched at the start of the step)."""
+        sc = self.scenario
+        net = self.world.network
+        m = sc.sensor.sensitivity
+        peaks = net.coords[[t.peak_node() for t in bank]] if len(bank) else np.empty((0, 2))
+        match = match_trackers(peaks, truth_xy, sc.valid_distance_m)
+        n_valid_assoc = n_false_assoc = 0
+        pairs: list[PairRecord] = []
+        tic = time.perf_counter()
+        for j in range(sc.uav_count):
+            mine = lrt_scan.uav == j
+            if not np.any(mine):
+                continue  # no road node under this UAV: nothing measured
+            footprint, zeta = lrt_scan.node[mine], lrt_scan.zeta[mine]
+            rows = self._confirmed(pos.xy_m, np.flatnonzero(pos.uav == j), footprint, zeta)
+            out = self.updater.update(field, bank, zeta=zeta, footprint=footprint,
+                                      sensitivity=m, positions_m=pos.xy_m[rows],
+                                      noise_sd_m=sc.sensor.position_noise_m)
+            field, bank = out.field, out.bank
+            for tr, q in out.association.pairs:
+                truth = pos_target[rows[q]]
+                pairs.append((j, bank[tr].track_id, int(truth)))
+                if tr < match.size and truth != FALSE_ALARM and match[tr] == truth:
+                    n_valid_assoc += 1
+                else:
+                    n_false_assoc += 1
+        times.associate = self.associator.lap()
+        times.update = time.perf_counter() - tic - times.associate
+        return field, bank, pairs, n_valid_assoc, n_false_assoc
 
     def _confirmed(self, xy: FloatArray, rows: NDArray[np.int64], footprint: NDArray[np.int64],
                    zeta: FloatArray) -> NDArray[np.int64]:

@@ -34,6 +34,8 @@ MODES: tuple[Mode, ...] = ("track", "detect")
 ASSOCIATORS: tuple[str, ...] = tuple(ASSOCIATION_BACKENDS.names())
 STRATEGIES: tuple[str, ...] = tuple(GUIDANCE_BACKENDS.names())
 STARTS = ("random", "center", "edge")
+Belief = Literal["lrt", "rbpf"]
+BELIEFS: tuple[Belief, ...] = ("lrt", "rbpf")
 BUNDLED_MAPS = ("aguascalientes", "West-Oakland")
 
 #: Most road nodes a mission's map may have: the diffusion operators and the per-node fields of a
@@ -42,6 +44,10 @@ MAX_ROAD_NODES = 200_000
 
 #: Most time steps a mission may take (ten days at the thesis's 0.3 s).
 MAX_STEPS = 3_000_000
+
+#: Most particles ``histories · targets · particles`` an RBPF belief may hold (about 32 bytes
+#: each: 320 MB).
+MAX_RBPF_PARTICLES = 10_000_000
 
 
 def bundled_map(name: str) -> Path:
@@ -168,6 +174,15 @@ class FilterSpec:
         with the floor, a tracker that lost its target spreads and dissolves instead of lingering
         as a spurious track while the target is found again (demo, 4 seeds: MOC 36 % → 53 %,
         PVT 85 % → 92 %).
+    belief
+        What the mission estimates with: ``"lrt"`` (default), the thesis's likelihood-ratio
+        field and node trackers (every setting above), or ``"rbpf"``, the Rao-Blackwellized
+        particle filter of Moore et al. 2021 (paper 000) for the known number of targets, read
+        by the same guidance (:mod:`searchtrack.sim.rbpf_mission_belief`; of the settings above
+        it uses only ``p_min``, and ``alpha`` for the reacquisition horizon).
+    histories, particles
+        The RBPF's association histories ``H`` and particles per target filter ``N`` (10 and
+        500, the paper's); integers ≥ 1, used when ``belief = "rbpf"``.
     """
 
     alpha: float = 0.447
@@ -180,10 +195,19 @@ class FilterSpec:
     merge_radius_m: float = 100.0
     llr_floor: float = -20.0
     negative_information: bool = True
+    belief: Belief = "lrt"
+    histories: int = 10
+    particles: int = 500
 
     def __post_init__(self) -> None:
         for name in ("alpha", "decay_c", "phi_max", "gate_m"):
             positive(name, getattr(self, name))
+        if self.belief not in BELIEFS:
+            raise InvalidInputError("belief", self.belief, f"must be one of {list(BELIEFS)}")
+        for name in ("histories", "particles"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+                raise InvalidInputError(name, value, "must be an integer ≥ 1")
         if math.isnan(self.llr_floor) or self.llr_floor >= 0.0:
             raise InvalidInputError("llr_floor", self.llr_floor, "must be < 0 (or -inf: none)")
         if not (math.isfinite(self.merge_radius_m) and self.merge_radius_m >= 0.0):
@@ -299,6 +323,12 @@ class Scenario:
                                     "the trackers need a positive position noise")
         if not 0 <= self.seed <= MAX_SEED:
             raise InvalidInputError("seed", self.seed, f"must be in [0, {MAX_SEED}]")
+        f = self.filter
+        held = f.histories * self.target_count * f.particles
+        if f.belief == "rbpf" and held > MAX_RBPF_PARTICLES:
+            raise InvalidInputError("filter.particles", f.particles, f"{f.histories} histories × "
+                                    f"{self.target_count} targets × {f.particles} particles = "
+                                    f"{held:.3g}, above the {MAX_RBPF_PARTICLES} an RBPF may hold")
         steps = self.duration_s / self.dt_s
         if steps > MAX_STEPS:
             raise InvalidInputError("duration_s", self.duration_s, f"{steps:.3g} steps of dt_s="

@@ -14,6 +14,7 @@ from searchtrack.models.lrt_sensor import AltitudeModel
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
 from searchtrack.sim.scenario import (
     ASSOCIATORS,
+    BELIEFS,
     BUNDLED_MAPS,
     MODES,
     STARTS,
@@ -180,6 +181,9 @@ def _filter(t: Table) -> FilterSpec:
         merge_radius_m=t.number("merge_radius_m", 100.0, minimum=0.0),
         llr_floor=_floor(t),
         negative_information=t.boolean("negative_information", True),
+        belief=t.string("belief", "lrt", choices=BELIEFS),  # type: ignore[arg-type]
+        histories=t.integer("histories", 10, minimum=1),
+        particles=t.integer("particles", 500, minimum=1),
     )
     t.done()
     return spec

@@ -43,3 +43,32 @@ def test_strategy_and_associator_names_come_from_the_registries(tmp_path: Path) 
         assert FilterSpec(associator=name).associator == name
         sc = load_scenario(write(tmp_path, GRID + f"[filter]\nassociator = '{name}'\n"))
         assert sc.filter.associator == name
+
+
+def test_belief_settings_default_to_the_thesis_and_are_validated() -> None:
+    """The filter estimates with the LRT unless ``belief = "rbpf"``; the RBPF's histories and
+    particles are integers ≥ 1 (10 and 500 by default), each refused by name."""
+    spec = FilterSpec()
+    assert (spec.belief, spec.histories, spec.particles) == ("lrt", 10, 500)
+    assert FilterSpec(belief="rbpf", histories=3, particles=100).belief == "rbpf"
+    for bad, name in [({"belief": "kalman"}, "belief"), ({"histories": 0}, "histories"),
+                      ({"particles": -5}, "particles"), ({"particles": True}, "particles"),
+                      ({"histories": 2.5}, "histories")]:
+        with pytest.raises(InvalidInputError) as info:
+            FilterSpec(**bad)  # type: ignore[arg-type]
+        assert info.value.field == name
+
+
+def test_rbpf_size_is_capped() -> None:
+    """An RBPF of histories × targets × particles above the cap is refused, naming the
+    particles; the same sizes are accepted for the LRT, which ignores them."""
+    from searchtrack.sim.scenario import MAX_RBPF_PARTICLES
+
+    grid = MapSpec("grid", rows=3, cols=3)
+    huge = MAX_RBPF_PARTICLES // 4 + 1
+    with pytest.raises(InvalidInputError) as info:
+        Scenario("x", grid, target_count=4,
+                 filter=FilterSpec(belief="rbpf", histories=1, particles=huge))
+    assert info.value.field == "filter.particles"
+    assert Scenario("x", grid, target_count=4,
+                    filter=FilterSpec(histories=1, particles=huge)).filter.belief == "lrt"

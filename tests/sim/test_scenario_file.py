@@ -154,3 +154,45 @@ def test_nested_and_clashing_keys_are_named(tmp_path: Path, text: str, key: str)
     with pytest.raises(ParseError) as info:
         load_scenario(write(tmp_path, text))
     assert info.value.field == key, str(info.value)
+
+
+def test_belief_keys_are_read(tmp_path: Path) -> None:
+    """``[filter] belief``, ``histories`` and ``particles`` are read; absent, they take the
+    thesis's belief and the paper's sizes."""
+    sc = load_scenario(write(tmp_path, GRID))
+    assert (sc.filter.belief, sc.filter.histories, sc.filter.particles) == ("lrt", 10, 500)
+    text = GRID + "[filter]\nbelief = 'rbpf'\nhistories = 3\nparticles = 100\n"
+    sc = load_scenario(write(tmp_path, text))
+    assert (sc.filter.belief, sc.filter.histories, sc.filter.particles) == ("rbpf", 3, 100)
+
+
+@pytest.mark.parametrize(("text", "key"), [
+    (GRID + "[filter]\nbelief = 'kalman'\n", "filter.belief"),
+    (GRID + "[filter]\nbelief = 1\n", "filter.belief"),
+    (GRID + "[filter]\nhistories = 0\n", "filter.histories"),
+    (GRID + "[filter]\nhistories = 2.5\n", "filter.histories"),
+    (GRID + "[filter]\nparticles = -1\n", "filter.particles"),
+    (GRID + "[filter]\nparticles = 'many'\n", "filter.particles"),
+    (GRID + "[filter]\nbelief = 'rbpf'\nhistories = 1000\nparticles = 100000\n",
+     "filter.particles"),
+])
+def test_bad_belief_keys_are_named(tmp_path: Path, text: str, key: str) -> None:
+    """A bad belief, a non-integer or non-positive size and an RBPF too large to hold are named
+    by their dotted key."""
+    with pytest.raises(ParseError) as info:
+        load_scenario(write(tmp_path, text))
+    assert info.value.field == key, str(info.value)
+
+
+def test_rbpf_demo_is_the_demo_on_the_rbpf() -> None:
+    """The shipped ``demo_rbpf.toml`` is the demo with ``belief = "rbpf"`` at the paper's sizes
+    and its own name; everything else is the same."""
+    import dataclasses
+
+    demo = load_scenario(DEMO)
+    rbpf = load_scenario(DEMO.with_name("demo_rbpf.toml"))
+    assert (rbpf.filter.belief, rbpf.filter.histories, rbpf.filter.particles) == ("rbpf", 10, 500)
+    assert rbpf.name != demo.name
+    same = dataclasses.replace(rbpf, name=demo.name,
+                               filter=dataclasses.replace(rbpf.filter, belief="lrt"))
+    assert same == demo
