@@ -3,13 +3,17 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
+TORCH ?= 2.13.0
 
 .PHONY: demo test lint typecheck bench bench-all campaigns clean
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
-	$(BIN)/python -m pip install -q -e '.[test]'
+	# The rl extra trains the RL road planner; torch is pinned to the CPU build (a plain
+	# `torch` from the registry is a CUDA build of several GB). About 25 s and 1 GB here.
+	$(BIN)/python -m pip install -q 'torch==$(TORCH)'
+	$(BIN)/python -m pip install -q -e '.[test,rl]'
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -34,7 +38,7 @@ bench: $(STAMP)
 # Carlo experiments are campaigns: resumable, their rows in out/campaigns/*.duckdb, reports and
 # figures beside them; the scripts left are timing and solver-quality tables.
 CAMPAIGNS := thesis_exp1 thesis_exp2 phd_standard p003_tracking p004_search p004_search_mi \
-	p004_horizon
+	p004_horizon p000_planners p000_osm
 
 bench-all: bench campaigns
 	$(BIN)/python benchmarks/emd.py --graph osm

@@ -19,7 +19,7 @@ from typing import NoReturn, cast
 from rich.console import Console
 from rich.markup import escape
 
-from searchtrack.cli import campaign, fleet, mission, optw, track
+from searchtrack.cli import campaign, fleet, mission, optw, rl, track, track_roads
 from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.interrupt import Aborted, sigint_stops, stop_requested
 
@@ -50,8 +50,10 @@ def build_parser() -> argparse.ArgumentParser:
     optw.add_parser(sub)
     mission.add_parser(sub)
     track.add_parser(sub)
+    track_roads.add_parser(sub)
     campaign.add_parser(sub)
     fleet.add_parser(sub)
+    rl.add_parser(sub)
     for group in sub.choices.values():
         _add_epilog(group)
     return parser

@@ -16,6 +16,7 @@ from searchtrack.cli.common import int_at_least
 from searchtrack.cli.output import OutputError, output_dir, output_file
 from searchtrack.sim.campaigns.report import build_report, table_rows, write_figures
 from searchtrack.sim.campaigns.runner import Tally, run_campaign
+from searchtrack.sim.campaigns.series import write_series_figures
 from searchtrack.sim.campaigns.spec import read_spec
 from searchtrack.sim.campaigns.store import (
     EXPORTS,
@@ -136,7 +137,8 @@ def report(args: argparse.Namespace, console: Console) -> int:
     if result.claim:
         console.print(f"claim: {result.claim}")
     if folder is not None:
-        written = write_figures(result, folder)
+        written = write_figures(result, folder) + write_series_figures(
+            name, definition.name, result.group_keys, rows, list(metrics), folder)
         console.print("wrote " + (", ".join(str(p) for p in written) or "no figure (nothing "
                                   "varies)"))
     return 0

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import json
 import math
 import time
 from collections.abc import Callable, Mapping
@@ -21,9 +22,11 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.metrics import ospa
 from searchtrack.estimate.phd import PHDConfig, PHDState, SensorScan
 from searchtrack.estimate.phd.filter import step
+from searchtrack.models.road_particles import DirectedRoads
 from searchtrack.plan.optw import BACKENDS as OPTW_BACKENDS
 from searchtrack.plan.optw import read_optw, solve
 from searchtrack.plan.search import CentreProbability, EmptyHorizonMI, lawnmower_3d
+from searchtrack.sim.campaigns import series
 from searchtrack.sim.experiments import road_missions
 from searchtrack.sim.experiments.phd_search import PLANNERS, SearchConfig, run_search_episode
 from searchtrack.sim.experiments.phd_tracking import (
@@ -34,7 +37,8 @@ from searchtrack.sim.experiments.phd_tracking import (
 )
 from searchtrack.sim.mission import Mission, World
 from searchtrack.sim.phd_scenario import STANDARD_AREA, standard_scenario
-from searchtrack.sim.scenario import MapSpec, Scenario
+from searchtrack.sim.road_planners import PLANNERS as ROAD_PLANNERS
+from searchtrack.sim.scenario import MapSpec, Scenario, bundled_map
 
 ParamValue = bool | int | float | str
 """A parameter value: what TOML gives and a DuckDB column holds."""
@@ -258,6 +262,71 @@ def _track(params: Params, seed: int) -> Metrics:
     return out
 
 
+ROAD_MAPS: dict[str, MapSpec] = {
+    "grid-3x3": MapSpec("grid", rows=3, cols=3, block_m=100.0, spacing_m=100.0),
+    **{name: MapSpec("osm", bundled_map(name), spacing_m=1e6)
+       for name in ("aguascalientes", "West-Oakland")},
+}
+"""Maps of ``road_tracking_episode``: the paper's 3 × 3 grid of 100 m roads, and the bundled
+OSM extracts with one edge per road segment between junctions (not resampled)."""
+
+
+@functools.cache
+def road_entropy_bound(map_name: str, targets: int, uavs: int) -> float:
+    """Theorem 1's lower bound for the combined entropy an episode records: ``B_L`` per target
+    on the same 5 m road bins (bin masses), plus ``ln M`` for pooling ``M`` targets of mass
+    ``1/M`` each (exact when their supports do not overlap); paper defaults otherwise (V_a 40,
+    v 10, σ_v 4, R 5 m², δt 0.1 s)."""
+    from searchtrack.plan.fleet import BoundConfig, BoundMap, entropy_bound
+
+    config = BoundConfig(targets=targets, bin_m=5.0, binning="mass")
+    bound_map = BoundMap.from_network(ROAD_MAPS[map_name].build(), config)
+    return entropy_bound(bound_map, config, uavs).bound + math.log(targets)
+
+
+def _bound_line(params: Mapping[str, object]) -> dict[str, float]:
+    """The Fig. 11 reference line of a group of ``road_tracking_episode`` runs."""
+    name = str(params.get("map", "grid-3x3"))
+    if name != "grid-3x3":  # Lemma 5 on a whole OSM map takes seconds: drawn on the grid only
+        return {}
+    bound = road_entropy_bound(name, int(str(params.get("targets", 2))),
+                               int(str(params.get("uavs", 1))))
+    return {f"lower bound (Theorem 1) {bound:.2f}": bound}
+
+
+series.REFERENCES["road_tracking_episode"] = _bound_line
+
+
+@functools.cache
+def _roads(map_name: str) -> DirectedRoads:
+    """The directed roads of ``map_name``, built once per process."""
+    return DirectedRoads(ROAD_MAPS[map_name].build())
+
+
+def _road_tracking(params: Params, seed: int) -> Metrics:
+    """One closed-loop paper-000 episode: the entropy over time (JSON, one value per scan) and
+    its means over the whole run, its first and last thirds."""
+    from searchtrack.sim.road_tracking import RoadTrackingConfig, run_road_tracking
+
+    map_name = str(params["map"])
+    config = RoadTrackingConfig(
+        map=ROAD_MAPS[map_name], planner=str(params["planner"]),
+        targets=int(params["targets"]), uavs=int(params["uavs"]),
+        duration_s=float(params["duration_s"]), histories=int(params["histories"]),
+        particles=int(params["particles"]), lookahead=int(params["lookahead"]),
+        normalization="max" if params["normalization"] == "max" else "sum")
+    log = run_road_tracking(config, seed, _roads(map_name))
+    third = max(1, log.entropy.size // 3)
+    found = log.detected
+    return {"mean_entropy": log.mean_entropy,
+            "early_entropy": float(log.entropy[:third].mean()),
+            "late_entropy": float(log.entropy[-third:].mean()),
+            "error_m": float(log.error_m.mean()),
+            "all_detected_s": None if np.isnan(found).any() else float(found.max()),
+            "planner_ms": log.planner_ms, "filter_ms": log.filter_ms,
+            "entropy_series": json.dumps([round(float(v), 4) for v in log.entropy])}
+
+
 _EXPERIMENTS = (
     Experiment("toy", (Param("sleep_s", float, 0.0), Param("fail", bool, False),
                        Param("value", float, 1.0)),
@@ -297,6 +366,16 @@ _EXPERIMENTS = (
         Param("horizon", int, 2), Param("steps", int, 60)),
         {**dict.fromkeys(TRACK_METRICS, float), "planner_ms": float, "filter_ms": float},
         _track, "paper 003's closed-loop multi-UAV PHD tracking: tail means of its series"),
+    Experiment("road_tracking_episode", (
+        Param("planner", str, "exhaustive", ROAD_PLANNERS),
+        Param("map", str, "grid-3x3", tuple(ROAD_MAPS)),
+        Param("targets", int, 2), Param("uavs", int, 1), Param("duration_s", float, 120.0),
+        Param("histories", int, 10), Param("particles", int, 500),
+        Param("lookahead", int, 3), Param("normalization", str, "sum", ("sum", "max"))),
+        {"mean_entropy": float, "early_entropy": float, "late_entropy": float,
+         "error_m": float, "all_detected_s": float, "planner_ms": float, "filter_ms": float,
+         "entropy_series": str},
+        _road_tracking, "paper 000's closed-loop road tracking (RBPF + planner): entropy"),
 )
 
 EXPERIMENTS: dict[str, Experiment] = {e.name: e for e in _EXPERIMENTS}

@@ -135,3 +135,20 @@ def test_tracking_episode_defaults_are_the_benchmark_defaults() -> None:
     """Defaults: END, GP motion, 2 UAVs, T = 2, 60 steps (``phd_tracking_experiments.py``)."""
     assert get("phd_tracking_episode").resolve({}) == {
         "planner": "end", "motion": "gp", "robots": 2, "horizon": 2, "steps": 60}
+
+
+def test_road_tracking_episode_matches_the_direct_call() -> None:
+    """The campaign's paper-000 episode is :func:`run_road_tracking` with the same settings."""
+    import json
+
+    import numpy as np
+
+    from searchtrack.sim.road_tracking import PAPER_GRID, RoadTrackingConfig, run_road_tracking
+
+    params = {"planner": "exhaustive", "duration_s": 20.0, "histories": 2, "particles": 100}
+    out = _run("road_tracking_episode", params, seed=3)
+    log = run_road_tracking(RoadTrackingConfig(map=PAPER_GRID, planner="exhaustive",
+                                               duration_s=20.0, histories=2, particles=100), 3)
+    assert np.allclose(json.loads(str(out["entropy_series"])), log.entropy, atol=1e-4)
+    assert out["mean_entropy"] == pytest.approx(log.mean_entropy)
+    assert out["error_m"] == pytest.approx(float(log.error_m.mean()))

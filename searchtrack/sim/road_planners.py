@@ -1,0 +1,134 @@
+"""The planners a closed-loop road tracking episode can fly (Moore et al. 2021, §4 and §6).
+
+A planner is a *chooser*: called with a UAV's index and the node it has reached, it returns the
+directed edge to fly next. :func:`make_chooser` builds one by name:
+
+* a backend of the road-search solver family (:data:`SOLVER_PLANNERS`): the problem is built
+  from the filter through the :class:`~searchtrack.estimate.belief.RoadParticleBelief` seam for
+  that UAV alone, solved within the time limit, and the first edge of the plan is flown
+  (receding horizon, §4.2); ``ideal`` also reads the true target positions;
+* ``random``: a uniform choice among the roads leaving the node, U-turns included (the
+  authors' random planner);
+* ``rl``: a trained policy (:class:`~searchtrack.plan.road_rl.RoadPolicy`, NumPy) on the
+  observation of Eq. 22–26; ``config.policy`` names its ``.npz`` file, the shipped policy for the
+  paper's 3 × 3 grid when empty.
+
+A solver that returns no plan (it cannot happen for the shipped backends, but a stop request
+can cut a call short) falls back to the random choice, and the episode goes on.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from importlib import resources
+from pathlib import Path
+from typing import TYPE_CHECKING, Protocol
+
+import numpy as np
+
+from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate.belief import RoadParticleBelief
+from searchtrack.models.road_particles import DirectedRoads, RoadMotion
+from searchtrack.plan.road_rl import RoadPolicy, policy_for
+from searchtrack.plan.road_search import RoadSearchProblem, RoadSearchSettings, solve
+
+if TYPE_CHECKING:
+    from searchtrack.sim.road_tracking import RoadTrackingConfig
+
+log = logging.getLogger("searchtrack.sim.road_planners")
+
+SOLVER_PLANNERS = ("exhaustive", "beam", "exact", "auto", "greedy", "ideal")
+"""Planners that are road-search backends (:mod:`searchtrack.plan.road_search`)."""
+
+PLANNERS = (*SOLVER_PLANNERS, "random", "rl")
+"""Every planner an episode can fly."""
+
+Chooser = Callable[[int, int], int]
+"""``choose(uav, node) -> directed edge leaving node``."""
+
+SHIPPED_POLICY = "road_grid3x3.npz"
+"""The policy shipped in ``searchtrack/data/policies``: the paper's 3 × 3 grid, 2 targets."""
+
+
+class Episode(Protocol):
+    """What a chooser reads of the episode it flies in."""
+
+    @property
+    def roads(self) -> DirectedRoads:
+        """The map."""
+        ...
+
+    @property
+    def belief(self) -> RoadParticleBelief:
+        """The filter."""
+        ...
+
+    @property
+    def plan_rng(self) -> np.random.Generator:
+        """The planners' random stream."""
+        ...
+
+    def truth(self) -> tuple[IntArray, FloatArray]:
+        """The true targets' positions ``(edge, s)``."""
+        ...
+
+    def uav_points(self) -> FloatArray:
+        """``(Q, 2)`` the UAVs' positions."""
+        ...
+
+
+def shipped_policy_path() -> Path:
+    """The shipped policy file."""
+    return Path(str(resources.files("searchtrack") / "data" / "policies" / SHIPPED_POLICY))
+
+
+def out_edges(roads: DirectedRoads, node: int) -> IntArray:
+    """The directed edges leaving ``node`` (U-turns included)."""
+    return np.flatnonzero(roads.tail == node)
+
+
+def make_chooser(config: RoadTrackingConfig, episode: Episode) -> Chooser:
+    """The chooser of ``config.planner`` in ``episode`` (its belief read at every decision)."""
+    roads, belief, rng = episode.roads, episode.belief, episode.plan_rng
+    leaving = [out_edges(roads, n) for n in range(roads.network.n_nodes)]
+
+    def random_edge(q: int, node: int) -> int:
+        return int(rng.choice(leaving[node]))
+
+    if config.planner == "random":
+        return random_edge
+    if config.planner == "rl":
+        policy = RoadPolicy.load(config.policy or shipped_policy_path())
+        features = policy_for(roads, policy)
+
+        def policy_edge(q: int, node: int) -> int:
+            return policy.choose(features, belief, episode.uav_points(), node, leaving[node])
+
+        return policy_edge
+    settings = RoadSearchSettings(
+        lookahead=config.lookahead, uav_speed_mps=config.uav_speed_mps,
+        motion=RoadMotion(config.target_speed_mps, config.filter_sigma_mps),
+        discount=config.discount, gain=config.gain, normalization=config.normalization)
+    ideal = config.planner == "ideal"
+
+    def solver_edge(q: int, node: int) -> int:
+        draws = int(rng.integers(2**31 - 1))
+        problem = RoadSearchProblem.from_belief(
+            belief, [node], settings=_with_seed(settings, draws),
+            truth=episode.truth() if ideal else None)
+        result = solve(problem, backend=config.planner, time_limit_s=config.time_limit_s,
+                       seed=draws)
+        if result.plan is None:
+            log.warning("%s returned no plan (%s): random edge", config.planner,
+                        result.status.name)
+            return random_edge(q, node)
+        return int(result.plan.first_edges[0])
+
+    return solver_edge
+
+
+def _with_seed(settings: RoadSearchSettings, seed: int) -> RoadSearchSettings:
+    import dataclasses
+
+    return dataclasses.replace(settings, draw_seed=seed)

@@ -1,0 +1,68 @@
+"""Time-series metrics: per-sample mean and 95 % interval, and their figure."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from searchtrack.sim.campaigns import series
+from searchtrack.sim.campaigns.series import (
+    parse,
+    plot_series,
+    series_metrics,
+    summarise_series,
+    write_series_figures,
+)
+
+
+def _row(planner: str, values: list[float], status: str = "ok") -> dict[str, object]:
+    return {"planner": planner, "status": status, "map": "m", "entropy_series": json.dumps(values),
+            "mean_entropy": float(np.mean(values))}
+
+
+ROWS = [_row("a", [3.0, 2.0, 1.0]), _row("a", [5.0, 4.0, 3.0, 9.0]), _row("b", [1.0, 1.0]),
+        _row("b", [7.0, 7.0], status="error")]
+
+
+def test_parse_takes_json_lists_of_numbers_only() -> None:
+    assert np.array_equal(parse("[1, 2.5]"), [1.0, 2.5])  # type: ignore[arg-type]
+    for junk in ("nope", "[[1, 2], [3]]", "{\"a\": 1}", 3.0, None, "[\"x\"]"):
+        assert parse(junk) is None
+
+
+def test_series_metrics_are_the_listed_series_columns() -> None:
+    assert series_metrics(ROWS, ["mean_entropy", "entropy_series"]) == ["entropy_series"]
+    assert series_metrics(ROWS, ["mean_entropy"]) == []
+
+
+def test_groups_average_over_their_common_length_and_skip_failures() -> None:
+    a, b = summarise_series(ROWS, ["planner"], "entropy_series")
+    assert (a.label, a.runs, b.runs) == ("planner=a", 2, 1)
+    assert np.allclose(a.mean, [4.0, 3.0, 2.0])
+    # two samples 2 apart: sd = √2, half-width = t(0.975, 1)·sd/√2 = 12.706
+    assert np.allclose(a.half_width, 12.7062, atol=1e-3)
+    assert np.allclose(b.mean, [1.0, 1.0]) and np.allclose(b.half_width, 0.0)
+
+
+def test_figures_are_written_with_reference_lines(tmp_path: Path,
+                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    seen: list[dict[str, object]] = []
+
+    def reference(params: dict[str, object]) -> dict[str, float]:
+        seen.append(dict(params))
+        return {"bound": 0.5}
+
+    monkeypatch.setitem(series.REFERENCES, "toy_series", reference)
+    paths = write_series_figures("c", "toy_series", ["planner"], ROWS,
+                                 ["mean_entropy", "entropy_series"], tmp_path)
+    assert [p.name for p in paths] == ["c-entropy_series.png"]
+    assert paths[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert {p["planner"] for p in seen} == {"a", "b"} and all(p["map"] == "m" for p in seen)
+
+
+def test_plot_series_without_references(tmp_path: Path) -> None:
+    path = plot_series(summarise_series(ROWS, [], "entropy_series"), tmp_path / "x.png")
+    assert path.is_file()
