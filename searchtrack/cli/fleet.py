@@ -1,4 +1,5 @@
-"""``searchtrack fleet-size MAP``: the fewest UAVs whose entropy bound meets a variance requirement.
+"""``searchtrack fleet-size --map MAP``: the fewest UAVs whose entropy bound meets a
+variance requirement.
 
 Paper 000's Theorem 1 (Moore et al. 2021) bounds the average tracking entropy for ``M`` targets
 and ``Q`` UAVs on a road map; Corollary 1 turns the bound into a positional variance. The command
@@ -131,7 +132,7 @@ def fleet_size_command(args: argparse.Namespace, console: Console) -> int:
 
 def configure(parser: argparse.ArgumentParser) -> None:
     """Add the arguments of ``fleet-size`` to ``parser``."""
-    parser.add_argument("map", metavar="MAP", type=map_arg,
+    parser.add_argument("--map", required=True, metavar="MAP", type=map_arg,
                         help=f"grid:RxC[:BLOCK] (BLOCK in m, default 100) or one of "
                         f"{', '.join(BUNDLED_MAPS)}")
     parser.add_argument("--targets", type=int_at_least(2), required=True, metavar="M",

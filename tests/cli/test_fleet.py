@@ -23,7 +23,7 @@ def test_three_by_three_needs_three_uavs(tmp_path: Path) -> None:
     """10 targets and 16 m² on the 3 × 3 map with 100 m blocks: 3 UAVs, status 0, JSON whole."""
     console, text = _console()
     out = tmp_path / "sub" / "fleet.json"
-    assert fleet.run(["grid:3x3", "--targets", "10", "--max-variance", "16", "--json",
+    assert fleet.run(["--map", "grid:3x3", "--targets", "10", "--max-variance", "16", "--json",
                       str(out)], console) == 0
     shown = text.getvalue()
     assert "3 UAVs" in shown and "B_L" in shown and "177.78" in shown
@@ -39,7 +39,7 @@ def test_no_fleet_meets_the_requirement(tmp_path: Path) -> None:
     """With at most 2 UAVs nothing meets 16 m²: status 1, and the JSON says ``null``."""
     console, text = _console()
     out = tmp_path / "f.json"
-    assert fleet.run(["grid:3x3:100", "--targets", "10", "--max-variance", "16",
+    assert fleet.run(["--map", "grid:3x3:100", "--targets", "10", "--max-variance", "16",
                       "--max-uavs", "2", "--json", str(out)], console) == 1
     assert "no fleet of up to 2 UAVs" in text.getvalue()
     assert json.loads(out.read_text(encoding="utf-8"))["uavs"] is None
@@ -49,7 +49,7 @@ def test_options_reach_the_bound() -> None:
     """Speeds, noise, step and binning options change the table."""
     base, text_a = _console()
     other, text_b = _console()
-    args = ["grid:2x3:50", "--targets", "3", "--max-variance", "30"]
+    args = ["--map", "grid:2x3:50", "--targets", "3", "--max-variance", "30"]
     assert fleet.run(args, base) == 0
     assert fleet.run([*args, "--uav-speed", "20", "--target-speed", "5", "--sigma-v", "2",
                       "--R", "3", "--dt", "0.2", "--binning", "mass"], other) == 0
@@ -59,31 +59,31 @@ def test_options_reach_the_bound() -> None:
 def test_bundled_map_by_name() -> None:
     """A bundled OpenStreetMap extract is sized by name."""
     console, text = _console()
-    code = fleet.run(["West-Oakland", "--targets", "2", "--max-variance", "1000",
+    code = fleet.run(["--map", "West-Oakland", "--targets", "2", "--max-variance", "1000",
                       "--max-uavs", "3"], console)
     assert code in (0, 1)
     assert "West-Oakland" in text.getvalue()
 
 
 @pytest.mark.parametrize("argv", [
-    ["grid:3x", "--targets", "3", "--max-variance", "16"],
-    ["grid:1x3", "--targets", "3", "--max-variance", "16"],
-    ["grid:3x3:-5", "--targets", "3", "--max-variance", "16"],
-    ["grid:3x3:nan", "--targets", "3", "--max-variance", "16"],
+    ["--map", "grid:3x", "--targets", "3", "--max-variance", "16"],
+    ["--map", "grid:1x3", "--targets", "3", "--max-variance", "16"],
+    ["--map", "grid:3x3:-5", "--targets", "3", "--max-variance", "16"],
+    ["--map", "grid:3x3:nan", "--targets", "3", "--max-variance", "16"],
     ["Atlantis", "--targets", "3", "--max-variance", "16"],
-    ["grid:3x3", "--targets", "1", "--max-variance", "16"],
-    ["grid:3x3", "--targets", "0", "--max-variance", "16"],
-    ["grid:3x3", "--targets", "x", "--max-variance", "16"],
-    ["grid:3x3", "--targets", "3", "--max-variance", "0"],
-    ["grid:3x3", "--targets", "3", "--max-variance", "nan"],
-    ["grid:3x3", "--targets", "3", "--max-variance", "inf"],
-    ["grid:3x3", "--targets", "3", "--max-variance", "0.1"],
-    ["grid:3x3", "--targets", "3", "--max-variance", "16", "--max-uavs", "0"],
-    ["grid:3x3", "--targets", "3", "--max-variance", "16", "--dt", "-1"],
-    ["grid:3x3", "--targets", "3", "--max-variance", "16", "--dt", "1e9"],
-    ["grid:3x3", "--targets", "3", "--max-variance", "16", "--R", "0.001"],
-    ["grid:3x3", "--targets", "3", "--max-variance", "16", "--binning", "pdf"],
-    ["grid:3x3", "--targets", "3"],
+    ["--map", "grid:3x3", "--targets", "1", "--max-variance", "16"],
+    ["--map", "grid:3x3", "--targets", "0", "--max-variance", "16"],
+    ["--map", "grid:3x3", "--targets", "x", "--max-variance", "16"],
+    ["--map", "grid:3x3", "--targets", "3", "--max-variance", "0"],
+    ["--map", "grid:3x3", "--targets", "3", "--max-variance", "nan"],
+    ["--map", "grid:3x3", "--targets", "3", "--max-variance", "inf"],
+    ["--map", "grid:3x3", "--targets", "3", "--max-variance", "0.1"],
+    ["--map", "grid:3x3", "--targets", "3", "--max-variance", "16", "--max-uavs", "0"],
+    ["--map", "grid:3x3", "--targets", "3", "--max-variance", "16", "--dt", "-1"],
+    ["--map", "grid:3x3", "--targets", "3", "--max-variance", "16", "--dt", "1e9"],
+    ["--map", "grid:3x3", "--targets", "3", "--max-variance", "16", "--R", "0.001"],
+    ["--map", "grid:3x3", "--targets", "3", "--max-variance", "16", "--binning", "pdf"],
+    ["--map", "grid:3x3", "--targets", "3"],
 ])
 def test_bad_input_exits_2(argv: list[str], capsys: pytest.CaptureFixture[str]) -> None:
     """Bad maps, counts, requirements and options exit with status 2 and a message."""
@@ -96,7 +96,7 @@ def test_json_path_checked_before_work(tmp_path: Path, capsys: pytest.CaptureFix
                                        ) -> None:
     """``--json`` naming a folder fails at once with status 2, naming the option."""
     console, text = _console()
-    assert fleet.run(["grid:3x3", "--targets", "3", "--max-variance", "16", "--json",
+    assert fleet.run(["--map", "grid:3x3", "--targets", "3", "--max-variance", "16", "--json",
                       str(tmp_path)], console) == 2
     assert "--json" in capsys.readouterr().err
     assert "UAV" not in text.getvalue()
@@ -107,8 +107,8 @@ def test_registers_as_a_subcommand() -> None:
     parser = argparse.ArgumentParser(prog="searchtrack")
     sub = parser.add_subparsers(dest="group", required=True)
     fleet.add_parser(sub)
-    args = parser.parse_args(["fleet-size", "grid:3x3", "--targets", "10", "--max-variance",
-                              "16"])
+    args = parser.parse_args(["fleet-size", "--map", "grid:3x3", "--targets", "10",
+                              "--max-variance", "16"])
     console, text = _console()
     assert args.run(args, console) == 0
     assert "3 UAVs" in text.getvalue()
