@@ -25,6 +25,7 @@ from searchtrack.cli.common import int_at_least, int_in, positive_float
 from searchtrack.cli.output import output_file
 from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.files import write_text_atomic
+from searchtrack.core.interrupt import stop_requested
 from searchtrack.plan.fleet import BoundConfig, BoundMap, FleetSizing, fleet_size, subdivisions
 from searchtrack.plan.fleet.entropy_bound import BINNINGS
 from searchtrack.sim.scenario import BUNDLED_MAPS, MapSpec, bundled_map
@@ -117,7 +118,10 @@ def fleet_size_command(args: argparse.Namespace, console: Console) -> int:
                   f"trip T {bound_map.round_trip_s(config):.2f} s for {config.targets} targets")
     console.print(sizing_table(sizing, f"entropy bound (Theorem 1), σ² ≤ {args.max_variance:g} "
                                f"m² ⇔ B_L ≤ {sizing.required_entropy:.4f} nats"))
-    if sizing.uavs is None:
+    stopped = stop_requested()
+    if stopped:
+        console.print(f"stopped after {len(sizing.options)} fleet sizes")
+    elif sizing.uavs is None:
         console.print(f"no fleet of up to {args.max_uavs} UAVs meets σ² ≤ {args.max_variance:g} "
                       "m²")
     else:
@@ -127,6 +131,8 @@ def fleet_size_command(args: argparse.Namespace, console: Console) -> int:
         record = sizing_record(spec, bound_map, config, sizing)
         written = write_text_atomic(out, json.dumps(record, indent=1) + "\n")
         console.print(f"wrote {written}")
+    if stopped:
+        return 130
     return 0 if sizing.uavs is not None else 1
 
 

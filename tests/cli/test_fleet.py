@@ -125,3 +125,18 @@ def test_map_argument() -> None:
     for bad in ("grid:3", "grid:0x3", "grid:3x3:0", "grid:3x3:1e400", "grid:3x3:x", "osm"):
         with pytest.raises(argparse.ArgumentTypeError):
             fleet.map_arg(bad)
+
+
+def test_a_stop_request_exits_130_and_writes_what_was_done(tmp_path: Path) -> None:
+    from searchtrack.core.interrupt import clear_stop, request_stop
+
+    console, text = _console()
+    out = tmp_path / "fleet.json"
+    request_stop()
+    try:
+        code = fleet.run(["--map", "grid:3x3", "--targets", "10", "--max-variance", "16",
+                          "--json", str(out)], console)
+    finally:
+        clear_stop()
+    assert code == 130 and "stopped after 0 fleet sizes" in text.getvalue()
+    assert json.loads(out.read_text(encoding="utf-8"))["rows"] == []

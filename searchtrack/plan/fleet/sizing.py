@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.interrupt import stop_requested
 from searchtrack.plan.fleet.entropy_bound import (
     BoundConfig,
     BoundMap,
@@ -104,6 +105,8 @@ def fleet_size(bound_map: BoundMap, config: BoundConfig, *, max_variance_m2: flo
     profile = bound_map.profile(config, 1)
     options = []
     for q in range(1, top + 1):
+        if stop_requested():
+            break                                 # Ctrl-C: the fleet sizes done so far
         if math.floor(bound_map.round_trip_s(config) / (q * config.dt_s)) < 1:
             break                                 # revisits faster than a step: no bound
         bound = entropy_bound(bound_map, config, q, profile)
@@ -112,7 +115,7 @@ def fleet_size(bound_map: BoundMap, config: BoundConfig, *, max_variance_m2: flo
         except InvalidInputError:
             var = math.nan
         options.append(FleetOption(bound, var, bound.bound <= required))
-    if not options:
+    if not options and not stop_requested():
         raise InvalidInputError("dt_s", config.dt_s, "the round trip is shorter than one step; "
                                 "no bound can be averaged")
     answer = next((o.bound.uavs for o in options if o.meets), None)

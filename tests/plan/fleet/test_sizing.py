@@ -64,3 +64,17 @@ def test_bad_requirements_name_the_field(kwargs: dict[str, float], name: str) ->
     bound_map = BoundMap.from_network(grid_3x3(), config)
     with pytest.raises(InvalidInputError, match=name):
         fleet_size(bound_map, config, **kwargs)  # type: ignore[arg-type]
+
+
+def test_a_stop_request_keeps_the_fleet_sizes_done() -> None:
+    """Ctrl-C between fleet sizes: the sizes evaluated so far (here none), no error."""
+    from searchtrack.core.interrupt import clear_stop, request_stop
+
+    config = BoundConfig(10)
+    bound_map = BoundMap.from_network(grid_3x3(), config)
+    request_stop()
+    try:
+        sizing = fleet_size(bound_map, config, max_variance_m2=16.0)
+    finally:
+        clear_stop()
+    assert sizing.options == () and sizing.uavs is None
