@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import TypeVar
 
 import numpy as np
@@ -123,6 +124,12 @@ def node_set(name: str, nodes: ArrayLike, n_nodes: int) -> NDArray[np.int64]:
     if arr.min() < 0 or arr.max() >= n_nodes:
         raise InvalidInputError(name, nodes, f"node indices must be in [0, {n_nodes})")
     return arr.astype(np.int64)
+
+
+def choice(name: str, value: object, allowed: Sequence[object]) -> None:
+    """:class:`InvalidInputError` unless ``value`` is one of ``allowed``."""
+    if value not in allowed:
+        raise InvalidInputError(name, value, f"must be one of {list(allowed)}")
 
 
 def node_vector(name: str, values: ArrayLike, n_nodes: int | None = None) -> NDArray[np.float64]:

@@ -137,8 +137,7 @@ class RoadClouds:
         """Low-variance resampling of those ``rows`` the policy says are due."""
         if rows.size == 0:
             return
-        if self.resample_policy.threshold is not None:
-            rows = rows[self.resample_policy.due(self.w[rows])]
+        rows = rows[self.resample_policy.due(self.w[rows])]
         if rows.size:
             kern.resample_rows(self.edge, self.s, self.w, rows, rng.random(rows.size))
 
@@ -177,10 +176,13 @@ class RoadParticleFilter:
     def __init__(self, roads: DirectedRoads, n_particles: int, rng: np.random.Generator, *,
                  motion: RoadMotion | None = None, sensor: DiscSensor | None = None,
                  resample: ResamplePolicy | None = None) -> None:
+        self._start(RoadClouds.uniform(roads, 1, n_particles, rng, sensor=sensor or DiscSensor(),
+                                       resample=resample or ResamplePolicy()), motion)
+
+    def _start(self, clouds: RoadClouds, motion: RoadMotion | None) -> None:
         self.motion = motion or RoadMotion()
-        self.clouds = RoadClouds.uniform(roads, 1, n_particles, rng,
-                                         sensor=sensor or DiscSensor(),
-                                         resample=resample or ResamplePolicy())
+        self.clouds = clouds
+        self._bins = RoadBins(clouds.roads)
 
     @classmethod
     def from_particles(cls, roads: DirectedRoads, edge: ArrayLike, s: ArrayLike,
@@ -189,11 +191,10 @@ class RoadParticleFilter:
                        resample: ResamplePolicy | None = None) -> RoadParticleFilter:
         """A filter holding the given ``(N,)`` particles (uniform weights if ``w`` is None)."""
         out = cls.__new__(cls)
-        out.motion = motion or RoadMotion()
         ww = None if w is None else np.asarray(w, dtype=np.float64)[None]
-        out.clouds = RoadClouds(roads, np.asarray(edge)[None], np.asarray(s)[None], ww,
-                                sensor=sensor or DiscSensor(),
-                                resample=resample or ResamplePolicy())
+        out._start(RoadClouds(roads, np.asarray(edge)[None], np.asarray(s)[None], ww,
+                              sensor=sensor or DiscSensor(), resample=resample or ResamplePolicy()),
+                   motion)
         return out
 
     @property
@@ -244,15 +245,21 @@ class RoadParticleFilter:
         self.clouds.weigh(rows, rng)
         return total
 
+    def _bins_of(self, bin_m: float) -> RoadBins:
+        """Road bins of ``bin_m`` metres (kept for the last size asked)."""
+        if self._bins.bin_m != bin_m:
+            self._bins = RoadBins(self.roads, bin_m)
+        return self._bins
+
     def entropy(self, bin_m: float = 5.0) -> float:
         """Entropy (nats) on road bins of ``bin_m`` metres (Eq. 19)."""
         c = self.clouds
-        return float(entropy(RoadBins(self.roads, bin_m), c.edge, c.s, c.w)[0])
+        return float(entropy(self._bins_of(bin_m), c.edge, c.s, c.w)[0])
 
     def map_position(self, bin_m: float = 5.0) -> FloatArray:
         """``(2,)`` centre of the densest bin."""
         c = self.clouds
-        return np.asarray(map_positions(RoadBins(self.roads, bin_m), c.edge, c.s, c.w)[0],
+        return np.asarray(map_positions(self._bins_of(bin_m), c.edge, c.s, c.w)[0],
                           dtype=np.float64)
 
 

@@ -50,6 +50,9 @@ class DirectedRoads:
         The edges a particle may take at the head of edge ``d`` are
         ``successors[successor_ptr[d]:successor_ptr[d + 1]]`` (never ``d ^ 1`` unless the head is a
         dead end).
+    out_edges, out_ptr
+        Every directed edge leaving node ``v`` (U-turns included), in increasing order:
+        ``out_edges[out_ptr[v]:out_ptr[v + 1]]`` (:meth:`leaving`).
     """
 
     network: RoadNetwork
@@ -58,6 +61,8 @@ class DirectedRoads:
     length: FloatArray = field(init=False, repr=False)
     successors: IntArray = field(init=False, repr=False)
     successor_ptr: IntArray = field(init=False, repr=False)
+    out_edges: IntArray = field(init=False, repr=False)
+    out_ptr: IntArray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         net = self.network
@@ -68,7 +73,7 @@ class DirectedRoads:
         tail[1::2], head[1::2] = net.edges[:, 1], net.edges[:, 0]
         length = np.repeat(np.asarray(net.lengths_m, dtype=np.float64), 2)
         # Out-edges of every node, in CSR form (sorted by tail).
-        order = np.argsort(tail, kind="stable")
+        order = np.argsort(tail, kind="stable").astype(np.int64)
         out_ptr = np.zeros(net.n_nodes + 1, dtype=np.int64)
         np.add.at(out_ptr, tail + 1, 1)
         out_ptr = np.cumsum(out_ptr)
@@ -84,9 +89,14 @@ class DirectedRoads:
                 outs = outs[outs != (d ^ 1)]
             succ[ptr[d]:ptr[d + 1]] = outs
         for name, value in (("tail", tail), ("head", head), ("length", length),
-                            ("successors", succ), ("successor_ptr", ptr)):
+                            ("successors", succ), ("successor_ptr", ptr),
+                            ("out_edges", order), ("out_ptr", out_ptr)):
             value.setflags(write=False)
             object.__setattr__(self, name, value)
+
+    def leaving(self, node: int) -> IntArray:
+        """The directed edges leaving ``node`` (U-turns included), in increasing order."""
+        return self.out_edges[self.out_ptr[node]:self.out_ptr[node + 1]]
 
     @property
     def n_edges(self) -> int:

@@ -8,8 +8,10 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import stats
 
+from searchtrack.core.types import FloatArray
 from searchtrack.sim.mission import Mission, World
 from searchtrack.sim.record import MissionLog
 from searchtrack.sim.scenario import Scenario
@@ -38,8 +40,13 @@ def estimate(values: Sequence[float]) -> Estimate:
     if x.size == 1:
         return Estimate(1, float(x[0]), 0.0, math.inf)
     sd = float(x.std(ddof=1))
-    half = float(stats.t.ppf(0.975, x.size - 1) * sd / math.sqrt(x.size))
-    return Estimate(int(x.size), float(x.mean()), sd, half)
+    return Estimate(int(x.size), float(x.mean()), sd, float(t_half_width(sd, x.size)))
+
+
+def t_half_width(sd: ArrayLike, n: int) -> FloatArray:
+    """Half-width of the 95 % Student-t interval of a mean of ``n ≥ 2`` samples with standard
+    deviation ``sd`` (scalar or array)."""
+    return np.asarray(stats.t.ppf(0.975, n - 1) * np.asarray(sd) / math.sqrt(n))
 
 
 def fly_seeds(base: Scenario, seeds: Sequence[int], world: World | None = None,

@@ -59,6 +59,7 @@ import time
 import numpy as np
 from numpy.typing import NDArray
 
+from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.lrt import LikelihoodField
@@ -133,11 +134,7 @@ class ParticleSearchField:
     """
 
     def __init__(self, score: FloatArray) -> None:
-        s = np.array(score, dtype=np.float64, copy=True)
-        if s.ndim != 1 or s.size < 1 or not np.all(np.isfinite(s)):
-            raise InvalidInputError("score", s.shape, "must be finite of shape (n ≥ 1,)")
-        s.setflags(write=False)
-        self.score = s
+        self.score = checks.node_vector("score", score)
 
     @property
     def n_nodes(self) -> int:

@@ -19,6 +19,8 @@ can cut a call short) falls back to the random choice, and the episode goes on.
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import logging
 from collections.abc import Callable
 from importlib import resources
@@ -27,6 +29,7 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
+from searchtrack.core.registry import MAX_SEED
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.belief import RoadParticleBelief
 from searchtrack.models.road_particles import DirectedRoads, RoadMotion
@@ -83,27 +86,28 @@ def shipped_policy_path() -> Path:
     return Path(str(resources.files("searchtrack") / "data" / "policies" / SHIPPED_POLICY))
 
 
-def out_edges(roads: DirectedRoads, node: int) -> IntArray:
-    """The directed edges leaving ``node`` (U-turns included)."""
-    return np.flatnonzero(roads.tail == node)
+@functools.lru_cache(maxsize=8)
+def _policy(path: str) -> RoadPolicy:
+    """The policy in ``path``, read once per process (episodes fly it many times)."""
+    return RoadPolicy.load(path)
 
 
 def make_chooser(config: RoadTrackingConfig, episode: Episode) -> Chooser:
     """The chooser of ``config.planner`` in ``episode`` (its belief read at every decision)."""
     roads, belief, rng = episode.roads, episode.belief, episode.plan_rng
-    leaving = [out_edges(roads, n) for n in range(roads.network.n_nodes)]
 
     def random_edge(q: int, node: int) -> int:
-        return int(rng.choice(leaving[node]))
+        return int(rng.choice(roads.leaving(node)))
 
     if config.planner == "random":
         return random_edge
     if config.planner == "rl":
-        policy = RoadPolicy.load(config.policy or shipped_policy_path())
+        policy = _policy(str(config.policy or shipped_policy_path()))
         features = policy_for(roads, policy)
 
         def policy_edge(q: int, node: int) -> int:
-            return policy.choose(features, belief, episode.uav_points(), node, leaving[node])
+            return policy.choose(features, belief, episode.uav_points(), node,
+                                 roads.leaving(node))
 
         return policy_edge
     settings = RoadSearchSettings(
@@ -113,7 +117,7 @@ def make_chooser(config: RoadTrackingConfig, episode: Episode) -> Chooser:
     ideal = config.planner == "ideal"
 
     def solver_edge(q: int, node: int) -> int:
-        draws = int(rng.integers(2**31 - 1))
+        draws = int(rng.integers(MAX_SEED))
         problem = RoadSearchProblem.from_belief(
             belief, [node], settings=_with_seed(settings, draws),
             truth=episode.truth() if ideal else None)
@@ -129,6 +133,4 @@ def make_chooser(config: RoadTrackingConfig, episode: Episode) -> Chooser:
 
 
 def _with_seed(settings: RoadSearchSettings, seed: int) -> RoadSearchSettings:
-    import dataclasses
-
     return dataclasses.replace(settings, draw_seed=seed)

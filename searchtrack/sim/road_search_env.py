@@ -23,10 +23,10 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
+from searchtrack.core.registry import MAX_SEED
 from searchtrack.core.types import FloatArray
 from searchtrack.models.road_particles import DirectedRoads
 from searchtrack.plan.road_rl.features import RoadFeatures
-from searchtrack.sim.road_planners import out_edges
 from searchtrack.sim.road_tracking import WAIT, RoadTrackingConfig, RoadTrackingSim
 
 TRAINING_CONFIG = RoadTrackingConfig(planner="random", histories=2, particles=200)
@@ -63,8 +63,7 @@ class RoadSearchEnv(gym.Env[np.ndarray, np.int64]):
         self.features = RoadFeatures(self.roads, config.targets, 1, bins_per_edge, config.gain,
                                      include_map)
         self.reward_scale = float(reward_scale)
-        self._leaving = [out_edges(self.roads, n) for n in range(self.roads.network.n_nodes)]
-        self.action_space = gym.spaces.Discrete(max(e.size for e in self._leaving))
+        self.action_space = gym.spaces.Discrete(int(np.diff(self.roads.out_ptr).max()))
         self.observation_space = gym.spaces.Box(0.0, np.inf, (self.features.size,), np.float32)
         self._sim: RoadTrackingSim | None = None
         self._pending = WAIT
@@ -91,7 +90,7 @@ class RoadSearchEnv(gym.Env[np.ndarray, np.int64]):
         """A new episode: targets and the UAV's start drawn from ``seed`` (or the environment's
         random stream)."""
         super().reset(seed=seed)
-        episode_seed = int(self.np_random.integers(2**31 - 1))
+        episode_seed = int(self.np_random.integers(MAX_SEED))
         self._sim = RoadTrackingSim(self.config, episode_seed, self.roads)
         self._pending = WAIT
         self.sim.step(self._choose)  # the UAV stands at its start node
@@ -103,7 +102,7 @@ class RoadSearchEnv(gym.Env[np.ndarray, np.int64]):
         sim = self.sim
         if not self.action_space.contains(np.int64(action)):
             raise ValueError(f"action {action!r} is not in {self.action_space}")
-        leaving = self._leaving[self._node()]
+        leaving = self.roads.leaving(self._node())
         self._pending = int(leaving[int(action) % leaving.size])
         total = 0.0
         while not sim.done:

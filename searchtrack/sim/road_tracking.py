@@ -42,7 +42,7 @@ from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
 from searchtrack.models.disc_sensor import DiscSensor
 from searchtrack.models.road_particles import DirectedRoads, RoadMotion
-from searchtrack.plan.road_search.weights import Normalization
+from searchtrack.plan.road_search.weights import NORMALIZATIONS, Normalization
 from searchtrack.sim.road_planners import PLANNERS, Chooser, make_chooser
 from searchtrack.sim.scenario import MapSpec
 
@@ -114,10 +114,8 @@ class RoadTrackingConfig:
         for name in ("truth_sigma_mps", "filter_sigma_mps"):
             checks.non_negative(name, getattr(self, name))
         checks.real("discount", self.discount, low=0.0, high=1.0, low_open=True)
-        if self.normalization not in ("sum", "max"):
-            raise InvalidInputError("normalization", self.normalization, "must be 'sum' or 'max'")
-        if self.planner not in PLANNERS:
-            raise InvalidInputError("planner", self.planner, f"must be one of {list(PLANNERS)}")
+        checks.choice("normalization", self.normalization, NORMALIZATIONS)
+        checks.choice("planner", self.planner, PLANNERS)
         if self.scan_period_s < self.dt_s:
             raise InvalidInputError("scan_period_s", self.scan_period_s,
                                     f"must be ≥ dt_s = {self.dt_s}")
@@ -220,7 +218,7 @@ class GraphUAVs:
     @classmethod
     def at_nodes(cls, roads: DirectedRoads, nodes: IntArray, speed_mps: float) -> GraphUAVs:
         """UAVs standing at ``nodes`` (each placed at the end of a road into its node)."""
-        edge = np.array([int(np.flatnonzero(roads.head == n)[0]) for n in nodes], dtype=np.int64)
+        edge = np.array([int(roads.leaving(n)[0]) ^ 1 for n in nodes], dtype=np.int64)
         return cls(roads, speed_mps, edge, roads.length[edge].astype(np.float64))
 
     def points(self) -> FloatArray:

@@ -179,3 +179,13 @@ def test_bad_input_names_the_field(grid3: DirectedRoads) -> None:
         grid3.nearest(np.array([[np.nan, 0.0]]))
     with pytest.raises(InvalidInputError, match="radius_m"):
         grid3.disc_intervals(np.zeros(2), -1.0)
+
+
+def test_leaving_lists_every_road_out_of_a_node_including_the_way_back() -> None:
+    roads = DirectedRoads(grid_network(3, 3, 100.0, spacing_m=100.0))
+    centre = 4  # the middle of the 3 × 3 grid: four roads
+    out = roads.leaving(centre)
+    assert out.size == 4 and np.all(np.diff(out) > 0)
+    assert np.all(roads.tail[out] == centre)
+    for node in range(roads.network.n_nodes):
+        assert set(roads.leaving(node).tolist()) == set(np.flatnonzero(roads.tail == node).tolist())

@@ -43,11 +43,6 @@ BINNINGS: tuple[Binning, ...] = ("density", "mass")
 WINDOW_SIGMAS = 12.0
 
 
-def _choice(name: str, value: object, allowed: tuple[str, ...]) -> None:
-    if value not in allowed:
-        raise InvalidInputError(name, value, f"must be one of {list(allowed)}")
-
-
 @dataclass(frozen=True)
 class BoundConfig:
     """Inputs of Theorem 1 other than the map and the fleet size (validated, frozen).
@@ -106,10 +101,10 @@ class BoundConfig:
             checks.positive(name, getattr(self, name))
         if not isinstance(self.include_diagonal, bool):
             raise InvalidInputError("include_diagonal", self.include_diagonal, "must be a bool")
-        _choice("growth", self.growth, GROWTHS)
-        _choice("revisit", self.revisit, REVISITS)
-        _choice("average", self.average, AVERAGES)
-        _choice("binning", self.binning, BINNINGS)
+        checks.choice("growth", self.growth, GROWTHS)
+        checks.choice("revisit", self.revisit, REVISITS)
+        checks.choice("average", self.average, AVERAGES)
+        checks.choice("binning", self.binning, BINNINGS)
 
 
 def steady_variance(revisit_s: float, sigma_v_mps: float, dt_s: float, meas_var_m2: float,
@@ -119,7 +114,7 @@ def steady_variance(revisit_s: float, sigma_v_mps: float, dt_s: float, meas_var_
     The positive root of ``σ⁴ + σ² a − R a = 0`` with ``a = T δ_t σ_v²`` (``growth="paper"``,
     the growth of Eq. 32 over ``T`` seconds) or ``a = T δ_t² σ_v²`` (``"code"``).
     """
-    _choice("growth", growth, GROWTHS)
+    checks.choice("growth", growth, GROWTHS)
     dt = checks.positive("dt_s", dt_s)
     a = (checks.positive("revisit_s", revisit_s) * checks.positive("sigma_v_mps", sigma_v_mps) ** 2
          * (dt if growth == "paper" else dt * dt))
@@ -165,7 +160,7 @@ def gaussian_entropy(variance_m2: ArrayLike, length_m: float, bin_m: float = 1.0
     The entropies and the total mass ``Σ_h φ`` (below 1 when the map cuts the tails), each of the
     shape of ``variance_m2``.
     """
-    _choice("binning", binning, BINNINGS)
+    checks.choice("binning", binning, BINNINGS)
     var = np.asarray(variance_m2, dtype=np.float64)
     if var.size == 0 or not np.all(np.isfinite(var) & (var > 0)):
         raise InvalidInputError("variance_m2", variance_m2, "must be finite and > 0 (m²)")

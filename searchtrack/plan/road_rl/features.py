@@ -64,7 +64,6 @@ class RoadFeatures:
     _low: FloatArray = field(init=False, repr=False)
     _span: FloatArray = field(init=False, repr=False)
     _map_block: FloatArray = field(init=False, repr=False)
-    _leaving: list[IntArray] = field(init=False, repr=False)
     _slots: int = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -82,9 +81,7 @@ class RoadFeatures:
                                  self.roads.tail / n, self.roads.head / n])
                  if self.include_map else np.zeros(0))
         object.__setattr__(self, "_map_block", block.astype(np.float32))
-        leaving = [np.flatnonzero(self.roads.tail == v) for v in range(n)]
-        object.__setattr__(self, "_leaving", leaving)
-        object.__setattr__(self, "_slots", max(e.size for e in leaving))
+        object.__setattr__(self, "_slots", int(np.diff(self.roads.out_ptr).max()))
 
     @property
     def n_bins(self) -> int:
@@ -140,7 +137,7 @@ class RoadFeatures:
         roads = self.roads
         value = edge_values(roads.length, edge, w, gamma) * (roads.n_edges / 2)
         out = np.zeros(2 * self._slots)
-        for k, e in enumerate(self._leaving[node]):
+        for k, e in enumerate(roads.leaving(node)):
             nxt = roads.successors[roads.successor_ptr[e]:roads.successor_ptr[e + 1]]
             out[2 * k] = value[e]
             out[2 * k + 1] = value[nxt].max() if nxt.size else 0.0

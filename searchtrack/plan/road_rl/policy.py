@@ -29,6 +29,9 @@ from searchtrack.plan.road_rl.features import RoadFeatures
 
 ACTIVATIONS = ("tanh", "relu")
 
+FEATURE_KEYS = ("n_targets", "n_uavs", "bins_per_edge", "gain", "include_map", "road_values")
+"""The :class:`RoadFeatures` settings a policy's signature records."""
+
 MAX_POLICY_BYTES = 64 * 2**20
 
 
@@ -155,9 +158,7 @@ class RoadPolicy:
 def policy_for(roads: DirectedRoads, policy: RoadPolicy) -> RoadFeatures:
     """The features ``policy`` was trained with, on ``roads`` (checked)."""
     sig = policy.signature or {}
-    features = RoadFeatures(roads, int(sig.get("n_targets", 1)), int(sig.get("n_uavs", 1)),
-                            int(sig.get("bins_per_edge", 10)), float(sig.get("gain", 10.0)),
-                            bool(sig.get("include_map", True)),
-                            bool(sig.get("road_values", False)))
+    given = {k: sig[k] for k in FEATURE_KEYS if k in sig}  # the rest: RoadFeatures' defaults
+    features = RoadFeatures(roads, **given)  # type: ignore[arg-type]
     policy.check_features(features)
     return features

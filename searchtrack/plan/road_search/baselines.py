@@ -49,7 +49,7 @@ def solve_random(problem: RoadSearchProblem, *, time_limit_s: float = 10.0,
     for node in problem.uav_nodes:
         path, here = [], node
         for _ in range(problem.lookahead):
-            outs = np.flatnonzero(roads.tail == here)
+            outs = roads.leaving(here)
             e = int(outs[int(rng.integers(outs.size))])
             path.append(e)
             here = int(roads.head[e])
@@ -63,8 +63,8 @@ def supports_ideal(problem: RoadSearchProblem) -> str | None:
 
 
 def _edge_between(roads: DirectedRoads, a: int, b: int) -> int:
-    hit = np.flatnonzero((roads.tail == a) & (roads.head == b))
-    return int(hit[0])
+    outs = roads.leaving(a)
+    return int(outs[roads.head[outs] == b][0])
 
 
 def ideal_path(problem: RoadSearchProblem, start: int, target: int) -> list[int]:
@@ -78,7 +78,7 @@ def ideal_path(problem: RoadSearchProblem, start: int, target: int) -> list[int]
     road = d if via_tail <= via_head else d ^ 1  # fly along the road towards the target
     nodes, _ = roads.network.shortest_path(start, int(roads.tail[road]))
     if nodes.size == 0:  # the target is out of reach: fly straight on
-        path = [int(np.flatnonzero(roads.tail == start)[0])]
+        path = [int(roads.leaving(start)[0])]
     else:
         path = [_edge_between(roads, int(a), int(b))
                 for a, b in itertools.pairwise(nodes.tolist())] + [road]

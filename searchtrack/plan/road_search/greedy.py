@@ -33,7 +33,7 @@ def greedy_paths(problem: RoadSearchProblem) -> list[list[int]]:
                                  (problem.particle_weight.reshape(-1) * alive).reshape(shape),
                                  problem.gamma, per_length=st.per_length,
                                  both_directions=st.both_directions)
-            outs = np.flatnonzero(roads.tail == node)
+            outs = roads.leaving(node)
             e = int(outs[int(np.argmax(values[outs]))])
             seen = (here == e) | ((here == (e ^ 1)) & st.both_directions)
             alive[seen] = 0.0

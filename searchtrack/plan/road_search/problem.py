@@ -26,7 +26,13 @@ from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.belief import RoadParticleBelief
 from searchtrack.models.road_particles import DirectedRoads, RoadMotion
 from searchtrack.plan.road_search.chains import ChainGraph
-from searchtrack.plan.road_search.weights import Normalization, Weighting, target_weights
+from searchtrack.plan.road_search.weights import (
+    NORMALIZATIONS,
+    WEIGHTINGS,
+    Normalization,
+    Weighting,
+    target_weights,
+)
 
 if TYPE_CHECKING:
     from searchtrack.plan.road_search.scenario import Scenario
@@ -92,10 +98,8 @@ class RoadSearchSettings:
             raise InvalidInputError("motion", self.motion, "must be a RoadMotion")
         checks.real("discount", self.discount, low=0.0, high=1.0, low_open=True)
         checks.non_negative("gain", self.gain)
-        if self.normalization not in ("sum", "max"):
-            raise InvalidInputError("normalization", self.normalization, "must be 'sum' or 'max'")
-        if self.weighting not in ("entropy", "uniform"):
-            raise InvalidInputError("weighting", self.weighting, "must be 'entropy' or 'uniform'")
+        checks.choice("normalization", self.normalization, NORMALIZATIONS)
+        checks.choice("weighting", self.weighting, WEIGHTINGS)
         for name in ("per_length", "both_directions"):
             if not isinstance(getattr(self, name), bool):
                 raise InvalidInputError(name, getattr(self, name), "must be True or False")
@@ -159,7 +163,8 @@ class RoadSearchProblem:
         nodes = checks.index_array("uav_nodes", list(np.atleast_1d(self.uav_nodes)), n_nodes)
         if nodes.size == 0:
             raise InvalidInputError("uav_nodes", self.uav_nodes, "needs at least one UAV")
-        stuck = [int(v) for v in nodes if not np.any(self.roads.tail == v)]
+        out = self.roads.out_ptr
+        stuck = [int(v) for v in nodes if out[v + 1] == out[v]]
         if stuck:
             raise InvalidInputError("uav_nodes", self.uav_nodes, f"nodes {stuck} have no road")
         edge = np.array(self.particle_edge, copy=True)

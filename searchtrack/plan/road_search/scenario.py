@@ -72,18 +72,10 @@ class Lattice:
         return int(self.arc_edge.size)
 
 
-def _node_out_edges(problem: RoadSearchProblem) -> tuple[IntArray, IntArray]:
-    """CSR of the directed edges leaving each node (a UAV may turn back: all of them)."""
-    tail = problem.roads.tail
-    order = np.argsort(tail, kind="stable")
-    ptr = np.zeros(problem.roads.network.n_nodes + 1, dtype=np.int64)
-    np.add.at(ptr, tail + 1, 1)
-    return np.cumsum(ptr), order.astype(np.int64)
-
-
 def _lattice_arcs(problem: RoadSearchProblem, start: int) -> dict[str, IntArray]:
     """States and arcs of the time-expanded graph from ``start``, level by level."""
-    node_ptr, node_out = _node_out_edges(problem)
+    # A UAV may turn back: every directed edge leaving a node.
+    node_ptr, node_out = problem.roads.out_ptr, problem.roads.out_edges
     ticks = problem.edge_ticks
     head = problem.roads.head
     levels, nodes, times = [np.zeros(1, np.int64)], [np.array([start])], [np.zeros(1, np.int64)]

@@ -28,6 +28,8 @@ from searchtrack.core.types import FloatArray, IntArray
 
 Normalization = Literal["sum", "max"]
 Weighting = Literal["entropy", "uniform"]
+NORMALIZATIONS: tuple[Normalization, ...] = ("sum", "max")
+WEIGHTINGS: tuple[Weighting, ...] = ("entropy", "uniform")
 
 
 def target_weights(entropy: FloatArray, *, gain: float = 10.0,
@@ -57,10 +59,8 @@ def target_weights(entropy: FloatArray, *, gain: float = 10.0,
     if np.any(h < 0.0):
         raise InvalidInputError("entropy", entropy, "entropies must be >= 0")
     a = checks.non_negative("gain", gain)
-    if normalization not in ("sum", "max"):
-        raise InvalidInputError("normalization", normalization, "must be 'sum' or 'max'")
-    if weighting not in ("entropy", "uniform"):
-        raise InvalidInputError("weighting", weighting, "must be 'entropy' or 'uniform'")
+    checks.choice("normalization", normalization, NORMALIZATIONS)
+    checks.choice("weighting", weighting, WEIGHTINGS)
     if weighting == "uniform":
         return np.ones(h.size)
     scale = float(h.sum() if normalization == "sum" else h.max())

@@ -42,7 +42,7 @@ def summarise(rows: Sequence[Row], group_keys: Sequence[str],
     for row in rows:
         groups.setdefault(tuple(row.get(k) for k in group_keys), []).append(row)
     out = []
-    for values, members in sorted(groups.items(), key=lambda item: _order(item[0])):
+    for values, members in sorted(groups.items(), key=lambda item: group_order(item[0])):
         ok = [r for r in members if r.get("status") == "ok"]
         est = {m: estimate([_number(r.get(m)) for r in ok]) for m in metrics}
         out.append(GroupSummary(tuple(zip(group_keys, values, strict=True)), len(members),
@@ -50,7 +50,7 @@ def summarise(rows: Sequence[Row], group_keys: Sequence[str],
     return out
 
 
-def _order(values: tuple[Any, ...]) -> tuple[tuple[int, float, str], ...]:
+def group_order(values: tuple[Any, ...]) -> tuple[tuple[int, float, str], ...]:
     """A sort key for mixed parameter values: numbers by value, then everything else by text."""
     return tuple((0, float(v), "") if isinstance(v, (int, float)) and not isinstance(v, bool)
                  else (1, 0.0, str(v)) for v in values)

@@ -28,7 +28,7 @@ from typing import Any
 from threadpoolctl import threadpool_limits
 
 import searchtrack
-from searchtrack.core.errors import InvalidInputError
+from searchtrack.core import checks
 from searchtrack.core.interrupt import stop_requested
 from searchtrack.sim.campaigns.experiments import get
 from searchtrack.sim.campaigns.schedule import LongestFirst
@@ -292,8 +292,8 @@ def run_campaign(spec: CampaignSpec, db_path: str | Path, *, workers: int | None
     StoreError
         ``db_path`` holds another campaign.
     """
-    if workers is not None and workers < 0:
-        raise InvalidInputError("workers", workers, "must be ≥ 0")
+    if workers is not None:
+        checks.count("workers", workers)
     runs = spec.runs()
     started = time.perf_counter()
     count = _Count()

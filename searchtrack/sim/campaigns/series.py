@@ -10,17 +10,16 @@ horizontal reference lines (a lower bound) where the experiment gives them.
 from __future__ import annotations
 
 import json
-import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy import stats
 
 from searchtrack.core.types import FloatArray
-from searchtrack.sim.campaigns.report import save_png
+from searchtrack.sim.campaign import t_half_width
+from searchtrack.sim.campaigns.report import group_order, save_png
 
 Row = Mapping[str, Any]
 
@@ -77,15 +76,12 @@ def summarise_series(rows: Sequence[Row], group_keys: Sequence[str],
         if series is not None and series.size:
             groups.setdefault(tuple(row.get(k) for k in group_keys), []).append(series)
     out = []
-    for values, members in sorted(groups.items(), key=lambda item: tuple(map(str, item[0]))):
+    for values, members in sorted(groups.items(), key=lambda item: group_order(item[0])):
         n = min(s.size for s in members)
         stack = np.stack([s[:n] for s in members])
         mean = stack.mean(axis=0)
-        if stack.shape[0] > 1:
-            sd = stack.std(axis=0, ddof=1)
-            half = stats.t.ppf(0.975, stack.shape[0] - 1) * sd / math.sqrt(stack.shape[0])
-        else:
-            half = np.zeros(n)
+        half = (t_half_width(stack.std(axis=0, ddof=1), stack.shape[0]) if stack.shape[0] > 1
+                else np.zeros(n))
         params = tuple(zip(group_keys, values, strict=True))
         label = ", ".join(f"{k}={v}" for k, v in params) or metric
         out.append(SeriesSummary(label, params, len(members), mean, np.asarray(half)))

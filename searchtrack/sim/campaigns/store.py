@@ -20,7 +20,7 @@ from typing import Any
 import duckdb
 
 from searchtrack.core.errors import SearchtrackError
-from searchtrack.core.files import atomic_path
+from searchtrack.core.files import atomic_path, write_text_atomic
 from searchtrack.sim.campaigns.experiments import EXPERIMENTS, Experiment
 
 log = logging.getLogger("searchtrack.sim.campaigns.store")
@@ -206,8 +206,7 @@ def write_progress(db_path: str | Path, progress: Mapping[str, Any]) -> None:
     process's PID and the time."""
     data = {**progress, "pid": os.getpid(),
             "updated_utc": datetime.now(UTC).strftime("%Y-%m-%d %H:%M:%S")}
-    with atomic_path(progress_path(db_path)) as tmp:
-        tmp.write_text(json.dumps(data), encoding="utf-8")
+    write_text_atomic(progress_path(db_path), json.dumps(data))
 
 
 def read_progress(db_path: str | Path) -> dict[str, Any] | None:
