@@ -139,7 +139,10 @@ def entropy(bins: RoadBins, edge: IntArray, s: FloatArray, w: FloatArray) -> Flo
     InvalidInputError
         Shapes differ, positions are off the roads, or a row of weights is not positive.
     """
-    idx, p = _checked(bins, edge, s, w)
+    return _entropy(bins, *_checked(bins, edge, s, w))
+
+
+def _entropy(bins: RoadBins, idx: IntArray, p: FloatArray) -> FloatArray:
     row, _, mass = _masses(bins, idx, p)
     h = np.bincount(row, weights=-mass * np.log(mass), minlength=idx.shape[0])
     # A cloud in one bin has mass 1 − ε there: −(1−ε)·log(1−ε) rounds to ±1e-16; entropy ≥ 0.
@@ -149,14 +152,20 @@ def entropy(bins: RoadBins, edge: IntArray, s: FloatArray, w: FloatArray) -> Flo
 def combined_entropy(bins: RoadBins, edge: IntArray, s: FloatArray, w: FloatArray) -> float:
     """Entropy (nats) of the pooled histogram of all the clouds of a ``(M, N)`` batch, each
     target's mass ``1/M`` (the paper's "combined entropy", Fig. 10–11)."""
-    idx, p = _checked(bins, edge, s, w)
+    return _combined(bins, *_checked(bins, edge, s, w))
+
+
+def _combined(bins: RoadBins, idx: IntArray, p: FloatArray) -> float:
     _, _, mass = _masses(bins, idx.reshape(1, -1), p.reshape(1, -1) / idx.shape[0])
     return max(0.0, float(-(mass * np.log(mass)).sum()))
 
 
 def map_bins(bins: RoadBins, edge: IntArray, s: FloatArray, w: FloatArray) -> IntArray:
     """``(B,)`` densest bin of each cloud of a ``(B, N)`` batch (lowest index on ties)."""
-    idx, p = _checked(bins, edge, s, w)
+    return _map_bins(bins, *_checked(bins, edge, s, w))
+
+
+def _map_bins(bins: RoadBins, idx: IntArray, p: FloatArray) -> IntArray:
     dense = _dense(bins, idx, p)
     if dense is not None:
         return np.asarray(dense.reshape(idx.shape[0], -1).argmax(axis=1), dtype=np.int64)
@@ -168,5 +177,18 @@ def map_bins(bins: RoadBins, edge: IntArray, s: FloatArray, w: FloatArray) -> In
 
 def map_positions(bins: RoadBins, edge: IntArray, s: FloatArray, w: FloatArray) -> FloatArray:
     """``(B, 2)`` planar MAP position of each cloud: the centre of its densest bin."""
-    e, c = bins.centre(map_bins(bins, edge, s, w))
+    return _points(bins, map_bins(bins, edge, s, w))
+
+
+def _points(bins: RoadBins, best: IntArray) -> FloatArray:
+    e, c = bins.centre(best)
     return bins.roads.point(e, c)
+
+
+def summary(bins: RoadBins, edge: IntArray, s: FloatArray,
+            w: FloatArray) -> tuple[FloatArray, float, FloatArray]:
+    """:func:`entropy`, :func:`combined_entropy` and :func:`map_positions` of one ``(M, N)``
+    batch, checked and binned once (what a tracker reports every scan)."""
+    idx, p = _checked(bins, edge, s, w)
+    return (_entropy(bins, idx, p), _combined(bins, idx, p),
+            _points(bins, _map_bins(bins, idx, p)))

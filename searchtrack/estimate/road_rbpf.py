@@ -54,7 +54,13 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
 from searchtrack.estimate.particle_belief import WeightedParticles
-from searchtrack.estimate.road_entropy import RoadBins, combined_entropy, entropy, map_positions
+from searchtrack.estimate.road_entropy import (
+    RoadBins,
+    combined_entropy,
+    entropy,
+    map_positions,
+    summary,
+)
 from searchtrack.estimate.road_pf import RoadClouds, node_trackers
 from searchtrack.estimate.road_resampling import ResamplePolicy, systematic_indices
 from searchtrack.models.disc_sensor import DiscSensor
@@ -222,8 +228,16 @@ class RoadRBPF:
         ys = checks.points("detections", detections)
         uav = checks.finite_array("uav_xy", uav_xy, (2,))
         checks.generator("rng", rng)
-        if ys.shape[0]:
-            self._detections(ys, uav, rng)
+        density = self.config.sensor.clutter_density(self.roads, uav) if ys.shape[0] else 0.0
+        if ys.shape[0] and density == 0.0:
+            # No road in view: no target and no clutter can be there (Eq. 10 is 0 for every
+            # history); the scan is read as seeing nothing.
+            log.warning("%d detections with no road in view of %s: taken as clutter and the "
+                        "scan as a miss", ys.shape[0], uav.tolist())
+            self.last_association = np.full((self.n_histories, ys.shape[0]), -1, dtype=np.int64)
+            self._miss(uav, np.arange(self.n_histories * self.n_targets), rng)
+        elif ys.shape[0]:
+            self._detections(ys, uav, density, rng)
         else:
             self.last_association = np.empty((self.n_histories, 0), dtype=np.int64)
             self._miss(uav, np.arange(self.n_histories * self.n_targets), rng)
@@ -236,10 +250,10 @@ class RoadRBPF:
             factor[rows] = sums
             self.weights *= factor.reshape(self.n_histories, self.n_targets).prod(axis=1)
 
-    def _detections(self, ys: FloatArray, uav: FloatArray, rng: np.random.Generator) -> None:
+    def _detections(self, ys: FloatArray, uav: FloatArray, density: float,
+                    rng: np.random.Generator) -> None:
         h, m = self.n_histories, self.n_targets
         joint = self.config.association == "joint"
-        density = self.config.sensor.clutter_density(self.roads, uav)
         used = np.zeros((h, m), dtype=bool)
         assigned = np.full((h, ys.shape[0]), -1, dtype=np.int64)
         hist = np.arange(h)
@@ -338,6 +352,11 @@ class RoadRBPF:
     def map_positions(self) -> FloatArray:
         """``(M, 2)`` centre of each target's densest bin in the best history."""
         return map_positions(self.bins, *self.target_particles())
+
+    def summary(self) -> tuple[FloatArray, float, FloatArray]:
+        """:meth:`target_entropy`, :meth:`combined_entropy` and :meth:`map_positions` at once
+        (the best history's particles taken, checked and binned once)."""
+        return summary(self.bins, *self.target_particles())
 
     def best_association(self) -> IntArray:
         """``(k,)`` the best history's target for each detection of the last scan (−1:

@@ -272,9 +272,6 @@ class RBPFMissionBelief:
         tic = time.perf_counter()
         for j in range(uav_xy.shape[0]):
             rows = np.flatnonzero(scan.uav == j)
-            if rows.size and self.rbpf.config.sensor.clutter_density(self.rbpf.roads,
-                                                                     uav_xy[j]) == 0.0:
-                rows = rows[:0]  # no road in view: Eq. 10 gives every history weight 0
             self.rbpf.update(scan.xy_m[rows], uav_xy[j], self.rng)
             for q, c in zip(rows.tolist(), self.rbpf.best_association().tolist(), strict=True):
                 if c not in slot:

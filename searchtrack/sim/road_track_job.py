@@ -375,8 +375,7 @@ def run_road_track_job(job: RoadTrackJob, seed: int,
         rbpf.predict(job.dt_s, rng)
         if job.is_scan(k):
             rbpf.update(job.detections[k], job.uav_xy[k], rng)
-        estimates[k], entropy[k] = rbpf.map_positions(), rbpf.target_entropy()
-        combined[k] = rbpf.combined_entropy()
+        entropy[k], combined[k], estimates[k] = rbpf.summary()
         done = k + 1
         if progress is not None:
             progress(done, n)

@@ -337,11 +337,11 @@ class RoadTrackingSim:
         self.filter_s += time.perf_counter() - t0
         if not scan:
             return None
-        entropy = self.belief.combined_entropy()
+        per_target, entropy, estimates = self.belief.summary()
         self._times.append(self.time_s)
         self._entropy.append(entropy)
-        self._target_entropy.append(self.belief.target_entropy())
-        self._error.append(matched_error(self.belief.map_positions(), truth))
+        self._target_entropy.append(per_target)
+        self._error.append(matched_error(estimates, truth))
         return entropy
 
     def log(self, interrupted: bool = False) -> RoadTrackingLog:

@@ -240,3 +240,36 @@ def test_the_thesis_emd_association_runs_on_the_rbpf_bank() -> None:
     ll = position_log_likelihood(network, measured, 10.0)
     pairs = EMDAssociator(network, gate_m=100.0).associate(bank, measurement_density(ll)).pairs
     assert sorted(pairs) == [(0, 1), (1, 0)]
+
+
+def test_summary_is_the_three_reports_at_once() -> None:
+    from searchtrack.models.road_synthetic import grid_network as grid
+
+    roads = DirectedRoads(grid(3, 3, 100.0, spacing_m=100.0))
+    rng = np.random.default_rng(4)
+    rbpf = RoadRBPF(roads, RBPFConfig(n_targets=2, n_histories=3, n_particles=80), rng)
+    rbpf.predict(0.1, rng)
+    rbpf.update(np.array([[50.0, 1.0]]), np.array([50.0, 0.0]), rng)
+    per_target, pooled, estimates = rbpf.summary()
+    assert np.array_equal(per_target, rbpf.target_entropy())
+    assert pooled == rbpf.combined_entropy()
+    assert np.array_equal(estimates, rbpf.map_positions())
+
+
+def test_detections_with_no_road_in_view_are_clutter_and_the_scan_a_miss() -> None:
+    """Clutter counted on the roads in view, and no road under the view: Eq. 10 is 0 for every
+    history, so the filter takes the scan as a miss instead of zeroing every history's weight."""
+    from searchtrack.models.disc_sensor import DiscSensor
+    from searchtrack.models.road_synthetic import grid_network as grid
+
+    roads = DirectedRoads(grid(3, 3, 100.0, spacing_m=100.0))
+    config = RBPFConfig(n_targets=2, n_histories=3, n_particles=60,
+                        sensor=DiscSensor(clutter="view"))
+    a = RoadRBPF(roads, config, np.random.default_rng(2))
+    b = RoadRBPF(roads, config, np.random.default_rng(2))
+    away = np.array([50.0, 50.0])  # the middle of a block: > 30 m from every road
+    a.update(np.array([[51.0, 49.0]]), away, np.random.default_rng(3))
+    b.update(np.empty((0, 2)), away, np.random.default_rng(3))
+    assert a.best_association().tolist() == [-1]
+    assert np.all(np.isfinite(a.weights)) and np.allclose(a.weights, b.weights)
+    assert np.array_equal(a.target_particles()[1], b.target_particles()[1])
