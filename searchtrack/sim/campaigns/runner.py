@@ -109,6 +109,9 @@ class CampaignSummary:
         Time to start (or connect to) the cluster, within ``wall_s``.
     dashboard
         The Dask dashboard address of the embedded cluster, if any.
+    failed_recorded
+        Runs with status ``error`` in the database when the campaign stopped (this time's and
+        earlier ones not retried).
     """
 
     total: int
@@ -121,6 +124,7 @@ class CampaignSummary:
     slots: int
     startup_s: float = 0.0
     dashboard: str | None = None
+    failed_recorded: int = 0
 
     @property
     def interrupted(self) -> bool:
@@ -321,5 +325,7 @@ def run_campaign(spec: CampaignSpec, db_path: str | Path, *, workers: int | None
                 if on_cluster is not None:
                     on_cluster(dashboard)
                 left, slots = _distributed(client, todo, store, count, total, progress)
+        failed_recorded = store.counts().get("error", 0)
     return CampaignSummary(len(runs), len(runs) - len(todo), count.ok, count.failed, left,
-                           time.perf_counter() - started, count.run_s, slots, startup, dashboard)
+                           time.perf_counter() - started, count.run_s, slots, startup, dashboard,
+                           failed_recorded)

@@ -65,6 +65,7 @@ def test_failures_are_recorded_and_retried_alone(tmp_path: Path) -> None:
     assert (first.ok, first.failed) == (6, 6)
     plain = run_campaign(spec, db, workers=0)
     assert plain.skipped == 12
+    assert (first.failed_recorded, plain.failed, plain.failed_recorded) == (6, 0, 6)
     retry = run_campaign(spec, db, workers=0, retry_failed=True)
     assert (retry.skipped, retry.ok, retry.failed) == (6, 0, 6)
     _assert_every_key_once(spec, db)
