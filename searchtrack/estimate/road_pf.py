@@ -70,8 +70,6 @@ class RoadClouds:
             ww /= total
         self.roads, self.sensor, self.resample_policy = roads, sensor, resample
         self.edge, self.s, self.w = e, pos, ww
-        self._tail = np.ascontiguousarray(roads.tail_xy)
-        self._step = np.ascontiguousarray(roads.step_xy)
         self._lik = np.empty(e.shape)
 
     @classmethod
@@ -110,7 +108,7 @@ class RoadClouds:
         per-particle likelihoods for :meth:`weigh`."""
         sensor = self.sensor
         sums = np.empty(self.edge.shape[0])
-        kern.detection_likelihood(self.edge, self.s, self.w, self._tail, self._step,
+        kern.detection_likelihood(self.edge, self.s, self.w, self.roads.tail_xy, self.roads.step_xy,
                                   float(y[0]), float(y[1]), sensor.detection_gain,
                                   0.5 / sensor.sigma2_m2, sensor.p_fa * clutter_density,
                                   self._lik, sums)
@@ -127,7 +125,7 @@ class RoadClouds:
         no-detection likelihood ``Σ_n w p(z | x)`` (1 for a cloud outside the view)."""
         sums = np.empty(rows.size)
         touched = np.zeros(rows.size, dtype=np.bool_)
-        kern.miss_update(self.edge, self.s, self.w, rows, self._tail, self._step,
+        kern.miss_update(self.edge, self.s, self.w, rows, self.roads.tail_xy, self.roads.step_xy,
                          float(uav_xy[0]), float(uav_xy[1]), self.sensor.negative_radius_m ** 2,
                          self.sensor.p_fn, sums, touched)
         self.resample(rows[touched], rng)
