@@ -19,7 +19,7 @@ from typing import NoReturn, cast
 from rich.console import Console
 from rich.markup import escape
 
-from searchtrack.cli import campaign, fleet, mission, optw, rl, track, track_roads
+from searchtrack.cli import campaign, fleet, mission, optw, radio, rl, track, track_roads
 from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.interrupt import Aborted, sigint_stops, stop_requested
 
@@ -54,6 +54,7 @@ def build_parser() -> argparse.ArgumentParser:
     campaign.add_parser(sub)
     fleet.add_parser(sub)
     rl.add_parser(sub)
+    radio.add_parser(sub)
     for group in sub.choices.values():
         _add_epilog(group)
     return parser

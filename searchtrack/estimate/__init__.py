@@ -12,7 +12,9 @@
 - Targets on directed roads (paper 000): the road particle filter and its bank
   (:mod:`.road_pf`), the Rao-Blackwellized filter over association histories (:mod:`.road_rbpf`),
   entropy on road bins (:mod:`.road_entropy`) and batch resampling (:mod:`.road_resampling`).
-- Metrics: OSPA, GOSPA, OSPA(2).
+- Radio-tagged objects (paper 002): the track-before-detect LMB filter on STFT magnitudes,
+  :mod:`searchtrack.estimate.radio`, read through :class:`LabelledParticleBelief`.
+- Metrics: OSPA (and its localisation and cardinality components), GOSPA, OSPA(2).
 
 A road step: per UAV, :meth:`ScanUpdater.update` (associate, update trackers, update the LRT
 with the rest); :meth:`LRTInitiator.initiate` (detect, birth, suppress);
@@ -34,6 +36,7 @@ if TYPE_CHECKING:
     from searchtrack.estimate.association import solve as associate
     from searchtrack.estimate.belief import (
         BeliefBank,
+        LabelledParticleBelief,
         NodeBelief,
         NodePredictor,
         RoadParticleBelief,
@@ -58,7 +61,7 @@ if TYPE_CHECKING:
         llr_increment,
         update_likelihood_field,
     )
-    from searchtrack.estimate.metrics import gospa, ospa, ospa2
+    from searchtrack.estimate.metrics import gospa, ospa, ospa2, ospa_components
     from searchtrack.estimate.node_tracker import (
         NodeTracker,
         TrackerBank,
@@ -71,6 +74,15 @@ if TYPE_CHECKING:
     from searchtrack.estimate.particle_belief import ParticleBelief, WeightedParticles
     from searchtrack.estimate.phd import PHDConfig, PHDState, SensorScan
     from searchtrack.estimate.phd import step as phd_step
+    from searchtrack.estimate.radio import (
+        DttConfig,
+        DttLmbFilter,
+        LabelledParticles,
+        TbdLmbFilter,
+        detect_peaks,
+        label_log_likelihoods,
+    )
+    from searchtrack.estimate.radio import FilterConfig as RadioFilterConfig
     from searchtrack.estimate.road_entropy import RoadBins
     from searchtrack.estimate.road_entropy import combined_entropy as road_combined_entropy
     from searchtrack.estimate.road_entropy import entropy as road_target_entropy
@@ -105,6 +117,15 @@ _HOME: dict[str, tuple[str, str]] = {
     "Associator": ("association", "Associator"),
     "BeliefBank": ("belief", "BeliefBank"),
     "EMDAssociator": ("emd_association", "EMDAssociator"),
+    "LabelledParticleBelief": ("belief", "LabelledParticleBelief"),
+    "LabelledParticles": ("radio.particles", "LabelledParticles"),
+    "RadioFilterConfig": ("radio.tbd", "FilterConfig"),
+    "TbdLmbFilter": ("radio.tbd", "TbdLmbFilter"),
+    "DttLmbFilter": ("radio.dtt", "DttLmbFilter"),
+    "DttConfig": ("radio.dtt", "DttConfig"),
+    "detect_peaks": ("radio.dtt", "detect_peaks"),
+    "label_log_likelihoods": ("radio.likelihood", "label_log_likelihoods"),
+    "ospa_components": ("metrics", "ospa_components"),
     "EMDMatrix": ("emd_matrix", "EMDMatrix"),
     "EMDMatrixProblem": ("emd_matrix", "EMDMatrixProblem"),
     "EMD_MATRIX_BACKENDS": ("emd_matrix", "EMD_MATRIX_BACKENDS"),
@@ -153,12 +174,16 @@ __all__ = [
     "AssociationProblem",
     "Associator",
     "BeliefBank",
+    "DttConfig",
+    "DttLmbFilter",
     "EMDAssociator",
     "EMDMatrix",
     "EMDMatrixProblem",
     "GraphDiffusion",
     "LRTInitiator",
     "LRTPredictor",
+    "LabelledParticleBelief",
+    "LabelledParticles",
     "LikelihoodField",
     "NodeBelief",
     "NodePredictor",
@@ -167,6 +192,7 @@ __all__ = [
     "PHDState",
     "ParticleBelief",
     "RBPFConfig",
+    "RadioFilterConfig",
     "ResamplePolicy",
     "RoadBins",
     "RoadClouds",
@@ -179,22 +205,26 @@ __all__ = [
     "SearchField",
     "SensorScan",
     "SparseNodePredictor",
+    "TbdLmbFilter",
     "TrackBelief",
     "TrackerBank",
     "TrackerDeleter",
     "TrackerPredictor",
     "WeightedParticles",
     "associate",
+    "detect_peaks",
     "effective_sample_size",
     "emd",
     "emd_matrix",
     "emd_on_graph",
     "entropy_nats",
     "gospa",
+    "label_log_likelihoods",
     "llr_increment",
     "measurement_density",
     "ospa",
     "ospa2",
+    "ospa_components",
     "phd_step",
     "position_log_likelihood",
     "road_combined_entropy",

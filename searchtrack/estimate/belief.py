@@ -18,18 +18,24 @@ seam), so they are written against these protocols, never against the concrete e
 - :class:`RoadParticleBelief`: ``M`` targets as weighted particles ``(directed edge, arc
   length)`` on a :class:`~searchtrack.models.road_particles.DirectedRoads` (paper 000's road
   particle filters), with one entropy per target; what the road-search planners read.
+- :class:`LabelledParticleBelief`: a labelled multi-Bernoulli density as per-label particle sets
+  and existence probabilities (Nguyen et al.'s radio-tag TBD-LMB filter,
+  :class:`~searchtrack.estimate.radio.tbd.TbdLmbFilter`); what the radio planners read.
 
 All are ``runtime_checkable``: a planner checks its inputs with ``isinstance`` against them.
 """
 
 from __future__ import annotations
 
-from typing import Any, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
 
 from searchtrack.core.types import FloatArray
+
+if TYPE_CHECKING:
+    from searchtrack.estimate.radio.particles import LabelledParticles
 
 
 @runtime_checkable
@@ -169,6 +175,22 @@ class RoadParticleBelief(Protocol):
 
     def target_entropy(self) -> FloatArray:
         """``(M,)`` entropy (nats) of each target's position on road bins."""
+        ...
+
+
+@runtime_checkable
+class LabelledParticleBelief(Protocol):
+    """A labelled multi-Bernoulli density on particles (Nguyen et al., §III-C, eqs. 24–30).
+
+    ``labelled_particles()`` returns a
+    :class:`~searchtrack.estimate.radio.particles.LabelledParticles`: for each label ``λ`` (a tag
+    frequency) an existence probability ``r_λ`` and ``N`` weighted particles of the state
+    ``[px, vx, py, vy]``, the motion mode and the pulse offset ``τ`` (arrays ``(Λ, N, ...)``,
+    weights normalised per label). Planners predict and update their own copy.
+    """
+
+    def labelled_particles(self) -> LabelledParticles:
+        """A copy of the current labelled particles (new arrays the caller may change)."""
         ...
 
 

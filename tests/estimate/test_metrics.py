@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.estimate.metrics import gospa, ospa, ospa2, track_distance
+from searchtrack.estimate.metrics import gospa, ospa, ospa2, ospa_components, track_distance
 
 NAN = math.nan
 
@@ -92,4 +92,49 @@ def test_bad_input(call: object, field: str) -> None:
     """Bad sets or parameters raise InvalidInputError naming the field."""
     with pytest.raises(InvalidInputError) as err:
         call()  # type: ignore[operator]
+    assert err.value.field == field
+
+
+def test_ospa_components_hand_case() -> None:
+    """{(0,0), (10,0)} vs {(3,4)}, c = 20: localisation 5/2, cardinality 20/2, total their sum."""
+    x = [[0.0, 0.0], [10.0, 0.0]]
+    y = [[3.0, 4.0]]
+    total, loc, card = ospa_components(x, y, c=20.0)
+    assert (total, loc, card) == pytest.approx((12.5, 2.5, 10.0))
+    total, loc, card = ospa_components(x, y, c=20.0, p=2.0)
+    assert loc == pytest.approx(math.sqrt(25.0 / 2))
+    assert card == pytest.approx(math.sqrt(400.0 / 2))
+    assert total == pytest.approx(math.sqrt(loc**2 + card**2))
+
+
+def test_ospa_components_edge_cases() -> None:
+    """Both empty: all zero; one empty: all cardinality; equal sizes: all localisation."""
+    assert ospa_components([], [], c=10.0) == (0.0, 0.0, 0.0)
+    assert ospa_components([[1.0, 2.0]], [], c=10.0) == pytest.approx((10.0, 0.0, 10.0))
+    total, loc, card = ospa_components([[0.0, 0.0]], [[3.0, 4.0]], c=10.0)
+    assert (total, loc, card) == pytest.approx((5.0, 5.0, 0.0))
+
+
+@pytest.mark.parametrize("p", [1.0, 2.0, 3.0])
+def test_ospa_components_decompose_ospa(p: float) -> None:
+    """On random sets total = OSPA and total^p = loc^p + card^p, in either argument order."""
+    rng = np.random.default_rng(7)
+    x, y = rng.random((3, 2)) * 60, rng.random((6, 2)) * 60
+    for a, b in ((x, y), (y, x)):
+        total, loc, card = ospa_components(a, b, 25.0, p)
+        assert total == pytest.approx(ospa(a, b, 25.0, p))
+        assert total**p == pytest.approx(loc**p + card**p)
+        assert card == pytest.approx((25.0**p * 3 / 6) ** (1 / p))
+
+
+@pytest.mark.parametrize(("kwargs", "field"), [
+    ({"x": [[0.0, 0.0]], "y": [[1.0, 1.0]], "c": -1.0}, "c"),
+    ({"x": [[0.0, 0.0]], "y": [[1.0, 1.0]], "c": 10.0, "p": 0.0}, "p"),
+    ({"x": [[0.0, NAN]], "y": [[1.0, 1.0]], "c": 10.0}, "x"),
+    ({"x": [[0.0, 0.0]], "y": [[1.0]], "c": 10.0}, "y"),
+])
+def test_ospa_components_bad_input(kwargs: dict[str, object], field: str) -> None:
+    """Bad sets or parameters raise InvalidInputError naming the field."""
+    with pytest.raises(InvalidInputError) as err:
+        ospa_components(**kwargs)  # type: ignore[arg-type]
     assert err.value.field == field

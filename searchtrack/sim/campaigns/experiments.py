@@ -27,7 +27,7 @@ from searchtrack.plan.optw import BACKENDS as OPTW_BACKENDS
 from searchtrack.plan.optw import read_optw, solve
 from searchtrack.plan.search import CentreProbability, EmptyHorizonMI, lawnmower_3d
 from searchtrack.sim.campaigns import series
-from searchtrack.sim.experiments import road_missions
+from searchtrack.sim.experiments import radio_tracking, road_missions
 from searchtrack.sim.experiments.phd_search import PLANNERS, SearchConfig, run_search_episode
 from searchtrack.sim.experiments.phd_tracking import (
     TRACK_PLANNERS,
@@ -376,6 +376,11 @@ _EXPERIMENTS = (
          "error_m": float, "all_detected_s": float, "planner_ms": float, "filter_ms": float,
          "entropy_series": str},
         _road_tracking, "paper 000's closed-loop road tracking (RBPF + planner): entropy"),
+    Experiment("radio_tracking_episode",
+               tuple(Param(name, kind, default, choices)  # type: ignore[arg-type]
+                     for name, (kind, default, choices) in radio_tracking.PARAMS.items()),
+               radio_tracking.METRICS, radio_tracking.radio_episode,
+               "paper 002's closed loop (TBD/DTT filter + Rényi/CS/straight path): OSPA"),
 )
 
 EXPERIMENTS: dict[str, Experiment] = {e.name: e for e in _EXPERIMENTS}

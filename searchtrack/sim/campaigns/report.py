@@ -137,6 +137,9 @@ CLAIMS: dict[str, str] = {
                              "entropy to about 1/3 of the random planner's, RL to about 1/2; "
                              "the ideal planner approaches the lower bound; RL beats the RHC "
                              "early",
+    "radio_tracking_episode": "paper 002, Fig. 8: TBD below DTT in mean OSPA, the gap growing "
+                              "with noise; DTT's deficit mostly cardinality; Rényi and CS "
+                              "planning below the straight path; Rényi ≤ CS",
     "phd_search_episode": "paper 004: exploration + refinement finds every target sooner than "
                           "the lawnmower; refinement alone does not find them all",
 }

@@ -1,0 +1,171 @@
+"""``searchtrack radio simulate|track|mission``: radio-tagged objects tracked before detection
+(paper 002, Nguyen et al.).
+
+``simulate`` flies the straight sweep over a scenario and records every interval's spectrogram
+(RUN.npz, the truth written apart); ``track`` runs the TBD-LMB or the detection-then-track
+filter over a recorded run (EST.json); ``mission`` flies the closed loop (filter + planner) and
+writes its log, the map and the OSPA-against-time figures. File formats:
+:mod:`searchtrack.sim.radio_run` and :mod:`searchtrack.sim.radio_track_job`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from rich.console import Console
+from rich.markup import escape
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+from searchtrack.cli.common import int_at_least, positive_float, seed_arg
+from searchtrack.cli.output import output_dir, output_file
+
+if TYPE_CHECKING:
+    from searchtrack.models.radio import RadioScenario
+
+
+def _scenario(args: argparse.Namespace) -> RadioScenario:
+    from searchtrack.models.radio import RadioScenario
+
+    scenario = RadioScenario.from_toml(args.scenario)
+    if getattr(args, "noise", None) is not None:
+        import dataclasses
+
+        scenario = dataclasses.replace(scenario, signal=scenario.signal.with_noise(args.noise**2))
+    return scenario
+
+
+def _bar(console: Console, what: str) -> Progress:
+    return Progress(TextColumn(what), BarColumn(), TextColumn("{task.completed}/{task.total} s"),
+                    TimeElapsedColumn(), console=console, transient=True)
+
+
+def simulate(args: argparse.Namespace, console: Console) -> int:
+    """Handler of ``searchtrack radio simulate``."""
+    from searchtrack.sim.radio_run import simulate_run, write_run, write_truth
+
+    out = output_file("--out", args.out)
+    truth_out = output_file("--truth", args.truth) if args.truth else None
+    scenario = _scenario(args)
+    run, truth = simulate_run(scenario, args.seed, measurement=args.measurement)
+    write_run(run, out)
+    shown = f"{run.n_steps} intervals of {scenario.signal.frames}×{scenario.signal.fft_size} " \
+            f"frames, {scenario.signal.n_labels} tags → {out}"
+    if truth_out is not None:
+        write_truth(truth, truth_out)
+        shown += f"; truth → {truth_out}"
+    console.print(escape(shown))
+    return 0
+
+
+def track(args: argparse.Namespace, console: Console) -> int:
+    """Handler of ``searchtrack radio track``."""
+    from searchtrack.sim.radio_run import read_run
+    from searchtrack.sim.radio_track_job import run_radio_track, write_radio_estimates
+
+    out = output_file("--out", args.out)
+    run = read_run(args.run_file)
+    seed = run.seed if args.seed is None else args.seed
+    with _bar(console, f"{args.filter} filter") as bar:
+        task = bar.add_task("filter", total=run.n_steps)
+        result = run_radio_track(run, args.filter, args.particles, seed,
+                                 lambda done, _n: bar.update(task, completed=done))
+    write_radio_estimates(result, out)
+    final = (f", {len(result.estimates[-1])} objects at the end (mean cardinality "
+             f"{result.cardinality[-1]:.2f})" if result.steps else "")
+    console.print(escape(f"{result.steps} of {run.n_steps} intervals, {args.filter.upper()} "
+                         f"with {args.particles} particles per label, "
+                         f"{result.ms_per_step:.1f} ms/step{final} → {out}"))
+    return 0
+
+
+def mission(args: argparse.Namespace, console: Console) -> int:
+    """Handler of ``searchtrack radio mission``."""
+    from searchtrack.core.files import write_text_atomic
+    from searchtrack.plan.radio import RadioPlanSettings
+    from searchtrack.sim.radio_figures import plot_radio_map, plot_radio_ospa
+    from searchtrack.sim.radio_mission import RadioMissionConfig, run_radio_mission
+
+    folder = output_dir("--out", args.out)
+    scenario = _scenario(args)
+    plan = RadioPlanSettings(horizon=args.horizon, plan_particles=args.plan_particles,
+                             r_min_m=args.r_min, p_void_min=args.p_void)
+    config = RadioMissionConfig(filter=args.filter, planner=args.planner, backend=args.backend,
+                                particles_per_label=args.particles, plan=plan,
+                                measurement=args.measurement, keep_out=args.keep_out)
+    with _bar(console, f"{args.filter} + {args.planner}") as bar:
+        task = bar.add_task("mission", total=scenario.n_steps)
+        log = run_radio_mission(scenario, config, args.seed,
+                                lambda done, _n: bar.update(task, completed=done))
+    written = [write_text_atomic(folder / "mission.json", json.dumps(log.to_json()) + "\n")]
+    if log.steps:
+        written += [plot_radio_map(log, folder / "map.png"),
+                    plot_radio_ospa(log, folder / "ospa.png")]
+    total, loc, card = log.mean_ospa()
+    plans = ", ".join(f"{k} {v}" for k, v in sorted(log.plan_status.items()))
+    console.print(escape(
+        f"{log.steps} of {scenario.n_steps} s: mean OSPA {total:.1f} m (localisation "
+        f"{loc:.1f}, cardinality {card:.1f}); unsafe {100 * log.unsafe_fraction():.1f} % of "
+        f"steps; filter {log.filter_ms:.1f} ms/step; plans: {plans}"))
+    console.print(escape("written: " + ", ".join(str(Path(p)) for p in written)))
+    return 0
+
+
+def _common(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--noise", type=positive_float, default=None, metavar="SIGMA_V",
+                   help="receiver noise standard deviation σ_η in volts (Σ_η = σ_η²; "
+                        "default: the scenario's)")
+    p.add_argument("--measurement", choices=("stft", "time"), default="stft",
+                   help="simulate the spectrogram directly (stft, default) or from "
+                        "time-domain windows (time)")
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Register ``radio simulate|track|mission`` on the top-level subparsers."""
+    radio = sub.add_parser("radio", help="radio-tagged objects: simulate, track, fly missions "
+                                         "(paper 002)",
+                           description=__doc__.split("\n\n")[0] if __doc__ else None)
+    rsub = radio.add_subparsers(dest="command", required=True)
+    p_sim = rsub.add_parser("simulate", help="record a straight-sweep run's spectrograms")
+    p_sim.add_argument("scenario", metavar="SCENARIO.toml")
+    p_sim.add_argument("--seed", type=seed_arg, default=0, help="random seed (default 0)")
+    p_sim.add_argument("--out", required=True, metavar="RUN.npz")
+    p_sim.add_argument("--truth", default=None, metavar="TRUTH.json",
+                       help="also write the truth (kept out of RUN.npz)")
+    _common(p_sim)
+    p_sim.set_defaults(run=simulate)
+    p_track = rsub.add_parser("track", help="filter a recorded run")
+    p_track.add_argument("run_file", metavar="RUN.npz")
+    p_track.add_argument("--filter", choices=("tbd", "dtt"), default="tbd")
+    p_track.add_argument("--out", required=True, metavar="EST.json")
+    p_track.add_argument("--particles", type=int_at_least(10), default=50_000, metavar="N",
+                         help="particles per label (default 50000, the paper's)")
+    p_track.add_argument("--seed", type=seed_arg, default=None,
+                         help="filter seed (default: the run's)")
+    p_track.set_defaults(run=track)
+    p_mis = rsub.add_parser("mission", help="fly the closed loop: filter + planner")
+    p_mis.add_argument("scenario", metavar="SCENARIO.toml")
+    p_mis.add_argument("--filter", choices=("tbd", "dtt"), default="tbd")
+    p_mis.add_argument("--planner", choices=("renyi", "cs", "straight"), default="renyi")
+    p_mis.add_argument("--backend", default="exhaustive",
+                       choices=("exhaustive", "beam", "greedy", "auto"),
+                       help="planning backend (default exhaustive)")
+    p_mis.add_argument("--particles", type=int_at_least(10), default=50_000, metavar="N",
+                       help="filter particles per label (default 50000)")
+    p_mis.add_argument("--plan-particles", type=int_at_least(10), default=1000, metavar="N",
+                       help="particles per label the planner draws (default 1000)")
+    p_mis.add_argument("--horizon", type=int_at_least(1), default=3, metavar="H",
+                       help="look-ahead planning intervals (default 3)")
+    p_mis.add_argument("--r-min", type=float, default=50.0, metavar="M",
+                       help="keep-out radius r_min of the void constraint (default 50 m)")
+    p_mis.add_argument("--p-void", type=float, default=0.9, metavar="P",
+                       help="least void probability P_vmin (default 0.9)")
+    p_mis.add_argument("--keep-out", action="store_true",
+                       help="also keep r_min from every estimate in the flown trajectory")
+    p_mis.add_argument("--seed", type=seed_arg, default=0, help="random seed (default 0)")
+    p_mis.add_argument("--out", required=True, metavar="DIR",
+                       help="folder for mission.json, map.png and ospa.png")
+    _common(p_mis)
+    p_mis.set_defaults(run=mission)

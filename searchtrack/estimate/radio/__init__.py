@@ -1,0 +1,61 @@
+"""Radio-tagged objects (Nguyen et al.): the JMS TBD-LMB filter on raw STFT magnitudes.
+
+- :mod:`.likelihood`: the separable Rice-over-Rayleigh likelihood (Proposition 1, eq. 22), a
+  Numba kernel and its NumPy reference.
+- :mod:`.propagation`: the jump-Markov step (eqs. 46–47) of all particles in one Numba pass,
+  draw for draw :func:`searchtrack.models.radio.motion.propagate`.
+- :mod:`.particles`: the labelled particle LMB shared by the filters (one Bernoulli per label,
+  vectorised across labels): birth density, prediction (eqs. 24–27 with re-birth), update
+  (eqs. 29–30), systematic resampling, cardinality and mode read-outs.
+- :mod:`.filter`: :class:`LabelledFilter`, predict–update–resample on each measurement with a
+  given log-likelihood ratio, its read-outs and belief seams; :class:`FilterConfig`.
+- :mod:`.tbd`: :class:`TbdLmbFilter`, the filter with the likelihood of eq. 22.
+- :mod:`.dtt`: the detection-then-track baseline (§IV-B): peaks of the spectrogram feed the same
+  filter through a detection likelihood (:class:`DttLmbFilter`).
+"""
+
+from __future__ import annotations
+
+from searchtrack.estimate.radio.dtt import (
+    Detections,
+    DttConfig,
+    DttLmbFilter,
+    detect_peaks,
+    detection_log_likelihoods,
+)
+from searchtrack.estimate.radio.filter import FilterConfig, LabelledFilter, LogLikelihood
+from searchtrack.estimate.radio.likelihood import (
+    label_log_likelihoods,
+    log_likelihood_ratio,
+    log_likelihood_ratio_reference,
+)
+from searchtrack.estimate.radio.particles import (
+    LabelledParticles,
+    birth_particles,
+    initial_state,
+    predict,
+    resample,
+    update,
+)
+from searchtrack.estimate.radio.tbd import TbdLmbFilter
+
+__all__ = [
+    "Detections",
+    "DttConfig",
+    "DttLmbFilter",
+    "FilterConfig",
+    "LabelledFilter",
+    "LabelledParticles",
+    "LogLikelihood",
+    "TbdLmbFilter",
+    "birth_particles",
+    "detect_peaks",
+    "detection_log_likelihoods",
+    "initial_state",
+    "label_log_likelihoods",
+    "log_likelihood_ratio",
+    "log_likelihood_ratio_reference",
+    "predict",
+    "resample",
+    "update",
+]

@@ -1,0 +1,138 @@
+"""The action-independent part of one planning call: the predicted particle cloud and the
+predicted ideal measurement set (Nguyen et al., §III-D, eqs. 33, 39; footnote 3).
+
+* Draw: ``plan_particles`` per label from the belief by systematic resampling
+  (:func:`~searchtrack.estimate.radio.particles.resample`), so the prediction ``π₁`` has equal
+  weights.
+* Predict: the cloud is propagated second by second over the look-ahead (``H · N_p`` seconds)
+  with the full motion model — kinematics, mode jumps and the ``τ`` random walk
+  (:func:`~searchtrack.models.radio.motion.propagate`) — but without birth or death (footnote 3):
+  ``r`` stays that of the belief. One cloud serves every action sequence: the posterior ``π₂``
+  of a sequence is the same particles with other weights and existences (eq. 39).
+* Ideal measurement set (PIMS, [15]): at the end of each planning interval, the labels with
+  ``r > 0.5`` are estimated at their weighted mean position with the weighted mode of their pulse
+  frame; the ideal measurement is the noise-free magnitude of those estimates
+  (:mod:`~searchtrack.plan.radio.ideal`).
+
+The random draws come from one generator seeded by the solve's ``seed``: the resampling offsets
+first (one per label), then each second's propagation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from searchtrack.core.types import BoolArray, FloatArray, IntArray
+from searchtrack.estimate.radio.particles import LabelledParticles, resample
+from searchtrack.models.radio import propagate
+from searchtrack.plan.radio.divergences import disc_mass
+from searchtrack.plan.radio.problem import RadioPlanProblem
+
+#: A label enters the ideal measurement set when its existence probability exceeds this.
+EXISTENCE_THRESHOLD = 0.5
+
+
+@dataclass(frozen=True, eq=False)
+class LookAhead:
+    """The predicted cloud and ideal-measurement estimates of one planning call.
+
+    Parameters
+    ----------
+    xy
+        ``(T, Λ, N, 2)`` ground positions of the cloud after each second ``1..T``,
+        ``T = H · N_p``.
+    frames
+        ``(H, Λ, N)`` pulse frames ``m(τ)`` (eq. 16) at the end of each planning interval.
+    r
+        ``(Λ,)`` existence probabilities of the prediction (those of the belief).
+    w
+        ``(Λ, N)`` particle weights of the prediction (equal).
+    estimated
+        ``(Λ,)`` labels in the ideal measurement set (``r > 0.5``).
+    estimate_xy
+        ``(H, Λ, 2)`` weighted mean positions at the end of each interval.
+    estimate_frame
+        ``(H, Λ)`` weighted-mode pulse frames at the end of each interval.
+    trees
+        ``T`` k-d trees of the cloud's positions ``(Λ·N, 2)``, one per second (empty when the
+        void region is empty, ``r_min = 0``).
+    """
+
+    xy: FloatArray
+    frames: IntArray
+    r: FloatArray
+    w: FloatArray
+    estimated: BoolArray
+    estimate_xy: FloatArray
+    estimate_frame: IntArray
+    trees: tuple[cKDTree, ...] = ()
+
+    @property
+    def n_labels(self) -> int:
+        """``Λ``."""
+        return int(self.xy.shape[1])
+
+    @property
+    def n_particles(self) -> int:
+        """``N``, particles per label."""
+        return int(self.xy.shape[2])
+
+    def disc_mass(self, second: int, centres: FloatArray, radius_m: float) -> FloatArray:
+        """``(K, Λ)`` weight of each label's particles strictly within ``radius_m`` (ground
+        distance) of each of ``K`` centres ``(K, 2)``, at look-ahead second ``second``
+        (0-based: the cloud after ``second + 1`` seconds); by the k-d trees when built, else
+        densely."""
+        k = centres.shape[0]
+        n_labels, n = self.n_labels, self.n_particles
+        if radius_m <= 0.0 or k == 0:
+            return np.zeros((k, n_labels))
+        if not self.trees:
+            return disc_mass(self.w, self.xy[second], centres, radius_m)
+        pairs = cKDTree(centres).sparse_distance_matrix(
+            self.trees[second], radius_m, output_type="ndarray")
+        pairs = pairs[pairs["v"] < radius_m]
+        label = pairs["j"] // n
+        mass = np.bincount(pairs["i"] * n_labels + label,
+                           weights=self.w.ravel()[pairs["j"]], minlength=k * n_labels)
+        return np.asarray(mass.reshape(k, n_labels), dtype=np.float64)
+
+    def void(self, second: int, centres: FloatArray, radius_m: float) -> FloatArray:
+        """``(K,)`` void probability ``Π_λ (1 − r_λ P_λ)`` (eq. 44) of the discs of radius
+        ``radius_m`` around ``centres`` at look-ahead second ``second`` (0-based)."""
+        mass = self.disc_mass(second, centres, radius_m)
+        return np.asarray(np.prod(1.0 - self.r * mass, axis=1), dtype=np.float64)
+
+
+def look_ahead(problem: RadioPlanProblem, rng: np.random.Generator) -> LookAhead:
+    """Draw, predict and estimate the look-ahead cloud of ``problem`` (module docstring)."""
+    sc = problem.scenario
+    st = problem.settings
+    n_p = problem.steps_per_interval
+    total = problem.n_poses
+    drawn = resample(problem.belief, rng, st.plan_particles)
+    x, mode, tau = drawn.x, drawn.mode, drawn.tau
+    w = drawn.w
+    r = np.array(problem.belief.r, dtype=np.float64)
+    n_labels, n = w.shape
+    xy = np.empty((total, n_labels, n, 2))
+    frames = np.empty((st.horizon, n_labels, n), dtype=np.int64)
+    est_xy = np.empty((st.horizon, n_labels, 2))
+    est_frame = np.empty((st.horizon, n_labels), dtype=np.int64)
+    for t in range(total):
+        x, mode, tau = propagate(sc.motion, x, mode, tau, rng)
+        xy[t] = x[:, :, ::2]
+        if (t + 1) % n_p == 0:
+            j = (t + 1) // n_p - 1
+            cloud = LabelledParticles(x, mode, tau, w, r)
+            frames[j] = sc.signal.frame_of(tau)
+            est_xy[j] = cloud.mean_xy()
+            est_frame[j] = cloud.frame_mode(sc.signal)
+    arrays = (xy, frames, r, w, r > EXISTENCE_THRESHOLD, est_xy, est_frame)
+    for arr in arrays:
+        arr.setflags(write=False)
+    trees = tuple(cKDTree(xy[t].reshape(-1, 2), balanced_tree=False, compact_nodes=False)
+                  for t in range(total)) if st.r_min_m > 0 else ()
+    return LookAhead(*arrays, trees=trees)

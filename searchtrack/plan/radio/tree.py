@@ -1,0 +1,217 @@
+"""The look-ahead tree of action sequences, scored in batches (Nguyen et al., eqs. 29–33, 44).
+
+A node at level ``j`` is a prefix of ``j`` primitives. Expanding a batch of nodes flies every
+primitive from each node's last pose (:func:`~searchtrack.models.radio.uav.primitives`) and,
+for each child:
+
+* the void probability of the predicted cloud at each of its ``N_p`` poses (eq. 44; the
+  prediction ``π₁`` keeps ``r`` and equal weights);
+* the update of the parent's posterior ``π₂`` by the ideal measurement at the interval's last
+  pose (eqs. 29–30: ``w_i ← w_i g_i / η``, ``r ← r η / (1 − r + r η)``, ``η = Σ_i w_i g_i``;
+  :mod:`~searchtrack.plan.radio.ideal`), so a prefix's update is shared by all its sequences;
+* the reward ``D(π₂, π₁)`` (eq. 33) and the discounted sum so far (eq. 32).
+
+Work is vectorised over the children and the particles: ``(children, Λ, N)`` arrays.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from searchtrack.core.types import BoolArray, FloatArray, IntArray
+from searchtrack.models.radio import primitives
+from searchtrack.plan.radio.divergences import cauchy_schwarz, renyi
+from searchtrack.plan.radio.ideal import (
+    IdealLikelihood,
+    amplitudes,
+    frame_counts,
+    frame_overlap,
+)
+from searchtrack.plan.radio.kernels import ideal_log_likelihoods
+from searchtrack.plan.radio.lookahead import LookAhead, look_ahead
+from searchtrack.plan.radio.problem import RadioPlan, RadioPlanProblem
+
+#: ``pose (3,) → (headings (A,), paths (A, N_p, 3))``: the actions available from a pose.
+Actions = Callable[[FloatArray], tuple[FloatArray, FloatArray]]
+
+#: Largest ``children · Λ · N`` one expansion works on (the callers split larger batches).
+BATCH_ELEMENTS = 1 << 20
+
+
+@dataclass(frozen=True, eq=False)
+class Nodes:
+    """A batch of ``B`` tree nodes of one level ``j`` (prefixes of ``j`` primitives).
+
+    Parameters
+    ----------
+    pose
+        ``(B, 3)`` last pose.
+    headings
+        ``(B, j)`` target headings of the primitives.
+    path
+        ``(B, j · N_p, 3)`` poses so far.
+    void
+        ``(B, j · N_p)`` void probability at each pose.
+    rewards
+        ``(B, j)`` undiscounted rewards at each interval end.
+    log_w
+        ``(B, Λ, N)`` log weights of the posterior ``π₂``.
+    r
+        ``(B, Λ)`` existence probabilities of ``π₂``.
+    value
+        ``(B,)`` discounted reward so far.
+    """
+
+    pose: FloatArray
+    headings: FloatArray
+    path: FloatArray
+    void: FloatArray
+    rewards: FloatArray
+    log_w: FloatArray
+    r: FloatArray
+    value: FloatArray
+
+    @property
+    def size(self) -> int:
+        """``B``."""
+        return int(self.pose.shape[0])
+
+    @property
+    def level(self) -> int:
+        """``j``, primitives per node."""
+        return int(self.headings.shape[1])
+
+    @property
+    def min_void(self) -> FloatArray:
+        """``(B,)`` smallest void probability along each prefix (1 at the root)."""
+        if self.void.shape[1] == 0:
+            return np.ones(self.size)
+        return np.asarray(self.void.min(axis=1), dtype=np.float64)
+
+    def violation(self, p_void_min: float) -> FloatArray:
+        """``(B,)`` total violation ``Σ_t max(0, P_vmin − B_t)`` along each prefix (it only
+        grows as a prefix is extended, so it bounds its sequences' from below)."""
+        return np.asarray(np.maximum(0.0, p_void_min - self.void).sum(axis=1),
+                          dtype=np.float64)
+
+    def take(self, index: IntArray | BoolArray | slice) -> Nodes:
+        """The nodes at ``index``, in that order."""
+        return Nodes(*(a[index] for a in (self.pose, self.headings, self.path, self.void,
+                                           self.rewards, self.log_w, self.r, self.value)))
+
+    def chunks(self, per_child: int) -> list[Nodes]:
+        """This batch split so that each part's children hold at most :data:`BATCH_ELEMENTS`
+        particle entries, ``per_child`` entries times the most children a node can have."""
+        step = max(1, BATCH_ELEMENTS // max(1, per_child))
+        return [self.take(slice(lo, lo + step)) for lo in range(0, self.size, step)]
+
+
+class Scorer:
+    """Everything one solve shares: the look-ahead cloud, the likelihood table and the rules.
+
+    Built once per solve from ``problem`` and ``seed`` (the look-ahead draws); the backends
+    only choose which nodes to :meth:`expand`.
+    """
+
+    def __init__(self, problem: RadioPlanProblem, seed: int) -> None:
+        self.problem = problem
+        self.settings = problem.settings
+        self.look: LookAhead = look_ahead(problem, np.random.default_rng(seed))
+        self.likelihood = IdealLikelihood.of(problem.scenario.signal)
+        m = problem.scenario.signal.frames
+        self._counts = frame_counts(self.look.frames, m)
+        self._overlap = frame_overlap(self.look.frames, self.look.estimate_frame, m)
+        with np.errstate(divide="ignore"):
+            self._log_w1 = np.log(self.look.w)
+
+    @property
+    def horizon(self) -> int:
+        """``H``."""
+        return self.settings.horizon
+
+    @property
+    def per_child(self) -> int:
+        """Particle entries of one child times the most children of a node (for chunking)."""
+        return self.problem.scenario.uav.n_headings * self.look.n_labels * self.look.n_particles
+
+    def root(self) -> Nodes:
+        """The root: the UAV's pose, no primitive yet, ``π₂ = π₁``."""
+        return Nodes(self.problem.uav_pose[None, :].copy(), np.zeros((1, 0)),
+                     np.zeros((1, 0, 3)), np.zeros((1, 0)), np.zeros((1, 0)),
+                     self._log_w1[None].copy(), self.look.r[None].copy(), np.zeros(1))
+
+    def primitives(self, pose: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """The action primitives from ``pose`` that stay in the area (all if none does)."""
+        sc = self.problem.scenario
+        return primitives(sc.uav, pose, sc.area_m)
+
+    def divergence(self, r2: FloatArray, w2: FloatArray) -> FloatArray:
+        """``(B,)`` ``D(π₂, π₁)`` of the settings' reward for posteriors ``(B, Λ)``,
+        ``(B, Λ, N)``."""
+        st = self.settings
+        if st.reward == "cs":
+            return cauchy_schwarz(self.look.r, self.look.w, r2, w2, st.cs_k)
+        return renyi(self.look.r, self.look.w, r2, w2, st.alpha)
+
+    def expand(self, nodes: Nodes, actions: Actions | None = None) -> Nodes:
+        """Every child of every node, in node order then action order."""
+        act = self.primitives if actions is None else actions
+        heads, paths, counts = [], [], []
+        for b in range(nodes.size):
+            h, p = act(nodes.pose[b])
+            heads.append(h)
+            paths.append(p)
+            counts.append(h.size)
+        parent = np.repeat(np.arange(nodes.size), counts)
+        head = np.concatenate(heads)
+        path = np.concatenate(paths, axis=0)                     # (C, N_p, 3)
+        j = nodes.level
+        n_p = path.shape[1]
+        look, st = self.look, self.settings
+        void = np.stack([look.void(j * n_p + s, path[:, s, :2], st.r_min_m)
+                         for s in range(n_p)], axis=1)
+        end = path[:, -1, :]
+        signal = self.problem.scenario.signal
+        gamma_hat = amplitudes(signal, look.estimate_xy[j], end) * look.estimated  # (C, Λ)
+        log_g = ideal_log_likelihoods(signal, self.likelihood, look.xy[j * n_p + n_p - 1], end,
+                                      gamma_hat, self._counts[j], self._overlap[j])
+        log_w, r = _update(nodes.log_w[parent], nodes.r[parent], log_g)
+        reward = self.divergence(r, np.exp(log_w))
+        return Nodes(end, np.concatenate([nodes.headings[parent], head[:, None]], axis=1),
+                     np.concatenate([nodes.path[parent], path], axis=1),
+                     np.concatenate([nodes.void[parent], void], axis=1),
+                     np.concatenate([nodes.rewards[parent], reward[:, None]], axis=1),
+                     log_w, r, nodes.value[parent] + st.discount**j * reward)
+
+    def expand_all(self, nodes: Nodes, actions: Actions | None = None) -> Nodes:
+        """:meth:`expand` in parts of bounded memory, the children joined in order."""
+        parts = [self.expand(part, actions) for part in nodes.chunks(self.per_child)]
+        return Nodes(*(np.concatenate(arrays) for arrays in zip(
+            *((p.pose, p.headings, p.path, p.void, p.rewards, p.log_w, p.r, p.value)
+              for p in parts), strict=True)))
+
+    def feasible(self, nodes: Nodes) -> BoolArray:
+        """``(B,)`` whether every void probability so far exceeds ``P_vmin``."""
+        return np.asarray(nodes.min_void > self.settings.p_void_min, dtype=np.bool_)
+
+    def plan(self, nodes: Nodes, i: int) -> RadioPlan:
+        """Node ``i`` (a complete sequence) as a plan."""
+        return RadioPlan(nodes.headings[i], nodes.path[i], nodes.rewards[i], nodes.void[i],
+                         bool(self.feasible(nodes)[i]))
+
+
+def _update(log_w: FloatArray, r: FloatArray, log_g: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Eqs. 29–30 in log space for ``(B, Λ, N)`` normalised log weights and ``(B, Λ)``
+    existences: the posterior log weights and existences."""
+    post = log_w + log_g
+    peak = post.max(axis=2, keepdims=True)
+    log_eta = peak[..., 0] + np.log(np.exp(post - peak).sum(axis=2))
+    post -= log_eta[..., None]
+    with np.errstate(divide="ignore"):
+        a = np.log(r) + log_eta
+        b = np.log1p(-r)
+        r_new = np.exp(a - np.logaddexp(a, b))
+    return post, np.where(r > 0.0, r_new, 0.0)

@@ -1,0 +1,111 @@
+"""``searchtrack radio simulate|track|mission``: files in and out, bad input named with exit
+status 2 and nothing written, Ctrl-C keeping what was done (130)."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import searchtrack.cli as cli
+from searchtrack.core.interrupt import clear_stop, request_stop
+
+
+@pytest.fixture(autouse=True)
+def _clean_stop() -> Iterator[None]:
+    clear_stop()
+    yield
+    clear_stop()
+
+
+def _scenario(tmp: Path, extra: str = "") -> str:
+    path = tmp / "short.toml"
+    path.write_text(f"duration_s = 6.0\n{extra}", encoding="utf-8")
+    return str(path)
+
+
+@pytest.fixture
+def recorded(tmp_path: Path) -> Path:
+    out = tmp_path / "run.npz"
+    assert cli.main(["radio", "simulate", _scenario(tmp_path), "--seed", "2", "--out",
+                     str(out), "--truth", str(tmp_path / "truth.json"), "--noise",
+                     "0.01"]) == 0
+    return out
+
+
+def test_simulate_then_track(recorded: Path, tmp_path: Path,
+                             capsys: pytest.CaptureFixture[str]) -> None:
+    truth = json.loads((tmp_path / "truth.json").read_text())
+    assert len(truth["times_s"]) == 6 and len(truth["tags"]) == 4
+    for name in ("tbd", "dtt"):
+        out = tmp_path / f"{name}.json"
+        assert cli.main(["radio", "track", str(recorded), "--filter", name, "--particles",
+                         "100", "--out", str(out)]) == 0
+        est = json.loads(out.read_text())
+        assert len(est["estimates"]) == 6 and est["filter"] == name
+    assert "6 of 6 intervals" in capsys.readouterr().out
+
+
+def test_mission_writes_log_and_figures(tmp_path: Path) -> None:
+    folder = tmp_path / "mission"
+    assert cli.main(["radio", "mission", _scenario(tmp_path), "--planner", "renyi",
+                     "--particles", "100", "--plan-particles", "30", "--horizon", "1",
+                     "--out", str(folder)]) == 0
+    assert sorted(p.name for p in folder.iterdir()) == ["map.png", "mission.json", "ospa.png"]
+    doc = json.loads((folder / "mission.json").read_text())
+    assert doc["steps"] == 6 and doc["planner"] == "renyi"
+
+
+@pytest.mark.parametrize(("args", "named"), [
+    (["--r-min", "-5"], "r_min"),
+    (["--p-void", "1.5"], "p_void"),
+])
+def test_unsafe_parameters_are_refused(tmp_path: Path, args: list[str], named: str,
+                                       capsys: pytest.CaptureFixture[str]) -> None:
+    folder = tmp_path / "out"
+    code = cli.main(["radio", "mission", _scenario(tmp_path), "--particles", "50",
+                     "--out", str(folder), *args])
+    assert code == 2 and named in capsys.readouterr().err
+    assert not any(folder.glob("*"))
+
+
+def test_unknown_scenario_key_is_named(tmp_path: Path,
+                                       capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "run.npz"
+    code = cli.main(["radio", "simulate", _scenario(tmp_path, "[signal]\nbogus = 1\n"),
+                     "--out", str(out)])
+    assert code == 2 and "bogus" in capsys.readouterr().err and not out.exists()
+
+
+def test_nan_frames_are_refused(recorded: Path, tmp_path: Path,
+                                capsys: pytest.CaptureFixture[str]) -> None:
+    with np.load(recorded) as data:
+        arrays = {k: data[k] for k in data.files}
+    arrays["frames"][1, 0, 0] = np.nan
+    bad = tmp_path / "bad.npz"
+    with bad.open("wb") as fh:
+        np.savez(fh, **arrays)
+    out = tmp_path / "est.json"
+    assert cli.main(["radio", "track", str(bad), "--out", str(out)]) == 2
+    assert "frames" in capsys.readouterr().err and not out.exists()
+
+
+def test_ctrl_c_keeps_the_steps_filtered(recorded: Path, tmp_path: Path,
+                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    from searchtrack.estimate.radio import TbdLmbFilter
+
+    step = TbdLmbFilter.step
+
+    def stopping(self: TbdLmbFilter, z: np.ndarray, pose: np.ndarray) -> None:
+        step(self, z, pose)
+        request_stop()
+
+    monkeypatch.setattr(TbdLmbFilter, "step", stopping)
+    out = tmp_path / "est.json"
+    assert cli.main(["radio", "track", str(recorded), "--particles", "50", "--out",
+                     str(out)]) == 130
+    est = json.loads(out.read_text())
+    assert est["interrupted"] and len(est["estimates"]) == 1

@@ -1,0 +1,78 @@
+"""The look-ahead cloud: the documented draws, no birth or death, the estimates, and the void
+probability against the plain-array form."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from searchtrack.estimate.radio.particles import resample
+from searchtrack.models.radio import propagate
+from searchtrack.plan.radio.divergences import disc_mass, void_probability
+from searchtrack.plan.radio.lookahead import look_ahead
+
+from .helpers import problem
+
+
+def test_shapes_and_prediction_without_birth_or_death() -> None:
+    """T = H·N_p seconds of Λ × N positions, H frame sets; r is the belief's, weights equal."""
+    p = problem(horizon=3, plan_particles=40)
+    la = look_ahead(p, np.random.default_rng(0))
+    assert la.xy.shape == (15, 4, 40, 2) and la.frames.shape == (3, 4, 40)
+    assert la.estimate_xy.shape == (3, 4, 2) and la.estimate_frame.shape == (3, 4)
+    assert np.array_equal(la.r, p.belief.r)
+    assert np.allclose(la.w, 1.0 / 40)
+    assert la.estimated.tolist() == [True, True, False, True]
+    assert len(la.trees) == 15
+
+
+def test_draws_follow_the_documented_recipe() -> None:
+    """Systematic resampling, then one full propagation per second, all from one generator."""
+    p = problem(horizon=2, plan_particles=30)
+    la = look_ahead(p, np.random.default_rng(5))
+    rng = np.random.default_rng(5)
+    cloud = resample(p.belief, rng, 30)
+    x, mode, tau = cloud.x, cloud.mode, cloud.tau
+    for t in range(10):
+        x, mode, tau = propagate(p.scenario.motion, x, mode, tau, rng)
+        assert np.array_equal(la.xy[t], x[:, :, ::2])
+        if t in (4, 9):
+            j = t // 5
+            frames = p.scenario.signal.frame_of(tau)
+            assert np.array_equal(la.frames[j], frames)
+            assert np.allclose(la.estimate_xy[j], x[:, :, ::2].mean(axis=1))
+            for lab in range(4):
+                counts = np.bincount(frames[lab])
+                assert la.estimate_frame[j, lab] == int(np.argmax(counts))
+
+
+def test_deterministic_per_seed() -> None:
+    """The same seed gives the same cloud; another seed another one."""
+    p = problem()
+    a, b = look_ahead(p, np.random.default_rng(1)), look_ahead(p, np.random.default_rng(1))
+    c = look_ahead(p, np.random.default_rng(2))
+    assert np.array_equal(a.xy, b.xy) and not np.array_equal(a.xy, c.xy)
+
+
+@pytest.mark.parametrize("radius", [0.0, 30.0, 80.0, 400.0])
+def test_void_equals_the_plain_array_form(radius: float) -> None:
+    """Disc mass and void probability from the k-d trees equal the dense computation."""
+    p = problem(plan_particles=50)
+    la = look_ahead(p, np.random.default_rng(3))
+    centres = np.random.default_rng(4).uniform(200.0, 1100.0, (25, 2))
+    for t in (0, 7):
+        mass = la.disc_mass(t, centres, radius)
+        assert np.allclose(mass, disc_mass(la.w, la.xy[t], centres, radius), atol=1e-12)
+        assert np.allclose(la.void(t, centres, radius),
+                           void_probability(la.r, la.w, la.xy[t], centres, radius), atol=1e-12)
+
+
+def test_no_trees_without_a_void_region() -> None:
+    """r_min = 0: no trees are built and the empty disc has void probability 1; another radius
+    is then computed densely, not silently taken as empty."""
+    p = problem(r_min_m=0.0)
+    la = look_ahead(p, np.random.default_rng(0))
+    assert la.trees == ()
+    assert np.array_equal(la.void(3, np.array([[850.0, 650.0]]), 0.0), [1.0])
+    assert np.allclose(la.void(3, np.array([[850.0, 650.0]]), 80.0),
+                       void_probability(la.r, la.w, la.xy[3], np.array([[850.0, 650.0]]), 80.0))

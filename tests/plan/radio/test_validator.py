@@ -1,0 +1,94 @@
+"""The independent check: every backend's plan is flyable, its void probabilities and rewards
+are recomputed by brute force, and tampered plans are caught."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from searchtrack.core.result import Status
+from searchtrack.models.radio import fly_heading
+from searchtrack.plan.radio import RadioPlan, RadioPlanProblem, check_plan, solve
+
+from .helpers import problem, spread_belief, surrounded, tag_ahead
+
+BACKENDS = ["exhaustive", "beam", "greedy", "straight", "auto"]
+
+
+@pytest.mark.parametrize("reward", ["renyi", "cs"])
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_every_backend_plan_checks(backend: str, reward: str) -> None:
+    """Valid kinematics; void equal to the planner's; rewards equal to the exact-likelihood
+    recomputation (rel. 1e-6); the constraint verdict and the objective agree."""
+    p = problem(tag_ahead(), horizon=2, plan_particles=40, reward=reward, alpha=0.7)
+    res = solve(p, backend=backend, seed=7, time_limit_s=30.0)
+    assert res.plan is not None
+    check = check_plan(p, res.plan, seed=7, any_heading=backend == "straight")
+    assert check.valid, check.reasons
+    assert np.allclose(check.void, res.plan.void, rtol=0.0, atol=1e-12)
+    assert check.meets_constraint == res.plan.feasible
+    assert np.allclose(check.rewards, res.plan.rewards, rtol=1e-6, atol=1e-12)
+    if res.plan.feasible:
+        assert res.objective == pytest.approx(check.objective, rel=1e-6)
+    else:
+        assert res.objective == -math.inf
+
+
+def test_least_violating_plan_checks() -> None:
+    """The least-violating plan is flyable and its recomputed constraint fails as reported."""
+    p = problem(surrounded(), horizon=2, plan_particles=40)
+    res = solve(p, backend="exhaustive")
+    assert res.status is Status.FEASIBLE and res.plan is not None
+    check = check_plan(p, res.plan)
+    assert check.valid and not check.meets_constraint
+    assert check.void.min() == pytest.approx(res.plan.min_void, abs=1e-12)
+
+
+def _tampered(plan: RadioPlan, **change: np.ndarray) -> RadioPlan:
+    arrays = {"headings": plan.headings, "path": plan.path, "rewards": plan.rewards,
+              "void": plan.void}
+    arrays.update(change)
+    return RadioPlan(arrays["headings"], arrays["path"], arrays["rewards"], arrays["void"],
+                     plan.feasible)
+
+
+def _plan(p: RadioPlanProblem) -> RadioPlan:
+    res = solve(p, backend="greedy")
+    assert res.plan is not None
+    return res.plan
+
+
+def test_faults_are_named() -> None:
+    """A moved pose, an over-sharp turn, a heading that is no primitive, a wrong length."""
+    p = problem(spread_belief(), horizon=2, plan_particles=30)
+    plan = _plan(p)
+    path = plan.path.copy()
+    path[3, :2] += 5.0
+    assert any("moves" in r for r in check_plan(p, _tampered(plan, path=path)).reasons)
+    path = plan.path.copy()
+    path[6, 2] += 1.5
+    reasons = check_plan(p, _tampered(plan, path=path)).reasons
+    assert any("more than" in r for r in reasons) and not check_plan(p, _tampered(
+        plan, path=path)).valid
+    heads = plan.headings.copy()
+    heads[1] += 0.3
+    assert any("not a primitive" in r for r in check_plan(p, _tampered(plan,
+                                                                       headings=heads)).reasons)
+    short = RadioPlan(plan.headings[:1], plan.path[:5], plan.rewards[:1], plan.void[:5], True)
+    bad = check_plan(p, short)
+    assert not bad.valid and "horizon" in bad.reasons[0] and math.isnan(bad.objective)
+
+
+def test_leaving_the_area_is_a_fault() -> None:
+    """Flying west from near the west edge is flyable but leaves the area: flagged; the
+    planner's own plan from there stays inside."""
+    pose = np.array([20.0, 750.0, math.pi])
+    p = problem(spread_belief(), pose, horizon=1, plan_particles=30, n_headings=8)
+    assert check_plan(p, _plan(p)).valid
+    west = fly_heading(p.scenario.uav, pose, math.pi, 5.0)
+    plan = RadioPlan(np.array([math.pi]), west, np.zeros(1), np.ones(5), True)
+    check = check_plan(p, plan)
+    # the first pose lies on the edge x = 0, which belongs to the area
+    assert not check.valid and check.reasons == ("4 poses outside the area",)
