@@ -53,7 +53,10 @@ class Result(Generic[PlanT]):
     backend
         Name of the backend that produced ``plan`` (for ``auto``, the one that answered).
     plan
-        The solution, or ``None``.
+        The solution, or ``None``. An ``INFEASIBLE`` or ``NO_SOLUTION`` result may carry a
+        *fallback* instead: a plan that breaks a constraint (e.g. the least-violating one), which
+        the caller may use at its own risk; ``has_plan`` stays False for these statuses, so no
+        composition mistakes a fallback for a solution.
     sense
         Maximise or minimise (sets the sign convention of ``gap``).
     message
@@ -78,8 +81,16 @@ class Result(Generic[PlanT]):
         if self.status is Status.INTERRUPTED:
             if self.plan is not None and self.objective is None:
                 raise ValueError("an INTERRUPTED result with a plan needs its objective")
-        elif not self.status.has_plan and self.plan is not None:
+        elif self.status is Status.ERROR and self.plan is not None:
             raise ValueError(f"status={self.status.name} must not carry a plan")
+
+    @property
+    def fallback(self) -> PlanT | None:
+        """The plan of an ``INFEASIBLE`` or ``NO_SOLUTION`` result that breaks a constraint
+        (``None`` for the other statuses, whose plan is a solution)."""
+        if self.status in (Status.INFEASIBLE, Status.NO_SOLUTION):
+            return self.plan
+        return None
 
     @property
     def gap(self) -> float | None:
@@ -113,9 +124,12 @@ def merge_answers(heuristic: Result[PlanT], exact: Result[PlanT], runtime_s: flo
 
 def interrupted(result: Result[PlanT]) -> Result[PlanT]:
     """``result`` marked ``INTERRUPTED`` when a stop was requested and it is not proven:
-    a ``FEASIBLE`` answer keeps its plan and bound, a ``NO_SOLUTION`` has none. Proven answers
+    a ``FEASIBLE`` answer keeps its plan and bound, a ``NO_SOLUTION`` has none (one with a
+    fallback keeps its status and fallback, with the note). Proven answers
     (``OPTIMAL``, ``INFEASIBLE``) and errors are returned as they are."""
     if not stop_requested() or result.status not in (Status.FEASIBLE, Status.NO_SOLUTION):
         return result
     note = "interrupted" + (f": {result.message}" if result.message else "")
+    if result.fallback is not None:  # keep the fallback: it is not a solution to report
+        return dataclasses.replace(result, message=note)
     return dataclasses.replace(result, status=Status.INTERRUPTED, message=note)

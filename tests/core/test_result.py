@@ -29,6 +29,18 @@ def test_result_refuses_nonsense() -> None:
         Result(Status.ERROR, None, None, 1.0, "x", plan=[1])
 
 
+def test_infeasible_may_carry_a_fallback_that_is_not_a_solution() -> None:
+    """INFEASIBLE / NO_SOLUTION may carry a constraint-breaking fallback: it is exposed as
+    ``fallback``, the status still has no plan, and merging ignores it."""
+    from searchtrack.core.result import merge_answers
+
+    proved = Result(Status.INFEASIBLE, None, None, 1.0, "x", plan=["least violating"])
+    assert proved.fallback == ["least violating"] and not proved.status.has_plan
+    assert Result(Status.FEASIBLE, 1.0, None, 1.0, "x", plan=[1]).fallback is None
+    assert merge_answers(proved, Result(Status.NO_SOLUTION, None, None, 1.0, "y", [2]), 1.0,
+                         1e-6) is None
+
+
 def test_merge_answers_takes_the_better_plan_and_the_tighter_bound() -> None:
     """merge_answers: best plan of the two, smallest bound, OPTIMAL once they meet; None
     without any plan."""

@@ -15,16 +15,15 @@ enumeration order (node order, then primitive order).
 * :func:`beam_search`: level by level, keeping the ``width`` best prefixes by the same ranking.
 
 An answer whose best sequence meets the constraint is ``OPTIMAL`` (search complete and exact)
-or ``FEASIBLE``. When no sequence meets it, :class:`~searchtrack.core.result.Result` allows no
-plan with ``INFEASIBLE``, so the answer is ``FEASIBLE`` with the least-violating plan
-(``plan.feasible`` is False, so the caller may still fly it), objective ``−inf`` (the value of
-an infeasible answer, so any feasible plan wins a comparison), ``stats["infeasible"] = 1`` and
-``stats["proven_infeasible"] = 1`` when the search was complete; its message says so.
+or ``FEASIBLE``. When no sequence meets it the answer is ``INFEASIBLE`` (the exact search saw
+every sequence) or ``NO_SOLUTION`` (it did not), with the least-violating plan as its fallback
+(:attr:`~searchtrack.core.result.Result.fallback`; ``plan.feasible`` is False) for the caller
+to fly at its own risk, no objective, ``stats["infeasible"] = 1`` and
+``stats["proven_infeasible"]``; its message says so.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -163,7 +162,8 @@ def answer(scorer: Scorer, found: Search, backend: str, deadline: Deadline, *,
                       message=f"{backend}: {note}", stats=stats)
     stats["proven_infeasible"] = float(proven)
     scope = "no sequence" if proven else "no sequence searched"
-    return Result(Status.FEASIBLE, -math.inf, None, deadline.elapsed(), backend, plan,
+    return Result(Status.INFEASIBLE if proven else Status.NO_SOLUTION, None, None,
+                  deadline.elapsed(), backend, plan,
                   message=(f"{backend}: {note}; {scope} keeps the void probability above "
                            f"{scorer.settings.p_void_min:g}; least-violating plan "
                            f"(min void {plan.min_void:.4g}, reward {best.value:.4g})"),

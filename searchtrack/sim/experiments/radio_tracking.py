@@ -32,6 +32,7 @@ PARAMS: dict[str, tuple[type, object, tuple[object, ...]]] = {
     "backend": (str, "exhaustive", ("exhaustive", "beam", "greedy", "auto")),
     "measurement": (str, "stft", MEASUREMENTS),
     "keep_out": (bool, False, ()),
+    "p_void_min": (float, 0.9, ()),
     "duration_s": (float, 400.0, ()),
 }
 """Parameters: name → (type, default, allowed values or ``()`` for any)."""
@@ -49,8 +50,9 @@ def radio_episode(params: Mapping[str, bool | int | float | str],
     scenario = dataclasses.replace(
         base, duration_s=float(params["duration_s"]),
         uav=dataclasses.replace(base.uav, n_headings=int(params["headings"])))
-    plan = dataclasses.replace(RadioPlanSettings(), horizon=int(params["horizon"]),
-                               plan_particles=int(params["plan_particles"]))
+    plan = RadioPlanSettings(horizon=int(params["horizon"]),
+                             plan_particles=int(params["plan_particles"]),
+                             p_void_min=float(params["p_void_min"]))
     config = RadioMissionConfig(
         filter=str(params["filter"]), planner=str(params["planner"]),
         backend=str(params["backend"]), particles_per_label=int(params["particles"]),

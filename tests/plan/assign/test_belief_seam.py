@@ -89,3 +89,30 @@ def test_search_answers_do_not_depend_on_the_belief_class(
             assert r.status is first.status and r.objective == first.objective, backend
             assert r.plan is not None
             np.testing.assert_array_equal(r.plan.sequence, first.plan.sequence)
+
+
+def test_radio_tag_filter_is_a_belief_the_assignment_scores() -> None:
+    """Paper 002's TBD-LMB filter is a ParticleBelief (masses r_λ w_i): paper 003's END scores
+    actions on it, preferring the action over the tag it has found."""
+    import dataclasses
+
+    from searchtrack.estimate.radio import TbdLmbFilter
+    from searchtrack.estimate.radio.filter import FilterConfig
+    from searchtrack.models.radio import RadioScenario, simulate_stft
+
+    scenario = RadioScenario.paper(noise_var_v2=0.01**2)
+    tag = np.array([[850.0, 320.0]])
+    filt = TbdLmbFilter(scenario, FilterConfig(particles_per_label=400), seed=1)
+    rng = np.random.default_rng(2)
+    for k in range(12):
+        pose = np.array([700.0 + 10.0 * k, 250.0, 0.0])
+        filt.step(simulate_stft(scenario.signal, tag, np.array([0]), np.array([0.1]), pose, rng),
+                  pose)
+    assert isinstance(filt, ParticleBelief) and filt.state.r[0] > 0.9
+    over, away = [850.0, 320.0, 30.0], [200.0, 1300.0, 30.0]
+    actions = (np.array([[away], [over]]),)
+    problem = assign.AssignmentProblem(actions, filt, GaussianFieldOfView(0.9, 60.0, 30.0))
+    result = assign.solve(problem, backend="greedy")
+    assert result.plan is not None and result.plan.actions == (1,)
+    copy = dataclasses.replace(problem, belief=WeightedParticles(filt.positions, filt.weights))
+    assert assign.solve(copy, backend="greedy").objective == pytest.approx(result.objective)

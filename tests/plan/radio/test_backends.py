@@ -49,17 +49,19 @@ def test_unconstrained_plan_may_fly_into_it() -> None:
 
 @pytest.mark.parametrize("reward", ["renyi", "cs"])
 def test_nothing_feasible_gives_the_least_violating_plan(reward: str) -> None:
-    """Surrounded by certain tags: FEASIBLE, objective −inf, the plan of the least total
-    violation over all sequences, flagged infeasible and proven so."""
+    """Surrounded by certain tags: INFEASIBLE, no objective, the plan of the least total
+    violation over all sequences as its fallback, flagged and proven so; beam answers with a
+    fallback too (INFEASIBLE here: its beam dropped nothing, so it saw every sequence)."""
     p = problem(surrounded(), horizon=2, plan_particles=40, reward=reward)
     res = solve_exhaustive(p)
-    assert res.status is Status.FEASIBLE and res.objective == -math.inf
-    assert res.plan is not None and not res.plan.feasible
+    assert res.status is Status.INFEASIBLE and res.objective is None
+    assert res.plan is not None and res.fallback is res.plan and not res.plan.feasible
     assert res.stats["proven_infeasible"] == 1.0
     least = min(plan.violation(0.9) for _, _, plan in every_sequence(Scorer(p, 0)))
     assert res.plan.violation(0.9) == pytest.approx(least, rel=1e-12)
     beam = solve_beam(p)
-    assert beam.plan is not None and not beam.plan.feasible and beam.objective == -math.inf
+    assert beam.status is Status.INFEASIBLE and beam.objective is None
+    assert beam.plan is not None and not beam.plan.feasible
 
 
 @pytest.mark.parametrize(("reward", "alpha"), [("renyi", 0.5), ("cs", 0.5), ("renyi", 1.0)])

@@ -5,7 +5,6 @@ answer conventions."""
 from __future__ import annotations
 
 import itertools
-import math
 
 import numpy as np
 import pytest
@@ -136,13 +135,13 @@ def test_ranking_keys() -> None:
 
 
 def test_answers() -> None:
-    """OPTIMAL with its bound when exact and complete; the least-violating plan comes back
-    FEASIBLE with objective −inf and flags; nothing found is NO_SOLUTION."""
+    """OPTIMAL with its bound when exact and complete; the least-violating plan comes back as
+    the fallback of an INFEASIBLE answer, with flags; nothing found is NO_SOLUTION."""
     p = problem(surrounded(), plan_particles=30)
     sc = Scorer(p, 0)
     found = exhaustive_search(sc, Deadline(60.0))
     res = answer(sc, found, "exhaustive", Deadline(1.0), exact=True, note="x")
-    assert res.status is Status.FEASIBLE and res.objective == -math.inf and res.plan is not None
+    assert res.status is Status.INFEASIBLE and res.objective is None and res.plan is not None
     assert not res.plan.feasible and res.stats["proven_infeasible"] == 1.0
     assert res.stats["min_void"] == pytest.approx(res.plan.min_void)
     assert res.plan.min_void < 0.9

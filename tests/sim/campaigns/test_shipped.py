@@ -25,6 +25,7 @@ EXPECTED = {
     "p000_planners.toml": ("road_tracking_episode", 4 * 1000),
     "p000_osm.toml": ("road_tracking_episode", 4 * 100),
     "p002_exp2.toml": ("radio_tracking_episode", 9 * 2 * 3 * 20),
+    "p002_safety.toml": ("radio_tracking_episode", 3 * 20),
 }
 
 
