@@ -12,6 +12,7 @@ import bz2
 import json
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 OPTW = Path(__file__).parents[2] / "searchtrack" / "data" / "optw"
 C101 = OPTW / "c101.txt"
@@ -84,6 +85,46 @@ def _setter(path: str, value: object) -> Callable[[dict[str, object]], None]:
         obj[keys[-1]] = value  # type: ignore[index]
 
     return change
+
+
+def _radio_sim(text: str, *extra: str) -> Build:
+    def build(tmp: Path) -> list[str]:
+        return ["radio", "simulate", str(_write(tmp / "s.toml", text)), "--out",
+                str(tmp / "r.npz"), *extra]
+
+    return build
+
+
+def _radio_track(change: Callable[[dict[str, Any]], None], *extra: str) -> Build:
+    """A two-interval RUN.npz of the paper scenario, changed by ``change``."""
+
+    def build(tmp: Path) -> list[str]:
+        import numpy as np
+
+        from searchtrack.models.radio import RadioScenario
+
+        sc = RadioScenario.paper()
+        sig = sc.signal
+        arrays: dict[str, Any] = {
+            "frames": np.full((2, sig.frames, sig.fft_size), 0.1, dtype=np.float32),
+            "uav_poses": np.zeros((2, 3)), "times_s": np.array([1.0, 2.0]),
+            "labels": np.arange(sig.n_labels), "frequencies_hz": np.array(sig.frequencies_hz),
+            "scenario": np.array(json.dumps(sc.to_dict())), "seed": np.array(0)}
+        change(arrays)
+        path = tmp / "run.npz"
+        with path.open("wb") as fh:
+            np.savez(fh, **arrays)
+        return ["radio", "track", str(path), "--out", str(tmp / "e.json"), *extra]
+
+    return build
+
+
+def _radio_mission(*extra: str) -> Build:
+    def build(tmp: Path) -> list[str]:
+        return ["radio", "mission", str(_write(tmp / "s.toml", "duration_s = 2.0\n")),
+                "--particles", "20", "--out", str(tmp / "out"), *extra]
+
+    return build
 
 
 PROBES: list[Probe] = [
@@ -203,6 +244,36 @@ PROBES: list[Probe] = [
      ("--out", "is a folder")),
     ("track: --particles 0", _track(_nothing, "--particles", "0"), 2, ("--particles",)),
     ("track: --seed 3000000000", _track(_nothing, "--seed", "3000000000"), 2, ("--seed",)),
+    ("radio simulate: missing scenario", lambda t: ["radio", "simulate", str(t / "no.toml"),
+                                                    "--out", str(t / "r.npz")], 2, ("no.toml",)),
+    ("radio simulate: not TOML", _radio_sim("duration_s = = 3\n"), 2, ("s.toml",)),
+    ("radio simulate: unknown key", _radio_sim("[signal]\nbogus = 1\n"), 2,
+     ("signal.bogus",)),
+    ("radio simulate: NaN duration", _radio_sim("duration_s = nan\n"), 2, ("duration_s",)),
+    ("radio simulate: negative duration", _radio_sim("duration_s = -4.0\n"), 2,
+     ("duration_s",)),
+    ("radio simulate: tag label twice", _radio_sim(
+        "[[tags]]\nlabel = 0\nbirth_s = 1.0\ndeath_s = 9.0\ninitial_state = [1.0, 0.0, 1.0, 0.0]"
+        "\ntau_s = 0.1\n[[tags]]\nlabel = 0\nbirth_s = 1.0\ndeath_s = 9.0\n"
+        "initial_state = [5.0, 0.0, 5.0, 0.0]\ntau_s = 0.2\n"), 2, ("tags",)),
+    ("radio simulate: --noise 0", _radio_sim("", "--noise", "0"), 2, ("--noise",)),
+    ("radio track: not a run file", lambda t: ["radio", "track", str(_write(
+        t / "r.npz", "hello")), "--out", str(t / "e.json")], 2, ("r.npz", "not a readable")),
+    ("radio track: NaN frame", _radio_track(lambda a: a["frames"].__setitem__(
+        (1, 2, 3), float("nan"))), 2, ("frames", "interval 1")),
+    ("radio track: wrong frame shape", _radio_track(lambda a: a.__setitem__(
+        "frames", a["frames"][:, :, :100])), 2, ("frames",)),
+    ("radio track: tag set not the frames'", _radio_track(lambda a: a.__setitem__(
+        "frequencies_hz", a["frequencies_hz"] * 1.5)), 2, ("frequencies_hz",)),
+    ("radio track: unknown field", _radio_track(lambda a: a.__setitem__("extra", [1])), 2,
+     ("extra",)),
+    ("radio track: --particles 0", _radio_track(lambda a: None, "--particles", "0"), 2,
+     ("--particles",)),
+    ("radio mission: r_min < 0", _radio_mission("--r-min", "-5"), 2, ("r_min",)),
+    ("radio mission: P_vmin 1.5", _radio_mission("--p-void", "1.5"), 2, ("p_void",)),
+    ("radio mission: --horizon 0", _radio_mission("--horizon", "0"), 2, ("--horizon",)),
+    ("radio mission: unknown planner", _radio_mission("--planner", "zigzag"), 2,
+     ("--planner",)),
 ]
 
 

@@ -12,7 +12,8 @@ from tests.cli.probes import PROBES, Probe
 
 
 def _outputs(tmp: Path) -> set[Path]:
-    return {p for p in tmp.rglob("*") if p.suffix in (".json", ".png") or p.name == "out"}
+    return {p for p in tmp.rglob("*")
+            if p.suffix in (".json", ".png") or p.name in ("out", "r.npz")}
 
 
 @pytest.mark.parametrize("probe", PROBES, ids=[p[0] for p in PROBES])
