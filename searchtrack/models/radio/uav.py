@@ -139,6 +139,11 @@ def primitive_headings(model: UavModel, heading: float) -> FloatArray:
     return wrap_angle(theta + deltas)
 
 
+#: When every primitive leaves the area, those ending within this distance (m) of the nearest
+#: to it are kept.
+OUTSIDE_TIE_M = 1.0
+
+
 def primitives(model: UavModel, pose: ArrayLike,
                area_m: ArrayLike) -> tuple[FloatArray, FloatArray]:
     """The action primitives from ``pose`` that keep the UAV inside ``[0, W] × [0, H]``.
@@ -149,7 +154,9 @@ def primitives(model: UavModel, pose: ArrayLike,
         ``(A,)`` target headings of the kept primitives.
     paths
         ``(A, n, 3)`` their poses over one planning interval. When every primitive leaves the
-        area, all ``N_θ`` are returned.
+        area (the UAV is outside it, or too close to its edge to turn back in time), those
+        that end nearest to it are returned (within :data:`OUTSIDE_TIE_M`), so a UAV that had to
+        leave flies back in.
     """
     start = _pose(pose)
     width, height = _area(area_m)
@@ -158,7 +165,10 @@ def primitives(model: UavModel, pose: ArrayLike,
     x, y = paths[..., 0], paths[..., 1]
     inside = np.all((x >= 0.0) & (x <= width) & (y >= 0.0) & (y <= height), axis=1)
     if not inside.any():
-        return headings, paths
+        out_x = np.maximum(0.0, np.maximum(-x[:, -1], x[:, -1] - width))
+        out_y = np.maximum(0.0, np.maximum(-y[:, -1], y[:, -1] - height))
+        outside = np.hypot(out_x, out_y)
+        inside = outside <= outside.min() + OUTSIDE_TIE_M
     return headings[inside], paths[inside]
 
 

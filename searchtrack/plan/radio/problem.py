@@ -108,7 +108,9 @@ class RadioPlanProblem:
         The filtering density ``π_k`` (copied, read-only): per label ``r_λ`` and weighted
         particles of ``[px, vx, py, vy]``, mode and ``τ``; one row per label of the signal.
     uav_pose
-        ``(3,)`` UAV pose ``(x, y, heading)`` (m, m, rad), inside the area.
+        ``(3,)`` UAV pose ``(x, y, heading)`` (m, m, rad). It may be outside the area (a UAV
+        too close to an edge to turn back in time leaves it), within the area's size of it:
+        the primitives then bring it back (:func:`~searchtrack.models.radio.uav.primitives`).
     scenario
         Signal, tag motion, UAV model and area.
     settings
@@ -136,9 +138,10 @@ class RadioPlanProblem:
         put(self, "belief", _belief(self.belief, sc.signal.n_labels, sc.signal.period_s))
         pose = checks.finite_array("uav_pose", self.uav_pose, (3,))
         width, height = sc.area_m
-        if not (0.0 <= pose[0] <= width and 0.0 <= pose[1] <= height):
+        if not (-width <= pose[0] <= 2 * width and -height <= pose[1] <= 2 * height):
             raise InvalidInputError("uav_pose", pose.tolist(),
-                                    f"must lie inside the area [0, {width:g}] × [0, {height:g}]")
+                                    f"must lie within one area's size of [0, {width:g}] × "
+                                    f"[0, {height:g}]")
         put(self, "uav_pose", pose)
 
     @property

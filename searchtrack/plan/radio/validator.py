@@ -98,9 +98,32 @@ def _path_faults(problem: RadioPlanProblem, plan: RadioPlan, any_heading: bool) 
     width, height = problem.scenario.area_m
     out = ((plan.path[:, 0] < 0) | (plan.path[:, 0] > width) | (plan.path[:, 1] < 0)
            | (plan.path[:, 1] > height))
-    if out.any():
-        faults.append(f"{int(out.sum())} poses outside the area")
+    for j in range(out.size // n_p):
+        if out[j * n_p:(j + 1) * n_p].any() and _could_stay_inside(problem, poses[j * n_p], n_p):
+            faults.append(f"interval {j}: {int(out[j * n_p:(j + 1) * n_p].sum())} poses outside "
+                          "the area, though a heading kept it inside")
     return faults
+
+
+def _could_stay_inside(problem: RadioPlanProblem, pose: FloatArray, n_p: int) -> bool:
+    """Whether some heading held from ``pose`` keeps the next ``n_p`` steps inside the area
+    (flown here by turn-rate-limited steps, not by the planner's primitives)."""
+    uav, (width, height) = problem.scenario.uav, problem.scenario.area_m
+    step = uav.speed_mps * uav.step_s
+    max_turn = uav.max_turn_rate * uav.step_s
+    for target in np.linspace(-np.pi, np.pi, 72, endpoint=False):
+        x, y, h = pose
+        ok = True
+        for _ in range(n_p):
+            turn = float(np.clip(wrap_angle(target - h), -max_turn, max_turn))
+            mid = h + 0.5 * turn
+            x, y, h = x + step * np.cos(mid), y + step * np.sin(mid), h + turn
+            if not (0.0 <= x <= width and 0.0 <= y <= height):
+                ok = False
+                break
+        if ok:
+            return True
+    return False
 
 
 def _label_sets(n: int) -> list[tuple[int, ...]]:

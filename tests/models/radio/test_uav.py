@@ -77,10 +77,19 @@ def test_primitives_drop_paths_that_leave_the_area() -> None:
     assert centre.size == 8
 
 
-def test_all_primitives_kept_when_all_leave() -> None:
-    """Outside the area every primitive leaves it, so all N_θ are returned."""
+def test_when_all_leave_those_ending_nearest_are_kept() -> None:
+    """Outside the area every primitive leaves it: those ending nearest to it are kept, and
+    flying them brings the UAV back in."""
     headings, paths = primitives(UAV, [-500.0, -500.0, 1.0], AREA)
-    assert headings.size == 8 and paths.shape == (8, 5, 3)
+    assert 1 <= headings.size < 8 and paths.shape == (headings.size, 5, 3)
+    every = [fly_heading(UAV, [-500.0, -500.0, 1.0], float(h), 5.0)[-1, :2]
+             for h in primitive_headings(UAV, 1.0)]
+    nearest = min(float(np.hypot(*np.maximum(0.0, -p))) for p in every)
+    assert float(np.hypot(*np.maximum(0.0, -paths[0, -1, :2]))) <= nearest + 1.0
+    pose = np.array([750.0, 1495.0, math.pi / 2])           # at the top edge, heading out
+    for _ in range(6):
+        pose = primitives(UAV, pose, AREA)[1][0, -1]
+    assert 0.0 <= pose[1] <= 1500.0
 
 
 def test_straight_sweep_alternates_corners() -> None:

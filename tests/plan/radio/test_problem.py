@@ -78,10 +78,11 @@ def test_bad_belief(change: str, field: str) -> None:
         RadioPlanProblem(_bad_belief(change), POSE, scenario())
 
 
-@pytest.mark.parametrize("pose", [[600.0, 600.0], [600.0, math.nan, 0.0], [-1.0, 600.0, 0.0],
-                                  [600.0, 1500.5, 0.0]])
+@pytest.mark.parametrize("pose", [[600.0, 600.0], [600.0, math.nan, 0.0],
+                                  [-1600.0, 600.0, 0.0], [600.0, 3000.5, 0.0]])
 def test_bad_pose(pose: list[float]) -> None:
-    """A pose that is not three finite numbers inside the area is refused."""
+    """A pose that is not three finite numbers within the area's size of the area is refused
+    (just outside is allowed: a UAV may have had to leave)."""
     with pytest.raises(InvalidInputError, match="uav_pose"):
         RadioPlanProblem(spread_belief(), np.array(pose), scenario())
 

@@ -91,4 +91,17 @@ def test_leaving_the_area_is_a_fault() -> None:
     plan = RadioPlan(np.array([math.pi]), west, np.zeros(1), np.ones(5), True)
     check = check_plan(p, plan)
     # the first pose lies on the edge x = 0, which belongs to the area
-    assert not check.valid and check.reasons == ("4 poses outside the area",)
+    assert not check.valid and check.reasons == (
+        "interval 0: 4 poses outside the area, though a heading kept it inside",)
+
+
+def test_leaving_the_area_when_it_must_is_not_a_fault() -> None:
+    """From just outside the west edge, heading out, every primitive leaves the area: the
+    planner accepts the pose, flies the primitive that ends nearest to the area, and the
+    validator does not flag what no heading could avoid."""
+    pose = np.array([-5.0, 750.0, math.pi])
+    p = problem(spread_belief(), pose, horizon=1, plan_particles=30, n_headings=8)
+    plan = _plan(p)
+    assert check_plan(p, plan).valid
+    west = fly_heading(p.scenario.uav, pose, math.pi, 5.0)
+    assert plan.path[-1, 0] > west[-1, 0] + 50.0
