@@ -19,11 +19,12 @@ from typing import NoReturn, cast
 from rich.console import Console
 from rich.markup import escape
 
+from searchtrack import __version__
 from searchtrack.cli import campaign, fleet, mission, optw, radio, rl, track, track_roads
 from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.interrupt import Aborted, sigint_stops, stop_requested
 
-DESCRIPTION = "The ``searchtrack`` command: solve and benchmark planning problems from the shell."
+DESCRIPTION = "The searchtrack command: solve and benchmark planning problems from the shell."
 """What ``searchtrack --help`` says first."""
 
 #: Exit statuses of every subcommand.
@@ -45,6 +46,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``searchtrack`` command."""
     parser = _Parser(prog="searchtrack", description=DESCRIPTION, epilog=EPILOG)
     parser.add_argument("-v", "--verbose", action="store_true", help="log solver progress")
+    parser.add_argument("--version", action="version", version=f"searchtrack {__version__}")
     sub = cast("argparse._SubParsersAction[argparse.ArgumentParser]",
                parser.add_subparsers(dest="group", required=True))
     optw.add_parser(sub)
@@ -61,11 +63,15 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _add_epilog(parser: argparse.ArgumentParser) -> None:
-    """Every (sub)command's help ends with the exit statuses."""
+    """Every (sub)command's help ends with the exit statuses, and every command takes
+    ``-v`` after its name too (``searchtrack optw solve FILE -v``)."""
     parser.epilog = EPILOG
     for action in parser._actions:
         if isinstance(action, argparse._SubParsersAction):
             for child in action.choices.values():
+                if "-v" not in child._option_string_actions:
+                    child.add_argument("-v", "--verbose", action="store_true",
+                                       default=argparse.SUPPRESS, help="log solver progress")
                 _add_epilog(child)
 
 
@@ -79,7 +85,11 @@ def _abort() -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``searchtrack`` console script; returns the exit status."""
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    if not (sys.argv[1:] if argv is None else list(argv)):
+        parser.print_help()
+        return EXIT_OK
+    args = parser.parse_args(argv)
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
                         format="%(levelname)s %(name)s: %(message)s")
     console = Console()

@@ -9,8 +9,16 @@
   (:func:`fly_optw_route`, :func:`fly_xy_path`).
 * Particle filters: :func:`standard_scenario` is the SMC-PHD test scenario; :mod:`.track_job`
   filters recorded detections offline (:func:`run_track_file`).
+* Road tracking with particle filters (000): :mod:`.road_tracking` flies the RBPF and a road
+  planner closed loop (:mod:`.road_planners`), :mod:`.road_search_env` and :mod:`.rl_training`
+  train the RL planner, :mod:`.road_track_job` filters recorded detections.
+* Radio-tagged objects (002): :mod:`.radio_mission` flies the TBD-LMB or DTT filter and a
+  Rényi / Cauchy–Schwarz / straight planner closed loop, :mod:`.radio_keep_out` keeps r_min in
+  the flown trajectory, :mod:`.radio_run` and :mod:`.radio_track_job` record and filter runs.
+* :mod:`.campaigns`: Monte Carlo campaigns (experiment × grid × seeds on Dask, DuckDB results,
+  reports with figures).
 * :mod:`.experiments`: the papers' experiments as functions of a seed: the thesis's road
-  missions, 003's tracking loop, 004's search episodes and its E7 flight.
+  missions, 003's tracking loop, 004's search episodes and its E7 flight, 002's closed loop.
 
 The names below are imported on first use, so ``import searchtrack.sim`` stays cheap (a mission
 loads SciPy and Numba, a flight CasADi).
