@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 
 from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from searchtrack.cli.common import int_at_least, seed_arg
 from searchtrack.cli.output import output_file
@@ -17,7 +18,13 @@ from searchtrack.sim.track_job import run_track_file
 def track_command(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack track``."""
     out = output_file("--out", args.out)
-    summary = run_track_file(args.scans, out, args.particles, args.seed)
+    with Progress(TextColumn("SMC-PHD"), BarColumn(),
+                  TextColumn("{task.completed}/{task.total} scans"), TimeElapsedColumn(),
+                  console=console, transient=True) as bar:
+        task = bar.add_task("filter", total=None)
+        summary = run_track_file(args.scans, out, args.particles, args.seed,
+                                 lambda done, total: bar.update(task, completed=done,
+                                                                total=total))
     console.print(f"{summary.scans} scans, {summary.ms_per_scan:.2f} ms/scan, "
                   f"{summary.mean_estimates:.2f} estimates per scan on average, expected "
                   f"count {summary.final_expected_count:.2f} at the end → {summary.out_path}")
@@ -28,7 +35,8 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     """Register ``track`` on the top-level subparsers."""
     p = sub.add_parser("track", help="SMC-PHD filter on recorded 2-D detections",
                        description=__doc__.split("\n\n")[0] if __doc__ else None)
-    p.add_argument("scans", metavar="SCANS.json")
+    p.add_argument("scans", metavar="SCANS.json",
+                   help="recorded detections (example: examples/problems/scans.json)")
     p.add_argument("--particles", type=int_at_least(1), default=None, metavar="N",
                    help="cap on the number of particles (default 10000)")
     p.add_argument("--seed", type=seed_arg, default=0, help="random seed (default 0)")

@@ -24,6 +24,7 @@ import dataclasses
 import json
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -186,11 +187,13 @@ def read_scans(path: str | Path) -> TrackJob:
     return TrackJob(PositionSensor(pd, sigma, clutter, area), motion, dt, birth, tuple(scans))
 
 
-def run_track_job(job: TrackJob, config: PHDConfig,
-                  seed: int) -> tuple[list[FloatArray], list[float], float]:
+def run_track_job(job: TrackJob, config: PHDConfig, seed: int,
+                  progress: Callable[[int, int], None] | None = None,
+                  ) -> tuple[list[FloatArray], list[float], float]:
     """Filter every scan: the estimated positions and expected count per scan, and seconds.
 
-    A stop request ends the run after the current scan: the lists then cover the scans done."""
+    ``progress(done, total)`` is called after each scan. A stop request ends the run after the
+    current scan: the lists then cover the scans done."""
     rng = np.random.default_rng(seed)
     state = PHDState.empty(job.motion.state_dim, job.motion.position_dim)
     pose = np.zeros(3)
@@ -205,11 +208,14 @@ def run_track_job(job: TrackJob, config: PHDConfig,
                               job.dt_s, rng)
             estimates.append(est.positions)
             counts.append(state.expected_count())
+            if progress is not None:
+                progress(len(estimates), len(job.scans))
     return estimates, counts, time.perf_counter() - start
 
 
 def run_track_file(scans_path: str | Path, out_path: str | Path, particles: int | None = None,
-                   seed: int = 0) -> TrackSummary:
+                   seed: int = 0,
+                   progress: Callable[[int, int], None] | None = None) -> TrackSummary:
     """Read SCANS.json, run the SMC-PHD filter, write EST.json.
 
     Parameters
@@ -220,13 +226,15 @@ def run_track_file(scans_path: str | Path, out_path: str | Path, particles: int 
         Cap on the number of particles (``PHDConfig.max_particles``); ``None``: the default.
     seed
         Seed of the filter's random generator.
+    progress
+        ``progress(done, total)`` after each scan.
     """
     job = read_scans(scans_path)
     config = PHDConfig(birth_mass=job.birth_weight, region=job.sensor.area)
     if particles is not None:
         config = dataclasses.replace(config, max_particles=particles,
                                      min_particles=min(config.min_particles, particles))
-    estimates, counts, seconds = run_track_job(job, config, seed)
+    estimates, counts, seconds = run_track_job(job, config, seed, progress)
     n = len(estimates)
     ms = 1e3 * seconds / max(n, 1)
     record = {"estimates": [np.round(e, 3).tolist() for e in estimates],

@@ -67,3 +67,14 @@ def test_malformed_files_name_the_field(tmp_path: Path, path: str, value: object
         read_scans(scans)
     assert err.value.field == field
     assert str(scans) in str(err.value)
+
+
+def test_progress_is_reported_after_every_scan(tmp_path: Path) -> None:
+    """``progress(done, total)`` follows the scans, ending at ``(total, total)``."""
+    from searchtrack.sim.track_job import run_track_file
+
+    example = Path(__file__).parents[2] / "examples" / "problems" / "scans.json"
+    calls: list[tuple[int, int]] = []
+    run_track_file(example, tmp_path / "est.json", 500, 0,
+                   lambda done, total: calls.append((done, total)))
+    assert calls == [(k, 60) for k in range(1, 61)]
