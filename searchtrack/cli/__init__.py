@@ -20,7 +20,7 @@ from rich.console import Console
 from rich.markup import escape
 
 from searchtrack import __version__
-from searchtrack.cli import campaign, fleet, mission, optw, radio, rl, track, track_roads
+from searchtrack.cli import campaign, fleet, mission, optw, plan, radio, rl, track, track_roads
 from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.interrupt import Aborted, sigint_stops, stop_requested
 
@@ -57,6 +57,7 @@ def build_parser() -> argparse.ArgumentParser:
     fleet.add_parser(sub)
     rl.add_parser(sub)
     radio.add_parser(sub)
+    plan.add_parser(sub)
     for group in sub.choices.values():
         _add_epilog(group)
     return parser

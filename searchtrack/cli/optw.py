@@ -56,7 +56,11 @@ def read_optima(path: Path) -> dict[str, float]:
     ParseError
         Naming the file (and line): unreadable, not UTF-8, missing columns, a bad number.
     """
-    rows = list(csv.DictReader(io.StringIO(read_text(path, max_bytes=2**20))))
+    reader = csv.DictReader(io.StringIO(read_text(path, max_bytes=2**20), newline=""))
+    try:
+        rows = list(reader)
+    except csv.Error as exc:
+        raise ParseError(path, reader.line_num or None, None, f"not a CSV table ({exc})") from None
     if rows and not {"instance", "optimum"} <= set(rows[0]):
         raise ParseError(path, 1, None, "needs columns 'instance' and 'optimum'")
     optima: dict[str, float] = {}

@@ -1,0 +1,147 @@
+"""``searchtrack plan FAMILY PROBLEM.json --out PLAN.json``: one planning problem read from JSON,
+solved by a backend of its family, summarised in a table and written as PLAN.json.
+
+Families live in :mod:`searchtrack.sim.plan_jobs` (one module each, imported only when its
+command runs); their formats are in each module's docstring. PLAN.json has the top-level fields
+of ``searchtrack optw solve --json`` (``instance``, ``backend``, ``status``, ``objective``,
+``bound``, ``gap``, ``runtime_s``, ``message``) plus ``family`` and the family's ``plan``
+object (``null`` without a plan).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import importlib.util
+import json
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+from rich.console import Console
+from rich.table import Table
+
+from searchtrack.cli.common import positive_float, seed_arg
+from searchtrack.cli.output import output_file
+from searchtrack.core.errors import SearchtrackError
+from searchtrack.core.files import write_text_atomic
+from searchtrack.core.registry import MAX_SEED
+from searchtrack.core.result import Result, Status
+
+#: Family name → module implementing the interface of :mod:`searchtrack.sim.plan_jobs`.
+FAMILIES: dict[str, str] = {
+    "assign": "searchtrack.sim.plan_jobs.assign",
+    "trajectory": "searchtrack.sim.plan_jobs.trajectory",
+}
+
+#: One-line help of each family (the module's ``DESCRIPTION``, kept here so that ``--help``
+#: imports nothing).
+HELP: dict[str, str] = {
+    "assign": "one candidate action per UAV on a particle belief (paper 003)",
+    "trajectory": "fly a waypoint course past obstacles in closed loop (NMPC / LTV-MPC / "
+                  "closed form)",
+}
+
+#: The rows of the result table, as ``optw solve`` prints them.
+SUMMARY_KEYS = ("backend", "status", "objective", "bound", "gap", "runtime_s")
+
+
+def available_families() -> list[str]:
+    """The registered families whose module is installed."""
+    return [name for name, module in FAMILIES.items()
+            if importlib.util.find_spec(module) is not None]
+
+
+def family_module(name: str) -> ModuleType:
+    """The module of family ``name``, imported now."""
+    return importlib.import_module(FAMILIES[name])
+
+
+def _num(x: float | None) -> float | int | None:
+    if x is None:
+        return None
+    return int(x) if float(x).is_integer() else float(x)
+
+
+def result_record(instance: str, result: Result[Any]) -> dict[str, Any]:
+    """The top-level fields PLAN.json shares with ``optw solve --json``."""
+    return {
+        "instance": instance,
+        "backend": result.backend,
+        "status": result.status.name,
+        "objective": _num(result.objective),
+        "bound": _num(result.bound),
+        "gap": result.gap,
+        "runtime_s": round(result.runtime_s, 4),
+        "message": result.message,
+    }
+
+
+def result_table(title: str, record: dict[str, Any]) -> Table:
+    """The two-column summary ``optw solve`` prints: backend, status, objective, bound, gap (in
+    per cent), runtime, and the message when there is one."""
+    table = Table(title=title, show_header=False)
+    for key in SUMMARY_KEYS:
+        value = record[key]
+        if key == "gap" and value is not None:
+            value = f"{100 * value:.2f} %"
+        table.add_row(key, "-" if value is None else str(value))
+    if record.get("message"):
+        table.add_row("message", str(record["message"]))
+    return table
+
+
+def exit_status(result: Result[Any]) -> int:
+    """0 with a plan, 130 when interrupted, 1 otherwise (no plan, infeasible, error)."""
+    if result.status is Status.INTERRUPTED:
+        return 130
+    return 0 if result.status.has_plan else 1
+
+
+def plan_command(args: argparse.Namespace, console: Console) -> int:
+    """Handler of ``searchtrack plan FAMILY``."""
+    out = output_file("--out", args.out)
+    fig_out = output_file("--figure", args.figure) if args.figure else None
+    module = family_module(args.family)
+    names: list[str] = module.backends()
+    if args.backend not in names:
+        raise SearchtrackError(f"--backend {args.backend!r}: unknown {args.family} backend; "
+                               f"choose one of {names}")
+    problem = module.read_problem(Path(args.problem))
+    with console.status(f"solving {args.family} problem {Path(args.problem).name} with "
+                        f"{args.backend} ({args.time_limit:g} s)"):
+        result: Result[Any] = module.solve(problem, backend=args.backend,
+                                           time_limit_s=args.time_limit, seed=args.seed)
+    record = {"family": args.family, **result_record(Path(args.problem).stem, result)}
+    record["plan"] = module.plan_json(problem, result) if result.plan is not None else None
+    console.print(result_table(f"{args.family}: {Path(args.problem).name}", record))
+    write_text_atomic(out, json.dumps(record, indent=2) + "\n")
+    console.print(f"plan → {out}")
+    if fig_out is not None:
+        drawn = module.figure(problem, result, fig_out) if result.plan is not None else None
+        console.print(f"figure → {drawn}" if drawn is not None
+                      else "no figure: nothing to draw for this result")
+    return exit_status(result)
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Register ``plan FAMILY`` on the top-level subparsers (one subcommand per family)."""
+    plan = sub.add_parser("plan", help="solve one planning problem from a JSON file",
+                          description=(__doc__.split("\n\n")[0].replace("``", "")
+                                       if __doc__ else None))
+    psub = plan.add_subparsers(dest="family", required=True)
+    for name in available_families():
+        p = psub.add_parser(name, help=HELP.get(name, name),
+                            description=f"{name}: {HELP.get(name, name)} (format: module "
+                            f"{FAMILIES[name]})")
+        p.add_argument("problem", metavar="PROBLEM.json",
+                       help=f"the problem (example: examples/problems/{name}.json)")
+        p.add_argument("--out", required=True, metavar="PLAN.json", help="where to write the plan")
+        p.add_argument("--backend", default="auto",
+                       help="backend name (default auto; a wrong name lists the choices)")
+        p.add_argument("--time-limit", type=positive_float, default=10.0, metavar="S",
+                       help="seconds (default 10)")
+        p.add_argument("--seed", type=seed_arg, default=0,
+                       help=f"random seed, 0 to {MAX_SEED} (default 0)")
+        p.add_argument("--figure", metavar="PLAN.png", help="also draw the plan as a PNG")
+        p.set_defaults(run=plan_command)
