@@ -31,6 +31,9 @@ from searchtrack.core.result import Result, Status
 #: Family name → module implementing the interface of :mod:`searchtrack.sim.plan_jobs`.
 FAMILIES: dict[str, str] = {
     "assign": "searchtrack.sim.plan_jobs.assign",
+    "associate": "searchtrack.sim.plan_jobs.associate",
+    "route": "searchtrack.sim.plan_jobs.route",
+    "search": "searchtrack.sim.plan_jobs.search",
     "trajectory": "searchtrack.sim.plan_jobs.trajectory",
 }
 
@@ -38,6 +41,9 @@ FAMILIES: dict[str, str] = {
 #: imports nothing).
 HELP: dict[str, str] = {
     "assign": "one candidate action per UAV on a particle belief (paper 003)",
+    "associate": "pair trackers with detections on a road map by gated EMD (thesis 001)",
+    "route": "one UAV's OPTW route over tracker beliefs on roads, as reacquisition (thesis 001)",
+    "search": "one exploration + refinement receding-horizon search step (paper 004)",
     "trajectory": "fly a waypoint course past obstacles in closed loop (NMPC / LTV-MPC / "
                   "closed form)",
 }

@@ -148,7 +148,7 @@ def _shown(value: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-class _Reader:
+class FieldReader:
     """Field checks raising :class:`ParseError` naming the file and the JSON field."""
 
     def __init__(self, path: Path) -> None:
@@ -213,7 +213,7 @@ class _Reader:
         return out
 
 
-def _map_spec(r: _Reader, spec: dict[str, Any], base: Path, field: str) -> MapSpec:
+def _map_spec(r: FieldReader, spec: dict[str, Any], base: Path, field: str) -> MapSpec:
     if field == "map.grid":
         grid = spec["grid"]
         if not isinstance(grid, list) or len(grid) != 2:
@@ -235,7 +235,7 @@ def _map_spec(r: _Reader, spec: dict[str, Any], base: Path, field: str) -> MapSp
     return MapSpec("osm", bundled_map(name) if name in BUNDLED_MAPS else base / name, spacing)
 
 
-def _map(r: _Reader, spec: dict[str, Any], base: Path) -> tuple[DirectedRoads, str]:
+def read_map(r: FieldReader, spec: dict[str, Any], base: Path) -> tuple[DirectedRoads, str]:
     """The roads of ``map``: a grid, a bundled map or an OSM file relative to ``base``."""
     kinds = [k for k in ("grid", "osm") if k in spec]
     if len(kinds) != 1:
@@ -252,7 +252,7 @@ def _map(r: _Reader, spec: dict[str, Any], base: Path) -> tuple[DirectedRoads, s
     return DirectedRoads(network), ms.describe()
 
 
-def _sensor(r: _Reader, spec: dict[str, Any]) -> DiscSensor:
+def _sensor(r: FieldReader, spec: dict[str, Any]) -> DiscSensor:
     def get(key: str) -> Any:
         return r.get(spec, key, "sensor.")
 
@@ -269,7 +269,7 @@ def _sensor(r: _Reader, spec: dict[str, Any]) -> DiscSensor:
         clutter)
 
 
-def _config(r: _Reader, top: dict[str, Any], sensor: DiscSensor) -> RBPFConfig:
+def _config(r: FieldReader, top: dict[str, Any], sensor: DiscSensor) -> RBPFConfig:
     targets = r.integer(r.get(top, "targets"), "targets", 1, MAX_TARGETS)
     motion = RoadMotion(
         r.number(r.get(top, "target_speed_mps"), "target_speed_mps", high=MAX_SPEED_MPS),
@@ -314,7 +314,7 @@ def read_road_job(path: str | Path) -> RoadTrackJob:
         ``map.osm``, ...).
     """
     p = Path(path)
-    r = _Reader(p)
+    r = FieldReader(p)
     top = r.obj(_load(p), "(top level)", _TOP_KEYS)
     dt = r.number(r.get(top, "dt"), "dt", low_open=True, high=MAX_DT_S)
     sensor = _sensor(r, r.obj(r.get(top, "sensor"), "sensor", _SENSOR_KEYS))
@@ -331,7 +331,7 @@ def read_road_job(path: str | Path) -> RoadTrackJob:
     if len(uav_raw) * config.n_targets > MAX_ESTIMATES:
         raise r.fail("uav_xy", f"{len(uav_raw)} steps × {config.n_targets} targets: more than "
                      f"the {MAX_ESTIMATES} estimates EST.json may hold")
-    roads, label = _map(r, r.obj(r.get(top, "map"), "map", _MAP_KEYS), p.parent)
+    roads, label = read_map(r, r.obj(r.get(top, "map"), "map", _MAP_KEYS), p.parent)
     coords = roads.network.coords
     margin = sensor.fov_radius_m
     box = np.column_stack([coords.min(axis=0) - margin, coords.max(axis=0) + margin])

@@ -78,7 +78,7 @@ class AssignJob:
         return self.path.stem
 
 
-class _Fields:
+class ProblemFields:
     """Field checks raising :class:`ParseError` naming the file and the dotted JSON key."""
 
     def __init__(self, path: Path) -> None:
@@ -132,7 +132,7 @@ class _Fields:
         return out
 
 
-def _actions(f: _Fields, raw: Any, robots: int) -> tuple[np.ndarray[Any, Any], ...]:
+def _actions(f: ProblemFields, raw: Any, robots: int) -> tuple[np.ndarray[Any, Any], ...]:
     per_uav = f.items(raw, "actions", "candidate actions per UAV")
     if len(per_uav) != robots:
         raise f.fail("actions", f"needs one list of actions per UAV ({robots}), "
@@ -153,7 +153,7 @@ def _actions(f: _Fields, raw: Any, robots: int) -> tuple[np.ndarray[Any, Any], .
     return tuple(out)
 
 
-def _sensor(f: _Fields, raw: Any) -> GaussianFieldOfView:
+def read_sensor(f: ProblemFields, raw: Any) -> GaussianFieldOfView:
     spec = f.obj(raw, "sensor", _SENSOR_KEYS)
     peak = f.number(f.get(spec, "peak_pd", "sensor."), "sensor.peak_pd", low=0.0,
                     low_open=True, high=1.0)
@@ -162,7 +162,7 @@ def _sensor(f: _Fields, raw: Any) -> GaussianFieldOfView:
     return GaussianFieldOfView(peak, scales[0], scales[1])
 
 
-def _belief(f: _Fields, raw: Any) -> WeightedParticles:
+def read_belief(f: ProblemFields, raw: Any) -> WeightedParticles:
     spec = f.obj(raw, "belief", _BELIEF_KEYS)
     positions = f.points(f.get(spec, "positions", "belief."), "belief.positions", (2, 3))
     weights_raw = f.items(f.get(spec, "weights", "belief."), "belief.weights", "weights")
@@ -174,7 +174,7 @@ def _belief(f: _Fields, raw: Any) -> WeightedParticles:
     return WeightedParticles(positions, weights)
 
 
-def _objective(f: _Fields, name: Any) -> Objective:
+def _objective(f: ProblemFields, name: Any) -> Objective:
     if name not in OBJECTIVES:
         raise f.fail("objective", f"must be one of {list(OBJECTIVES)}, got {name!r}")
     return ExpectedDetections() if name == "end" else MutualInformation()
@@ -189,7 +189,7 @@ def read_problem(path: str | Path) -> AssignJob:
         Naming the file and the JSON key at fault (``sensor.peak_pd``, ``actions[1][0][2]``).
     """
     p = Path(path)
-    f = _Fields(p)
+    f = ProblemFields(p)
     try:
         raw = json.loads(read_text(p, max_bytes=MAX_PROBLEM_BYTES))
     except json.JSONDecodeError as exc:
@@ -197,8 +197,8 @@ def read_problem(path: str | Path) -> AssignJob:
     top = f.obj(raw, "(top level)", _TOP_KEYS)
     uavs = f.points(f.get(top, "uavs"), "uavs", (3,))
     actions = _actions(f, f.get(top, "actions"), uavs.shape[0])
-    belief = _belief(f, f.get(top, "belief"))
-    sensor = _sensor(f, f.get(top, "sensor"))
+    belief = read_belief(f, f.get(top, "belief"))
+    sensor = read_sensor(f, f.get(top, "sensor"))
     objective = _objective(f, top.get("objective", "end"))
     separation = f.number(top.get("min_separation_m", 0.0), "min_separation_m", low=0.0)
     entries = sum(a.shape[0] * a.shape[1] for a in actions) * belief.positions.shape[0]
