@@ -17,6 +17,7 @@ from rich.table import Table
 
 from searchtrack.cli.common import int_at_least, int_in, positive_float, seed_arg
 from searchtrack.cli.output import output_file
+from searchtrack.cli.plan import json_number, result_record
 from searchtrack.core.errors import ParseError, SearchtrackError
 from searchtrack.core.files import read_text, write_text_atomic
 from searchtrack.core.interrupt import stop_requested
@@ -28,24 +29,8 @@ from searchtrack.plan.optw.io import MAX_DECIMALS
 
 def result_json(inst: OPTWInstance, result: Result[Routes]) -> dict[str, Any]:
     """The JSON record of one OPTW solve (vertex ids as in the file)."""
-    return {
-        "instance": inst.name,
-        "backend": result.backend,
-        "status": result.status.name,
-        "objective": _num(result.objective),
-        "bound": _num(result.bound),
-        "gap": result.gap,
-        "runtime_s": round(result.runtime_s, 4),
-        "vehicles": inst.vehicles,
-        "routes": inst.route_ids(result.plan) if result.plan is not None else [],
-        "message": result.message,
-    }
-
-
-def _num(x: float | None) -> float | int | None:
-    if x is None:
-        return None
-    return int(x) if float(x).is_integer() else float(x)
+    return {**result_record(inst.name, result), "vehicles": inst.vehicles,
+            "routes": inst.route_ids(result.plan) if result.plan is not None else []}
 
 
 def read_optima(path: Path) -> dict[str, float]:
@@ -163,7 +148,7 @@ def bench_command(args: argparse.Namespace, console: Console) -> int:
                 continue
             rec = result_json(inst, result)
             known = optima.get(inst.name) if args.vehicles == 1 else None
-            rec["optimum"] = _num(known)
+            rec["optimum"] = json_number(known)
             gap = None
             if known is not None and result.objective is not None:
                 gap = 100.0 * (known - result.objective) / max(known, 1e-9)

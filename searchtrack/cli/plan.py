@@ -63,7 +63,8 @@ def family_module(name: str) -> ModuleType:
     return importlib.import_module(FAMILIES[name])
 
 
-def _num(x: float | None) -> float | int | None:
+def json_number(x: float | None) -> float | int | None:
+    """``x`` for JSON: an integer when it is whole, ``None`` kept."""
     if x is None:
         return None
     return int(x) if float(x).is_integer() else float(x)
@@ -75,8 +76,8 @@ def result_record(instance: str, result: Result[Any]) -> dict[str, Any]:
         "instance": instance,
         "backend": result.backend,
         "status": result.status.name,
-        "objective": _num(result.objective),
-        "bound": _num(result.bound),
+        "objective": json_number(result.objective),
+        "bound": json_number(result.bound),
         "gap": result.gap,
         "runtime_s": round(result.runtime_s, 4),
         "message": result.message,

@@ -81,13 +81,7 @@ def ospa(x: ArrayLike, y: ArrayLike, c: float, p: float = 1.0) -> float:
     InvalidInputError
         On non-finite points, mismatched dimensions or ``c, p ≤ 0``.
     """
-    c, p = _params(c, p)
-    a, b = _pair(x, y)
-    m, n = sorted((a.shape[0], b.shape[0]))
-    if n == 0:
-        return 0.0
-    total = _assigned_cost(_cut_distances(a, b, c, p)) + c**p * (n - m)
-    return float((total / n) ** (1.0 / p))
+    return ospa_components(x, y, c, p)[0]
 
 
 def ospa_components(x: ArrayLike, y: ArrayLike, c: float,

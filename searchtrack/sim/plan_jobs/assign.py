@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 
 from searchtrack.core.errors import InvalidInputError, ParseError
-from searchtrack.core.files import atomic_path, read_text
+from searchtrack.core.files import read_text
 from searchtrack.core.result import Result
 from searchtrack.estimate.particle_belief import WeightedParticles
 from searchtrack.models.footprint import GaussianFieldOfView
@@ -48,6 +48,7 @@ from searchtrack.plan.assign import (
     Objective,
 )
 from searchtrack.plan.assign import solve as solve_assignment
+from searchtrack.sim.campaigns.report import save_png
 
 FAMILY = "assign"
 DESCRIPTION = "one candidate action per UAV on a particle belief (paper 003)"
@@ -267,8 +268,4 @@ def figure(problem: AssignJob, result: Result[Assignment], path: Path) -> Path |
     ax.set_ylabel("north (m)")
     ax.set_title(f"{problem.name}: {prob.objective.name}, {result.status.name}")
     ax.legend(loc="best", fontsize=7)
-    fig.tight_layout()
-    with atomic_path(path) as temp:
-        fig.savefig(temp, format="png")
-    plt.close(fig)
-    return path
+    return save_png(fig, Path(path))

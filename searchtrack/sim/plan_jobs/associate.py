@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 
 from searchtrack.core.errors import ParseError
-from searchtrack.core.files import atomic_path, read_text
+from searchtrack.core.files import read_text
 from searchtrack.core.result import Result
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.association import BACKENDS, Association
@@ -52,6 +52,7 @@ from searchtrack.estimate.node_tracker import (
     position_log_likelihood,
 )
 from searchtrack.models.roads import RoadNetwork
+from searchtrack.sim.campaigns.report import save_png
 from searchtrack.sim.road_track_job import FieldReader, read_map
 
 FAMILY = "associate"
@@ -273,8 +274,4 @@ def figure(problem: AssociateJob, result: Result[AssociationPlan], path: Path) -
     ax.set_ylabel("north (m)")
     ax.set_title(f"{problem.name}: gate {problem.gate_m:g} m, {result.status.name}")
     ax.legend(loc="best", fontsize=7)
-    fig.tight_layout()
-    with atomic_path(path) as temp:
-        fig.savefig(temp, format="png")
-    plt.close(fig)
-    return path
+    return save_png(fig, Path(path))

@@ -40,7 +40,7 @@ from typing import Any
 import numpy as np
 
 from searchtrack.core.errors import InvalidInputError, ParseError
-from searchtrack.core.files import atomic_path, read_text
+from searchtrack.core.files import read_text
 from searchtrack.core.result import Result
 from searchtrack.core.types import FloatArray
 from searchtrack.models.roads import RoadNetwork
@@ -48,6 +48,7 @@ from searchtrack.plan.guidance.reacquire import reacquisition_instance
 from searchtrack.plan.optw import BACKENDS, OPTWInstance, Routes
 from searchtrack.plan.optw import solve as solve_optw
 from searchtrack.plan.optw.routes import schedule
+from searchtrack.sim.campaigns.report import save_png
 from searchtrack.sim.road_track_job import FieldReader, read_map
 from searchtrack.sim.track_job import MAX_DISTANCE_M
 
@@ -239,8 +240,4 @@ def figure(problem: RouteJob, result: Result[Routes], path: Path) -> Path | None
     ax.set_ylabel("north (m)")
     ax.set_title(f"{problem.name}: profit {plan['profit']:.3g}, {result.status.name}")
     ax.legend(loc="best", fontsize=7)
-    fig.tight_layout()
-    with atomic_path(path) as temp:
-        fig.savefig(temp, format="png")
-    plt.close(fig)
-    return path
+    return save_png(fig, Path(path))

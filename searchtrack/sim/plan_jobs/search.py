@@ -49,7 +49,7 @@ from typing import Any
 import numpy as np
 
 from searchtrack.core.errors import InvalidInputError, ParseError
-from searchtrack.core.files import atomic_path, read_text
+from searchtrack.core.files import read_text
 from searchtrack.core.result import Result
 from searchtrack.plan.search import (
     BACKENDS,
@@ -63,6 +63,7 @@ from searchtrack.plan.search import (
     SearchSettings,
 )
 from searchtrack.plan.search import solve as solve_search
+from searchtrack.sim.campaigns.report import save_png
 from searchtrack.sim.plan_jobs.assign import (
     MAX_PROBLEM_BYTES,
     ProblemFields,
@@ -268,8 +269,4 @@ def figure(problem: SearchJob, result: Result[SearchPlan], path: Path) -> Path |
     ax.set_ylabel("north (m)")
     ax.set_title(f"{problem.name}: {prob.settings.refinement.name}, {result.status.name}")
     ax.legend(loc="best", fontsize=7)
-    fig.tight_layout()
-    with atomic_path(path) as temp:
-        fig.savefig(temp, format="png")
-    plt.close(fig)
-    return path
+    return save_png(fig, Path(path))

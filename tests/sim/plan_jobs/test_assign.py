@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 import json
 from pathlib import Path
 from typing import Any
@@ -10,10 +9,16 @@ from typing import Any
 import numpy as np
 import pytest
 
-from searchtrack.core.errors import ParseError
 from searchtrack.core.result import Status
 from searchtrack.plan.assign import ExpectedDetections, MutualInformation
 from searchtrack.sim.plan_jobs import assign
+from tests.sim.plan_jobs.helpers import (
+    assert_bad_key_named,
+    assert_refuses_broken_json,
+    drop,
+    set_key,
+    write_problem,
+)
 
 EXAMPLE = Path(__file__).parents[3] / "examples" / "problems" / "assign.json"
 
@@ -30,12 +35,6 @@ def _doc() -> dict[str, Any]:
     }
 
 
-def _write(tmp_path: Path, doc: Any) -> Path:
-    path = tmp_path / "problem.json"
-    path.write_text(json.dumps(doc), encoding="utf-8")
-    return path
-
-
 def test_reads_the_example() -> None:
     """The shipped example has 3 UAVs, 4-5 actions each and 200 particles."""
     job = assign.read_problem(EXAMPLE)
@@ -50,31 +49,11 @@ def test_optional_fields_default(tmp_path: Path) -> None:
     """Without objective and min_separation_m the problem is END without separation; mi reads."""
     doc = _doc()
     del doc["objective"], doc["min_separation_m"]
-    prob = assign.read_problem(_write(tmp_path, doc)).problem
+    prob = assign.read_problem(write_problem(tmp_path, doc)).problem
     assert isinstance(prob.objective, ExpectedDetections) and prob.min_separation_m == 0.0
     doc["objective"] = "mi"
-    assert isinstance(assign.read_problem(_write(tmp_path, doc)).problem.objective,
+    assert isinstance(assign.read_problem(write_problem(tmp_path, doc)).problem.objective,
                       MutualInformation)
-
-
-def _drop(key: str) -> Any:
-    def edit(doc: dict[str, Any]) -> None:
-        *parents, last = key.split(".")
-        target = doc
-        for p in parents:
-            target = target[p]
-        del target[last]
-    return edit
-
-
-def _set(key: str, value: Any) -> Any:
-    def edit(doc: dict[str, Any]) -> None:
-        *parents, last = key.split(".")
-        target = doc
-        for p in parents:
-            target = target[p]
-        target[last] = value
-    return edit
 
 
 def _set_pose(r: int, a: int, value: Any) -> Any:
@@ -84,53 +63,44 @@ def _set_pose(r: int, a: int, value: Any) -> Any:
 
 
 BAD = [
-    (_drop("uavs"), "'uavs'"),
-    (_drop("actions"), "'actions'"),
-    (_drop("belief"), "'belief'"),
-    (_drop("sensor"), "'sensor'"),
-    (_drop("belief.weights"), "'belief.weights'"),
-    (_drop("sensor.scale_z_m"), "'sensor.scale_z_m'"),
-    (_set("extra", 1), "'extra'"),
-    (_set("sensor.fov", 1), "'sensor.fov'"),
-    (_set("uavs", [[0, 0]]), "'uavs[0]'"),
-    (_set("uavs", []), "'uavs'"),
-    (_set("actions", [[]]), "'actions'"),
+    (drop("uavs"), "'uavs'"),
+    (drop("actions"), "'actions'"),
+    (drop("belief"), "'belief'"),
+    (drop("sensor"), "'sensor'"),
+    (drop("belief.weights"), "'belief.weights'"),
+    (drop("sensor.scale_z_m"), "'sensor.scale_z_m'"),
+    (set_key("extra", 1), "'extra'"),
+    (set_key("sensor.fov", 1), "'sensor.fov'"),
+    (set_key("uavs", [[0, 0]]), "'uavs[0]'"),
+    (set_key("uavs", []), "'uavs'"),
+    (set_key("actions", [[]]), "'actions'"),
     (_set_pose(1, 0, [[50, 10, "high"]]), "'actions[1][0][0][2]'"),
     (_set_pose(1, 1, [[50, 10, 20], [50, 20, 20]]), "'actions[1][1]'"),
-    (_set("belief.positions", [[0, 40], [1, 2, 3], [4, 5]]), "'belief.positions[1]'"),
-    (_set("belief.weights", [1.0, -1.0, 0.5]), "'belief.weights[1]'"),
-    (_set("belief.weights", [1.0]), "'belief.weights'"),
-    (_set("sensor.peak_pd", 1.5), "'sensor.peak_pd'"),
-    (_set("sensor.scale_xy_m", 0), "'sensor.scale_xy_m'"),
-    (_set("objective", "max"), "'objective'"),
-    (_set("min_separation_m", -1), "'min_separation_m'"),
-    (_set("min_separation_m", True), "'min_separation_m'"),
+    (set_key("belief.positions", [[0, 40], [1, 2, 3], [4, 5]]), "'belief.positions[1]'"),
+    (set_key("belief.weights", [1.0, -1.0, 0.5]), "'belief.weights[1]'"),
+    (set_key("belief.weights", [1.0]), "'belief.weights'"),
+    (set_key("sensor.peak_pd", 1.5), "'sensor.peak_pd'"),
+    (set_key("sensor.scale_xy_m", 0), "'sensor.scale_xy_m'"),
+    (set_key("objective", "max"), "'objective'"),
+    (set_key("min_separation_m", -1), "'min_separation_m'"),
+    (set_key("min_separation_m", True), "'min_separation_m'"),
 ]
 
 
 @pytest.mark.parametrize(("edit", "key"), BAD)
 def test_bad_key_is_named(tmp_path: Path, edit: Any, key: str) -> None:
     """Every malformed field raises a ParseError naming the file and the dotted key."""
-    doc = copy.deepcopy(_doc())
-    edit(doc)
-    with pytest.raises(ParseError, match=key.replace("[", r"\[").replace("]", r"\]")) as info:
-        assign.read_problem(_write(tmp_path, doc))
-    assert "problem.json" in str(info.value)
+    assert_bad_key_named(assign.read_problem, tmp_path, _doc(), edit, key)
 
 
 def test_not_json_or_not_an_object(tmp_path: Path) -> None:
     """Broken JSON names the line; a top-level list is refused."""
-    path = tmp_path / "problem.json"
-    path.write_text("{\n  \"uavs\": ,\n}", encoding="utf-8")
-    with pytest.raises(ParseError, match="line 2"):
-        assign.read_problem(path)
-    with pytest.raises(ParseError, match="JSON object"):
-        assign.read_problem(_write(tmp_path, [1, 2]))
+    assert_refuses_broken_json(assign.read_problem, tmp_path, "uavs")
 
 
 def test_solve_and_plan_json(tmp_path: Path) -> None:
     """The exact backend picks the actions over the particles; plan_json reports them."""
-    job = assign.read_problem(_write(tmp_path, _doc()))
+    job = assign.read_problem(write_problem(tmp_path, _doc()))
     assert assign.backends()[0] == "auto" and "greedy" in assign.backends()
     result = assign.solve(job, backend="exact_bnb", time_limit_s=5.0, seed=0)
     assert result.status is Status.OPTIMAL

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 import json
 import math
 from pathlib import Path
@@ -11,9 +10,16 @@ from typing import Any
 import numpy as np
 import pytest
 
-from searchtrack.core.errors import InvalidInputError, ParseError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.result import Status
 from searchtrack.sim.plan_jobs import associate
+from tests.sim.plan_jobs.helpers import (
+    assert_bad_key_named,
+    assert_refuses_broken_json,
+    drop,
+    set_key,
+    write_problem,
+)
 
 EXAMPLE = Path(__file__).parents[3] / "examples" / "problems" / "associate.json"
 
@@ -28,12 +34,6 @@ def _doc() -> dict[str, Any]:
         "gate_m": 150,
         "support_mass": 0.999,
     }
-
-
-def _write(tmp_path: Path, doc: Any) -> Path:
-    path = tmp_path / "problem.json"
-    path.write_text(json.dumps(doc), encoding="utf-8")
-    return path
 
 
 def test_reads_the_example() -> None:
@@ -51,88 +51,61 @@ def test_optional_fields_default(tmp_path: Path) -> None:
     doc = _doc()
     del doc["noise_sd_m"], doc["gate_m"], doc["support_mass"], doc["trackers"][1]["sd_m"]
     doc["trackers"][0] = {"nodes": {"0": 2.0, "1": 2.0}}
-    job = associate.read_problem(_write(tmp_path, doc))
+    job = associate.read_problem(write_problem(tmp_path, doc))
     assert job.gate_m == 300.0 and job.support_mass == 0.999
     assert np.allclose(job.bank[0].probability[:2], [0.5, 0.5])
     assert job.bank[1].peak_node() == 8
 
 
-def _drop(key: str) -> Any:
-    def edit(doc: dict[str, Any]) -> None:
-        *parents, last = key.split(".")
-        target = doc
-        for p in parents:
-            target = target[int(p)] if p.isdigit() else target[p]
-        del target[last]
-    return edit
-
-
-def _set(key: str, value: Any) -> Any:
-    def edit(doc: dict[str, Any]) -> None:
-        *parents, last = key.split(".")
-        target = doc
-        for p in parents:
-            target = target[int(p)] if p.isdigit() else target[p]
-        target[last] = value
-    return edit
 
 
 BAD = [
-    (_drop("map"), "'map'"),
-    (_drop("trackers"), "'trackers'"),
-    (_drop("detections"), "'detections'"),
-    (_drop("map.spacing_m"), "'map.spacing_m'"),
-    (_set("extra", 1), "'extra'"),
-    (_set("map.roads", 1), "'map.roads'"),
-    (_set("map.grid", [3]), "'map.grid'"),
-    (_set("map.grid", [1, 3]), r"'map.grid\[0\]'"),
-    (_set("map.osm", "Atlantis"), "'map'"),
-    (_set("map", {"osm": "Atlantis.osm"}), "'map.osm'"),
-    (_set("trackers", []), "'trackers'"),
-    (_set("trackers.0.peak", [1, 2]), r"'trackers\[0\]'"),
-    (_set("trackers.0.mass", 1), r"'trackers\[0\].mass'"),
-    (_set("trackers.0.sd_m", 5), r"'trackers\[0\].sd_m'"),
-    (_set("trackers.0.nodes", {"9": 1.0}), r"'trackers\[0\].nodes.9'"),
-    (_set("trackers.0.nodes", {"x": 1.0}), r"'trackers\[0\].nodes.x'"),
-    (_set("trackers.0.nodes", {"0": -1.0}), r"'trackers\[0\].nodes.0'"),
-    (_set("trackers.0.nodes", {"0": 0.0}), r"'trackers\[0\].nodes'"),
-    (_set("trackers.1.peak", [200, "north"]), r"'trackers\[1\].peak\[1\]'"),
-    (_set("trackers.1.peak", [200]), r"'trackers\[1\].peak'"),
-    (_set("trackers.1.sd_m", 0), r"'trackers\[1\].sd_m'"),
-    (_set("detections", []), "'detections'"),
-    (_set("detections", [[0, 0], [1, 2, 3]]), r"'detections\[1\]'"),
-    (_set("detections", [[0, 0], [5000, 0]]), r"'detections\[1\]'"),
-    (_set("noise_sd_m", 0), "'noise_sd_m'"),
-    (_set("gate_m", -1), "'gate_m'"),
-    (_set("gate_m", True), "'gate_m'"),
-    (_set("support_mass", 1.5), "'support_mass'"),
+    (drop("map"), "'map'"),
+    (drop("trackers"), "'trackers'"),
+    (drop("detections"), "'detections'"),
+    (drop("map.spacing_m"), "'map.spacing_m'"),
+    (set_key("extra", 1), "'extra'"),
+    (set_key("map.roads", 1), "'map.roads'"),
+    (set_key("map.grid", [3]), "'map.grid'"),
+    (set_key("map.grid", [1, 3]), "'map.grid[0]'"),
+    (set_key("map.osm", "Atlantis"), "'map'"),
+    (set_key("map", {"osm": "Atlantis.osm"}), "'map.osm'"),
+    (set_key("trackers", []), "'trackers'"),
+    (set_key("trackers.0.peak", [1, 2]), "'trackers[0]'"),
+    (set_key("trackers.0.mass", 1), "'trackers[0].mass'"),
+    (set_key("trackers.0.sd_m", 5), "'trackers[0].sd_m'"),
+    (set_key("trackers.0.nodes", {"9": 1.0}), "'trackers[0].nodes.9'"),
+    (set_key("trackers.0.nodes", {"x": 1.0}), "'trackers[0].nodes.x'"),
+    (set_key("trackers.0.nodes", {"0": -1.0}), "'trackers[0].nodes.0'"),
+    (set_key("trackers.0.nodes", {"0": 0.0}), "'trackers[0].nodes'"),
+    (set_key("trackers.1.peak", [200, "north"]), "'trackers[1].peak[1]'"),
+    (set_key("trackers.1.peak", [200]), "'trackers[1].peak'"),
+    (set_key("trackers.1.sd_m", 0), "'trackers[1].sd_m'"),
+    (set_key("detections", []), "'detections'"),
+    (set_key("detections", [[0, 0], [1, 2, 3]]), "'detections[1]'"),
+    (set_key("detections", [[0, 0], [5000, 0]]), "'detections[1]'"),
+    (set_key("noise_sd_m", 0), "'noise_sd_m'"),
+    (set_key("gate_m", -1), "'gate_m'"),
+    (set_key("gate_m", True), "'gate_m'"),
+    (set_key("support_mass", 1.5), "'support_mass'"),
 ]
 
 
 @pytest.mark.parametrize(("edit", "key"), BAD)
 def test_bad_key_is_named(tmp_path: Path, edit: Any, key: str) -> None:
     """Every malformed field raises a ParseError naming the file and the dotted key."""
-    doc = copy.deepcopy(_doc())
-    edit(doc)
-    with pytest.raises(ParseError, match=key) as info:
-        associate.read_problem(_write(tmp_path, doc))
-    assert "problem.json" in str(info.value)
+    assert_bad_key_named(associate.read_problem, tmp_path, _doc(), edit, key)
 
 
 def test_not_json_or_not_an_object(tmp_path: Path) -> None:
     """Broken JSON names the line; a top-level list is refused."""
-    path = tmp_path / "problem.json"
-    path.write_text("{\n  \"map\": ,\n}", encoding="utf-8")
-    with pytest.raises(ParseError, match="line 2"):
-        associate.read_problem(path)
-    with pytest.raises(ParseError, match="JSON object"):
-        associate.read_problem(_write(tmp_path, [1, 2]))
+    assert_refuses_broken_json(associate.read_problem, tmp_path, "map")
 
 
 @pytest.mark.parametrize("backend", ["auto", "greedy", "optimal"])
 def test_solve_and_plan_json(tmp_path: Path, backend: str) -> None:
     """Each tracker takes the detection on it; the far one is new; the EMDs are road metres."""
-    job = associate.read_problem(_write(tmp_path, _doc()))
+    job = associate.read_problem(write_problem(tmp_path, _doc()))
     assert associate.backends() == ["auto", "greedy", "optimal"]
     result = associate.solve(job, backend=backend, time_limit_s=5.0, seed=0)
     assert result.status in (Status.OPTIMAL, Status.FEASIBLE) and result.objective is not None

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import copy
 import json
 from pathlib import Path
 from typing import Any
@@ -10,9 +9,15 @@ from typing import Any
 import numpy as np
 import pytest
 
-from searchtrack.core.errors import ParseError
 from searchtrack.core.result import Status
 from searchtrack.sim.plan_jobs import route
+from tests.sim.plan_jobs.helpers import (
+    assert_bad_key_named,
+    assert_refuses_broken_json,
+    drop,
+    set_key,
+    write_problem,
+)
 
 EXAMPLE = Path(__file__).parents[3] / "examples" / "problems" / "route.json"
 
@@ -30,12 +35,6 @@ def _doc() -> dict[str, Any]:
     }
 
 
-def _write(tmp_path: Path, doc: Any) -> Path:
-    path = tmp_path / "problem.json"
-    path.write_text(json.dumps(doc), encoding="utf-8")
-    return path
-
-
 def test_reads_the_example() -> None:
     """The shipped example: a 6 × 6 grid, three trackers of mass 1, 1 and 0.5."""
     job = route.read_problem(EXAMPLE)
@@ -50,31 +49,11 @@ def test_peak_spread_and_defaults(tmp_path: Path) -> None:
     doc = _doc()
     doc["trackers"] = [{"peak_node": 4, "spread_m": 50}]
     del doc["max_nodes"], doc["support_mass"]
-    job = route.read_problem(_write(tmp_path, doc))
+    job = route.read_problem(write_problem(tmp_path, doc))
     p = job.trackers[0]
     assert p.sum() == pytest.approx(1.0) and int(np.argmax(p)) == 4
     assert p[1] == pytest.approx(p[3]) and p[0] < p[1]
     assert set(job.node_ids[1:].tolist()) <= set(range(9))
-
-
-def _drop(key: str) -> Any:
-    def edit(doc: dict[str, Any]) -> None:
-        *parents, last = key.split(".")
-        target = doc
-        for p in parents:
-            target = target[p]
-        del target[last]
-    return edit
-
-
-def _set(key: str, value: Any) -> Any:
-    def edit(doc: dict[str, Any]) -> None:
-        *parents, last = key.split(".")
-        target = doc
-        for p in parents:
-            target = target[p]
-        target[last] = value
-    return edit
 
 
 def _tracker(i: int, **changes: Any) -> Any:
@@ -84,20 +63,20 @@ def _tracker(i: int, **changes: Any) -> Any:
 
 
 BAD = [
-    (_drop("map"), "'map'"),
-    (_drop("uav"), "'uav'"),
-    (_drop("horizon_s"), "'horizon_s'"),
-    (_drop("trackers"), "'trackers'"),
-    (_drop("uav.speed_mps"), "'uav.speed_mps'"),
-    (_drop("uav.start_node"), "'uav.start_node'"),
-    (_set("extra", 1), "'extra'"),
-    (_set("uav.heading", 1), "'uav.heading'"),
-    (_set("map", {"grid": [3, 1], "spacing_m": 100}), "'map.grid[1]'"),
-    (_set("map", {"osm": "Atlantis"}), "'map.osm'"),
-    (_set("uav.start_node", 9), "'uav.start_node'"),
-    (_set("uav.speed_mps", 0), "'uav.speed_mps'"),
-    (_set("horizon_s", -5), "'horizon_s'"),
-    (_set("trackers", []), "'trackers'"),
+    (drop("map"), "'map'"),
+    (drop("uav"), "'uav'"),
+    (drop("horizon_s"), "'horizon_s'"),
+    (drop("trackers"), "'trackers'"),
+    (drop("uav.speed_mps"), "'uav.speed_mps'"),
+    (drop("uav.start_node"), "'uav.start_node'"),
+    (set_key("extra", 1), "'extra'"),
+    (set_key("uav.heading", 1), "'uav.heading'"),
+    (set_key("map", {"grid": [3, 1], "spacing_m": 100}), "'map.grid[1]'"),
+    (set_key("map", {"osm": "Atlantis"}), "'map.osm'"),
+    (set_key("uav.start_node", 9), "'uav.start_node'"),
+    (set_key("uav.speed_mps", 0), "'uav.speed_mps'"),
+    (set_key("horizon_s", -5), "'horizon_s'"),
+    (set_key("trackers", []), "'trackers'"),
     (_tracker(0, color="red"), "'trackers[0].color'"),
     (_tracker(1, nodes=[6, 42], masses=[1, 1]), "'trackers[1].nodes[1]'"),
     (_tracker(1, masses=[1.0, 2.0]), "'trackers[1].masses'"),
@@ -105,39 +84,30 @@ BAD = [
     (_tracker(0, masses=[0]), "'trackers[0].masses'"),
     (_tracker(1, weight=0), "'trackers[1].weight'"),
     (_tracker(0, peak_node=4), "'trackers[0]'"),
-    (_set("trackers", [{"peak_node": 4}]), "'trackers[0].spread_m'"),
-    (_set("trackers", [{"peak_node": 4, "spread_m": 0}]), "'trackers[0].spread_m'"),
-    (_set("trackers", [{"peak_node": 4, "spread_m": 9, "masses": [1]}]),
+    (set_key("trackers", [{"peak_node": 4}]), "'trackers[0].spread_m'"),
+    (set_key("trackers", [{"peak_node": 4, "spread_m": 0}]), "'trackers[0].spread_m'"),
+    (set_key("trackers", [{"peak_node": 4, "spread_m": 9, "masses": [1]}]),
      "'trackers[0].masses'"),
-    (_set("max_nodes", 0), "'max_nodes'"),
-    (_set("support_mass", 1.5), "'support_mass'"),
+    (set_key("max_nodes", 0), "'max_nodes'"),
+    (set_key("support_mass", 1.5), "'support_mass'"),
 ]
 
 
 @pytest.mark.parametrize(("edit", "key"), BAD)
 def test_bad_key_is_named(tmp_path: Path, edit: Any, key: str) -> None:
     """Every malformed field raises a ParseError naming the file and the dotted key."""
-    doc = copy.deepcopy(_doc())
-    edit(doc)
-    with pytest.raises(ParseError, match=key.replace("[", r"\[").replace("]", r"\]")) as info:
-        route.read_problem(_write(tmp_path, doc))
-    assert "problem.json" in str(info.value)
+    assert_bad_key_named(route.read_problem, tmp_path, _doc(), edit, key)
 
 
 def test_not_json_or_not_an_object(tmp_path: Path) -> None:
     """Broken JSON names the line; a top-level list is refused."""
-    path = tmp_path / "problem.json"
-    path.write_text("{\n  \"uav\": ,\n}", encoding="utf-8")
-    with pytest.raises(ParseError, match="line 2"):
-        route.read_problem(path)
-    with pytest.raises(ParseError, match="JSON object"):
-        route.read_problem(_write(tmp_path, [1, 2]))
+    assert_refuses_broken_json(route.read_problem, tmp_path, "uav")
 
 
 def test_solve_and_plan_json(tmp_path: Path) -> None:
     """The exact labelling backend flies to the heavier tracker; plan_json reports the route,
     its times and the profit per tracker."""
-    job = route.read_problem(_write(tmp_path, _doc()))
+    job = route.read_problem(write_problem(tmp_path, _doc()))
     assert route.backends()[0] == "auto" and "labelling" in route.backends()
     result = route.solve(job, backend="labelling", time_limit_s=5.0, seed=0)
     assert result.status is Status.OPTIMAL and result.objective == pytest.approx(1.0)
