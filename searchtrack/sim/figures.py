@@ -47,13 +47,17 @@ def plot_map(mission: MissionLog, path: Path) -> Path:
     for j in range(mission.uav_xy_m.shape[1]):
         p = mission.uav_xy_m[:, j]
         line, = ax.plot(p[:, 0], p[:, 1], lw=1.0, zorder=4, label=f"UAV {j + 1}")
-        ax.plot(p[-1, 0], p[-1, 1], marker="^", ms=8, color=line.get_color(), zorder=5)
+        ax.plot(p[-1, 0], p[-1, 1], marker="^", ms=8, color=line.get_color(), zorder=5,
+                ls="none", label="UAVs at the end" if j == 0 else None)
     for i in range(mission.target_xy_m.shape[1]):
         p = mission.target_xy_m[:, i]
         ax.plot(p[:, 0], p[:, 1], "k--", lw=0.8, zorder=4,
                 label="targets" if i == 0 else None)
-        ax.plot(p[-1, 0], p[-1, 1], "ks", ms=5, zorder=5)
-    lo, hi = xy.min(axis=0), xy.max(axis=0)
+        ax.plot(p[-1, 0], p[-1, 1], "ks", ms=5, zorder=5,
+                label="targets at the end" if i == 0 else None)
+    paths = [xy, *(a.reshape(-1, 2) for a in (mission.uav_xy_m, mission.target_xy_m))]
+    every = np.vstack([a for a in paths if a.size])
+    lo, hi = every.min(axis=0), every.max(axis=0)   # roads and every path: nothing cropped
     pad = 0.03 * (hi - lo)
     ax.set_xlim(lo[0] - pad[0], hi[0] + pad[0])
     ax.set_ylim(lo[1] - pad[1], hi[1] + pad[1])
@@ -87,7 +91,8 @@ def plot_moc(mission: MissionLog, path: Path) -> Path:
     ax2.set_ylabel("trackers")
     ax2.yaxis.get_major_locator().set_params(integer=True)
     ax.set_title(f"{mission.scenario.name}: measure of completeness")
-    fig.legend(loc="lower right", fontsize=7)
+    handles = ax.get_legend_handles_labels()[0] + ax2.get_legend_handles_labels()[0]
+    ax.legend(handles=handles, loc="best", fontsize=7)   # inside the axes: off the ticks
     fig.tight_layout()
     with atomic_path(path) as temp:
         fig.savefig(temp, format="png")
