@@ -31,29 +31,30 @@ from searchtrack.core.registry import check_seed
 from searchtrack.core.result import Status
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.metrics import ospa_components
-from searchtrack.estimate.radio import DttLmbFilter, FilterConfig, TbdLmbFilter
+from searchtrack.estimate.radio import LabelledFilter
 from searchtrack.models.radio import (
     RadioScenario,
     RadioTruth,
     fly_heading,
-    simulate_stft,
-    simulate_time_domain,
     simulate_truth,
     straight_sweep_heading,
 )
 from searchtrack.plan.radio import RadioPlanProblem, RadioPlanSettings, solve
+from searchtrack.sim.radio_keep_out import KeepOut, fly_with_keep_out
+from searchtrack.sim.radio_run import SIMULATORS, spectrogram
+from searchtrack.sim.radio_track_job import FILTERS as FILTER_TABLE
+from searchtrack.sim.radio_track_job import make_filter
 
 log = logging.getLogger("searchtrack.sim.radio_mission")
 
-FILTERS = ("tbd", "dtt")
+FILTERS = tuple(FILTER_TABLE)
 """The filters: the TBD-LMB on the raw STFT, detection-then-track (§IV-B)."""
 
 PLANNERS = ("renyi", "cs", "straight")
 """The path strategies of Exp. 2: Rényi and Cauchy–Schwarz planning, the straight sweep."""
 
-MEASUREMENTS = ("stft", "time")
-"""How spectrograms are simulated: directly in the STFT domain (i.i.d. cells, the likelihood's
-model) or from time-domain samples of the windows (physical, correlated neighbouring bins)."""
+MEASUREMENTS = tuple(SIMULATORS)
+"""How spectrograms are simulated (:data:`~searchtrack.sim.radio_run.SIMULATORS`)."""
 
 
 @dataclass(frozen=True)
@@ -181,12 +182,6 @@ class RadioMissionLog:
                           for d in self.nearest_m]}
 
 
-def _live(truth: RadioTruth, k: int) -> tuple[np.ndarray, FloatArray, FloatArray]:
-    labels = np.flatnonzero(truth.alive[k])
-    xy = truth.states[k][labels][:, [0, 2]]
-    return labels, xy, truth.taus_s[k][labels]
-
-
 class _Flight:
     """The UAV's primitive for the current planning interval, one pose per second."""
 
@@ -199,19 +194,13 @@ class _Flight:
         self.planner_ms: list[float] = []
         self.keep_out_fallbacks = 0
         self.interval = max(1, round(uav.plan_interval_s / uav.step_s))
-        keep = None
-        if config.keep_out:
-            from searchtrack.sim.radio_keep_out import KeepOut
+        self.keep = KeepOut(radius_m=config.plan.r_min_m) if config.keep_out else None
 
-            keep = KeepOut(radius_m=config.plan.r_min_m)
-        self.keep = keep
-
-    def replan(self, belief: TbdLmbFilter | DttLmbFilter, k: int) -> None:
+    def replan(self, belief: LabelledFilter, k: int) -> None:
         sc, uav = self.scenario, self.scenario.uav
         if self.config.planner == "straight":
             # the sweep's heading is recomputed every second, so it turns at the corners
-            heading = straight_sweep_heading(uav, self.pose, sc.area_m)
-            self.path = fly_heading(uav, self.pose, heading, uav.step_s)
+            self.path = self._sweep(uav.step_s)
             if k % self.interval == 0:
                 self.statuses["straight"] += 1
             return
@@ -225,18 +214,21 @@ class _Flight:
         if result.plan is None or result.status is Status.ERROR:
             log.warning("planning at step %d gave no plan (%s): straight sweep", k,
                         result.message)
-            heading = straight_sweep_heading(uav, self.pose, sc.area_m)
-            self.path = fly_heading(uav, self.pose, heading, uav.plan_interval_s)
+            self.path = self._sweep(uav.plan_interval_s)
             return
         self.path = np.asarray(result.plan.path[: self.interval], dtype=float)
+
+    def _sweep(self, duration_s: float) -> FloatArray:
+        """The straight sweep's poses over ``duration_s`` from the current pose."""
+        uav = self.scenario.uav
+        heading = straight_sweep_heading(uav, self.pose, self.scenario.area_m)
+        return fly_heading(uav, self.pose, heading, duration_s)
 
     def advance(self, estimates: list[tuple[int, FloatArray]]) -> FloatArray:
         """Fly one second; the pose reached."""
         if self.keep is None:
             self.pose, self.path = self.path[0].copy(), self.path[1:]
             return self.pose
-        from searchtrack.sim.radio_keep_out import fly_with_keep_out
-
         centres = (np.array([xy for _, xy in estimates], dtype=float).reshape(-1, 2))
         pose, result = fly_with_keep_out(self.keep, self.scenario.uav, self.pose,
                                          self.path[:, :2], centres)
@@ -244,14 +236,6 @@ class _Flight:
             self.keep_out_fallbacks += 1
         self.pose, self.path = np.asarray(pose, dtype=float), self.path[1:]
         return self.pose
-
-
-def make_filter(scenario: RadioScenario, config: RadioMissionConfig,
-                seed: int) -> TbdLmbFilter | DttLmbFilter:
-    """The configured filter for ``scenario``."""
-    fc = FilterConfig(particles_per_label=config.particles_per_label)
-    cls = TbdLmbFilter if config.filter == "tbd" else DttLmbFilter
-    return cls(scenario, fc, seed=seed)
 
 
 def run_radio_mission(scenario: RadioScenario, config: RadioMissionConfig, seed: int,
@@ -262,8 +246,9 @@ def run_radio_mission(scenario: RadioScenario, config: RadioMissionConfig, seed:
     streams = np.random.SeedSequence(seed).spawn(3)
     truth = simulate_truth(scenario, np.random.default_rng(streams[0]))
     meas_rng = np.random.default_rng(streams[1])
-    filt = make_filter(scenario, config, int(streams[2].generate_state(1)[0] % (2**31 - 1)))
-    simulate = simulate_stft if config.measurement == "stft" else simulate_time_domain
+    filt = make_filter(config.filter, scenario, config.particles_per_label,
+                       int(streams[2].generate_state(1)[0] % (2**31 - 1)))
+    simulate = SIMULATORS[config.measurement]
     flight = _Flight(scenario, config, seed)
     n = scenario.n_steps
     poses = [flight.pose.copy()]
@@ -279,8 +264,8 @@ def run_radio_mission(scenario: RadioScenario, config: RadioMissionConfig, seed:
         if flight.path.shape[0] == 0:
             flight.replan(filt, k)
         pose = flight.advance(current)
-        labels, xy, taus = _live(truth, k)
-        z = simulate(scenario.signal, xy, labels, taus, pose, meas_rng)
+        z = spectrogram(scenario.signal, truth, k, pose, simulate, meas_rng)
+        xy = truth.positions(k)[1]
         t0 = time.perf_counter()
         filt.step(z, pose)
         filter_s += time.perf_counter() - t0

@@ -22,6 +22,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import zipfile
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -35,6 +36,7 @@ from searchtrack.core.registry import check_seed
 from searchtrack.core.types import FloatArray
 from searchtrack.models.radio import (
     RadioScenario,
+    RadioSignal,
     RadioTruth,
     fly_heading,
     simulate_stft,
@@ -42,6 +44,11 @@ from searchtrack.models.radio import (
     simulate_truth,
     straight_sweep_heading,
 )
+
+SIMULATORS: dict[str, Callable[..., FloatArray]] = {"stft": simulate_stft,
+                                                     "time": simulate_time_domain}
+"""How spectrograms are simulated: directly in the STFT domain (i.i.d. cells, the likelihood's
+model) or from time-domain samples of the windows (physical, correlated neighbouring bins)."""
 
 FIELDS = ("frames", "uav_poses", "times_s", "labels", "frequencies_hz", "scenario", "seed")
 """The arrays of a RUN.npz, all required."""
@@ -100,12 +107,12 @@ def simulate_run(scenario: RadioScenario, seed: int, *,
     """Fly the straight diagonal sweep of Exp. 2 over ``scenario`` and record every interval's
     spectrogram (``measurement``: ``"stft"`` direct, ``"time"`` from time-domain windows)."""
     seed = check_seed(seed)
-    if measurement not in ("stft", "time"):
-        raise InvalidInputError("measurement", measurement, "must be 'stft' or 'time'")
+    if measurement not in SIMULATORS:
+        raise InvalidInputError("measurement", measurement, f"must be one of {list(SIMULATORS)}")
     streams = np.random.SeedSequence(seed).spawn(2)
     truth = simulate_truth(scenario, np.random.default_rng(streams[0]))
     rng = np.random.default_rng(streams[1])
-    simulate = simulate_stft if measurement == "stft" else simulate_time_domain
+    simulate = SIMULATORS[measurement]
     uav, sig = scenario.uav, scenario.signal
     pose = np.array([*uav.start_xy, uav.start_heading], dtype=float)
     n = scenario.n_steps
@@ -114,12 +121,17 @@ def simulate_run(scenario: RadioScenario, seed: int, *,
     for k in range(n):
         heading = straight_sweep_heading(uav, pose, scenario.area_m)
         pose = fly_heading(uav, pose, heading, uav.step_s)[-1]
-        labels = np.flatnonzero(truth.alive[k])
-        xy = truth.states[k][labels][:, [0, 2]]
-        frames[k] = simulate(sig, xy, labels, truth.taus_s[k][labels], pose, rng)
+        frames[k] = spectrogram(sig, truth, k, pose, simulate, rng)
         poses[k] = pose
     run = RadioRun(_public(scenario), frames, poses, truth.times_s.copy(), seed)
     return run, truth
+
+
+def spectrogram(signal: RadioSignal, truth: RadioTruth, k: int, pose: FloatArray,
+                simulate: Callable[..., FloatArray], rng: np.random.Generator) -> FloatArray:
+    """The ``(M, L)`` spectrogram of measurement ``k`` (row ``k`` of the truth) from ``pose``."""
+    labels, xy = truth.positions(k)
+    return simulate(signal, xy, labels, truth.taus_s[k, labels], pose, rng)
 
 
 def write_run(run: RadioRun, path: str | Path) -> Path:

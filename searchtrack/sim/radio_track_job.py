@@ -27,11 +27,21 @@ from searchtrack.core import checks
 from searchtrack.core.files import write_text_atomic
 from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.registry import check_seed
-from searchtrack.estimate.radio import DttLmbFilter, FilterConfig, TbdLmbFilter
+from searchtrack.estimate.radio import DttLmbFilter, FilterConfig, LabelledFilter, TbdLmbFilter
+from searchtrack.models.radio import RadioScenario
 from searchtrack.sim.radio_run import RadioRun
 
-FILTERS = ("tbd", "dtt")
-"""Filters a recorded run can be given."""
+FILTERS: dict[str, type[TbdLmbFilter] | type[DttLmbFilter]] = {"tbd": TbdLmbFilter,
+                                                              "dtt": DttLmbFilter}
+"""The filters by name: the TBD-LMB on the raw STFT, detection-then-track (§IV-B)."""
+
+
+def make_filter(name: str, scenario: RadioScenario, particles_per_label: int,
+                seed: int) -> LabelledFilter:
+    """The filter ``name`` (:data:`FILTERS`) for ``scenario``."""
+    checks.choice("filter", name, tuple(FILTERS))
+    config = FilterConfig(particles_per_label=particles_per_label)
+    return FILTERS[name](scenario, config, seed=seed)
 
 
 @dataclass
@@ -73,11 +83,9 @@ class RadioTrackResult:
 def run_radio_track(run: RadioRun, filter_name: str, particles_per_label: int, seed: int,
                     progress: Callable[[int, int], None] | None = None) -> RadioTrackResult:
     """Filter every interval of ``run`` with ``filter_name`` (``"tbd"`` or ``"dtt"``)."""
-    checks.choice("filter", filter_name, FILTERS)
+    checks.choice("filter", filter_name, tuple(FILTERS))
     seed = check_seed(seed)
-    config = FilterConfig(particles_per_label=particles_per_label)
-    cls = TbdLmbFilter if filter_name == "tbd" else DttLmbFilter
-    filt = cls(run.scenario, config, seed=seed)
+    filt = make_filter(filter_name, run.scenario, particles_per_label, seed)
     result = RadioTrackResult(filter_name, particles_per_label, seed)
     n = run.n_steps
     for k in range(n):

@@ -181,6 +181,24 @@ def _objective(f: ProblemFields, name: Any) -> Objective:
     return ExpectedDetections() if name == "end" else MutualInformation()
 
 
+def load_problem(path: str | Path,
+                 keys: tuple[str, ...]) -> tuple[ProblemFields, dict[str, Any]]:
+    """The field reader of ``path`` and its top-level JSON object (only ``keys`` allowed).
+
+    Raises
+    ------
+    ParseError
+        Unreadable or not JSON (naming the line), not an object, an unknown key.
+    """
+    p = Path(path)
+    f = ProblemFields(p)
+    try:
+        raw = json.loads(read_text(p, max_bytes=MAX_PROBLEM_BYTES))
+    except json.JSONDecodeError as exc:
+        raise ParseError(p, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
+    return f, f.obj(raw, "(top level)", keys)
+
+
 def read_problem(path: str | Path) -> AssignJob:
     """Read and validate an assignment PROBLEM.json (format in the module docstring).
 
@@ -189,13 +207,7 @@ def read_problem(path: str | Path) -> AssignJob:
     ParseError
         Naming the file and the JSON key at fault (``sensor.peak_pd``, ``actions[1][0][2]``).
     """
-    p = Path(path)
-    f = ProblemFields(p)
-    try:
-        raw = json.loads(read_text(p, max_bytes=MAX_PROBLEM_BYTES))
-    except json.JSONDecodeError as exc:
-        raise ParseError(p, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
-    top = f.obj(raw, "(top level)", _TOP_KEYS)
+    f, top = load_problem(path, _TOP_KEYS)
     uavs = f.points(f.get(top, "uavs"), "uavs", (3,))
     actions = _actions(f, f.get(top, "actions"), uavs.shape[0])
     belief = read_belief(f, f.get(top, "belief"))
@@ -208,10 +220,10 @@ def read_problem(path: str | Path) -> AssignJob:
                      f"{MAX_DETECTION_ENTRIES}; use fewer actions or particles")
     try:
         problem = AssignmentProblem(actions, belief, sensor, objective=objective,
-                                    min_separation_m=separation, origins=uavs, name=p.stem)
+                                    min_separation_m=separation, origins=uavs, name=f.path.stem)
     except InvalidInputError as exc:
         raise f.fail(exc.field, exc.reason) from None
-    return AssignJob(p, problem)
+    return AssignJob(f.path, problem)
 
 
 def backends() -> list[str]:

@@ -41,15 +41,13 @@ positions planned, the score split and how many sequences were compared.
 from __future__ import annotations
 
 import dataclasses
-import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from searchtrack.core.errors import InvalidInputError, ParseError
-from searchtrack.core.files import read_text
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.result import Result
 from searchtrack.plan.search import (
     BACKENDS,
@@ -65,8 +63,8 @@ from searchtrack.plan.search import (
 from searchtrack.plan.search import solve as solve_search
 from searchtrack.sim.campaigns.report import save_png
 from searchtrack.sim.plan_jobs.assign import (
-    MAX_PROBLEM_BYTES,
     ProblemFields,
+    load_problem,
     read_belief,
     read_sensor,
 )
@@ -168,13 +166,7 @@ def read_problem(path: str | Path) -> SearchJob:
     ParseError
         Naming the file and the JSON key at fault (``settings.horizon``, ``uav[2]``).
     """
-    p = Path(path)
-    f = ProblemFields(p)
-    try:
-        raw = json.loads(read_text(p, max_bytes=MAX_PROBLEM_BYTES))
-    except json.JSONDecodeError as exc:
-        raise ParseError(p, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
-    top = f.obj(raw, "(top level)", _TOP_KEYS)
+    f, top = load_problem(path, _TOP_KEYS)
     uav_raw = f.get(top, "uav")
     if not isinstance(uav_raw, list) or len(uav_raw) != 3:
         raise f.fail("uav", f"must be a position [x, y, z], got {uav_raw!r}")
@@ -194,10 +186,10 @@ def read_problem(path: str | Path) -> SearchJob:
         for pose in visited:
             bonus = bonus.updated(sensor, pose)
         problem = SearchProblem(uav, box, bonus, sensor, settings, belief=belief,
-                                centres=centres, name=p.stem)
+                                centres=centres, name=f.path.stem)
     except InvalidInputError as exc:
         raise f.fail(exc.field, exc.reason) from None
-    return SearchJob(p, problem, visited)
+    return SearchJob(f.path, problem, visited)
 
 
 def backends() -> list[str]:
