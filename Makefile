@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 TORCH ?= 2.13.0
 
-.PHONY: demo test lint typecheck bench bench-all campaigns clean
+.PHONY: demo test lint typecheck browser docs bench bench-all campaigns clean
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -13,7 +13,10 @@ $(STAMP): pyproject.toml
 	# The rl extra trains the RL road planner; torch is pinned to the CPU build (a plain
 	# `torch` from the registry is a CUDA build of several GB). About 25 s and 1 GB here.
 	$(BIN)/python -m pip install -q 'torch==$(TORCH)'
-	$(BIN)/python -m pip install -q -e '.[test,rl]'
+	$(BIN)/python -m pip install -q -e '.[test,rl,docs]'
+	# Compile the numba kernels into numba's on-disk cache now (about 30 s once), so the first
+	# solve answers at once instead of compiling inside it.
+	$(BIN)/searchtrack warm-up
 	touch $(STAMP)
 
 demo: $(STAMP)
@@ -27,7 +30,21 @@ lint: $(STAMP)
 typecheck: $(STAMP)
 	$(BIN)/mypy
 
-test: lint typecheck
+# The replay-page test drives a headless Chromium: Debian's chromium package (about 20 s to
+# install). Where it cannot be installed (no root, no apt) that one test is skipped and says why.
+CHROMIUM ?= /usr/bin/chromium
+
+browser:
+	@test -x $(CHROMIUM) || { command -v apt-get >/dev/null && [ "$$(id -u)" = 0 ] && \
+	  apt-get update -qq >/dev/null && \
+	  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; } || \
+	  echo "note: no Chromium at $(CHROMIUM); the replay-page browser test will be skipped"
+
+# The documentation site (mkdocs-material + mkdocstrings), warnings as errors, into out/site.
+docs: $(STAMP)
+	$(BIN)/mkdocs build --strict --site-dir out/site
+
+test: lint typecheck browser
 	$(BIN)/pytest -q
 
 bench: $(STAMP)

@@ -20,7 +20,18 @@ from rich.console import Console
 from rich.markup import escape
 
 from searchtrack import __version__
-from searchtrack.cli import campaign, fleet, mission, optw, plan, radio, rl, track, track_roads
+from searchtrack.cli import (
+    campaign,
+    fleet,
+    kernels,
+    mission,
+    optw,
+    plan,
+    radio,
+    rl,
+    track,
+    track_roads,
+)
 from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.interrupt import Aborted, sigint_stops, stop_requested
 
@@ -58,6 +69,7 @@ def build_parser() -> argparse.ArgumentParser:
     rl.add_parser(sub)
     radio.add_parser(sub)
     plan.add_parser(sub)
+    kernels.add_parser(sub)
     for group in sub.choices.values():
         _add_epilog(group)
     return parser

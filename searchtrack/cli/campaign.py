@@ -13,6 +13,7 @@ from rich.progress import BarColumn, Progress, TaskID, TextColumn, TimeRemaining
 from rich.table import Table
 
 from searchtrack.cli.common import int_at_least
+from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import OutputError, output_dir, output_file
 from searchtrack.sim.campaigns.report import build_report, table_rows, write_figures
 from searchtrack.sim.campaigns.runner import Tally, run_campaign
@@ -25,6 +26,7 @@ from searchtrack.sim.campaigns.store import (
     describe,
     open_existing,
 )
+from searchtrack.sim.kernels import KERNEL_SETS
 
 
 def _db_error(exc: StoreError) -> OutputError:
@@ -40,6 +42,7 @@ def run(args: argparse.Namespace, console: Console) -> int:
     spec = read_spec(args.file)
     db = output_file("--db", args.db if args.db is not None
                      else Path(args.file).with_suffix(".duckdb"))
+    ready_kernels(console, KERNEL_SETS)  # once, before the workers start
     with Progress(TextColumn("{task.description}"), BarColumn(),
                   TextColumn("{task.completed}/{task.total} done · {task.fields[failed]} failed"
                              " · {task.fields[running]} running"), TimeRemainingColumn(),

@@ -16,6 +16,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from searchtrack.cli.common import int_at_least, int_in, positive_float, seed_arg
+from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
 from searchtrack.cli.plan import json_number, result_record
 from searchtrack.core.errors import ParseError, SearchtrackError
@@ -25,6 +26,7 @@ from searchtrack.core.registry import MAX_SEED
 from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw import BACKENDS, OPTWInstance, Routes, read_optw, solve
 from searchtrack.plan.optw.io import MAX_DECIMALS
+from searchtrack.sim.kernels import OPTW_KERNELS
 
 
 def result_json(inst: OPTWInstance, result: Result[Routes]) -> dict[str, Any]:
@@ -85,6 +87,7 @@ def solve_command(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack optw solve``."""
     json_out = output_file("--json", args.json) if args.json else None
     inst = _load(Path(args.file), args)
+    ready_kernels(console, OPTW_KERNELS)
     with console.status(f"solving {inst.name} with {args.backend} ({args.time_limit:g} s)"):
         result = solve(inst, backend=args.backend, time_limit_s=args.time_limit, seed=args.seed)
     record = result_json(inst, result)
@@ -129,6 +132,7 @@ def bench_command(args: argparse.Namespace, console: Console) -> int:
         table.add_column(col, justify="left" if col in ("instance", "status") else "right")
     gaps: list[float] = []
     failed = 0
+    ready_kernels(console, OPTW_KERNELS)
     with Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.completed}/"
                   "{task.total}"), TimeElapsedColumn(), console=console, transient=True) as bar:
         task = bar.add_task("solving", total=len(files))
@@ -184,7 +188,9 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     optw = sub.add_parser("optw", help="orienteering with time windows (team OPTW)")
     osub = optw.add_subparsers(dest="command", required=True)
     common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("--backend", default="auto", choices=BACKENDS.names())
+    common.add_argument("--backend", default="auto", choices=BACKENDS.names(),
+                        help="backend: %(choices)s (default auto: the heuristic, then the "
+                        "exact solver within the time limit)")
     common.add_argument("--time-limit", type=positive_float, default=10.0, metavar="S",
                         help="seconds per instance (default 10)")
     common.add_argument("--vehicles", type=int_at_least(1), default=1, metavar="M",
@@ -196,10 +202,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
                         "2 Cordeau)")
     common.add_argument("--json", metavar="OUT", help="write the result(s) as JSON")
     p_solve = osub.add_parser("solve", parents=[common], help="solve one instance file")
-    p_solve.add_argument("file")
+    p_solve.add_argument("file", metavar="INSTANCE.txt",
+                         help="OPTW instance (Solomon / Cordeau format)")
     p_solve.set_defaults(run=solve_command)
     p_bench = osub.add_parser("bench", parents=[common], help="solve every *.txt under DIR")
-    p_bench.add_argument("dir")
+    p_bench.add_argument("dir", metavar="DIR",
+                         help="directory searched recursively for instance files")
     p_bench.add_argument("--optima", metavar="CSV", help="known optima (default: optima.csv "
                          "in DIR or its parents)")
     p_bench.set_defaults(run=bench_command)

@@ -22,6 +22,7 @@ from rich.console import Console
 from rich.table import Table
 
 from searchtrack.cli.common import positive_float, seed_arg
+from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
 from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.files import write_text_atomic
@@ -46,6 +47,17 @@ HELP: dict[str, str] = {
     "search": "one exploration + refinement receding-horizon search step (paper 004)",
     "trajectory": "fly a waypoint course past obstacles in closed loop (NMPC / LTV-MPC / "
                   "closed form)",
+}
+
+#: Backend names of each family as ``--help`` lists them (checked against the modules' own
+#: ``backends()`` by the tests, so the two cannot drift apart).
+BACKEND_NAMES: dict[str, tuple[str, ...]] = {
+    "assign": ("auto", "greedy", "lazy_greedy", "exact", "exact_cpsat", "exact_bnb",
+               "brute_force", "nlp"),
+    "associate": ("auto", "greedy", "optimal"),
+    "route": ("auto", "ils", "labelling", "cpsat", "mip"),
+    "search": ("auto", "receding", "lawnmower"),
+    "trajectory": ("auto", "nmpc", "ltv_mpc", "closed_form"),
 }
 
 #: The rows of the result table, as ``optw solve`` prints them.
@@ -115,6 +127,7 @@ def plan_command(args: argparse.Namespace, console: Console) -> int:
         raise SearchtrackError(f"--backend {args.backend!r}: unknown {args.family} backend; "
                                f"choose one of {names}")
     problem = module.read_problem(Path(args.problem))
+    ready_kernels(console, getattr(module, "KERNELS", ()))
     with console.status(f"solving {args.family} problem {Path(args.problem).name} with "
                         f"{args.backend} ({args.time_limit:g} s)"):
         result: Result[Any] = module.solve(problem, backend=args.backend,
@@ -144,8 +157,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         p.add_argument("problem", metavar="PROBLEM.json",
                        help=f"the problem (example: examples/problems/{name}.json)")
         p.add_argument("--out", required=True, metavar="PLAN.json", help="where to write the plan")
+        names = BACKEND_NAMES.get(name)
         p.add_argument("--backend", default="auto",
-                       help="backend name (default auto; a wrong name lists the choices)")
+                       help="backend: " + ", ".join(names) + " (default auto)" if names
+                       else "backend name (default auto; a wrong name lists the choices)")
         p.add_argument("--time-limit", type=positive_float, default=10.0, metavar="S",
                        help="seconds (default 10)")
         p.add_argument("--seed", type=seed_arg, default=0,

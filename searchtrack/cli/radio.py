@@ -20,6 +20,7 @@ from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from searchtrack.cli.common import int_at_least, positive_float, seed_arg
+from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_dir, output_file
 
 if TYPE_CHECKING:
@@ -68,6 +69,7 @@ def track(args: argparse.Namespace, console: Console) -> int:
     out = output_file("--out", args.out)
     run = read_run(args.run_file)
     seed = run.seed if args.seed is None else args.seed
+    ready_kernels(console, ("radio",))
     with _bar(console, f"{args.filter} filter") as bar:
         task = bar.add_task("filter", total=run.n_steps)
         result = run_radio_track(run, args.filter, args.particles, seed,
@@ -95,6 +97,7 @@ def mission(args: argparse.Namespace, console: Console) -> int:
     config = RadioMissionConfig(filter=args.filter, planner=args.planner, backend=args.backend,
                                 particles_per_label=args.particles, plan=plan,
                                 measurement=args.measurement, keep_out=args.keep_out)
+    ready_kernels(console, ("radio",))
     with _bar(console, f"{args.filter} + {args.planner}") as bar:
         task = bar.add_task("mission", total=scenario.n_steps)
         log = run_radio_mission(scenario, config, args.seed,
@@ -129,26 +132,36 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
                            description=__doc__.split("\n\n")[0] if __doc__ else None)
     rsub = radio.add_subparsers(dest="command", required=True)
     p_sim = rsub.add_parser("simulate", help="record a straight-sweep run's spectrograms")
-    p_sim.add_argument("scenario", metavar="SCENARIO.toml")
+    p_sim.add_argument("scenario", metavar="SCENARIO.toml",
+                       help="radio scenario (e.g. searchtrack/data/scenarios/radio_paper.toml)")
     p_sim.add_argument("--seed", type=seed_arg, default=0, help="random seed (default 0)")
-    p_sim.add_argument("--out", required=True, metavar="RUN.npz")
+    p_sim.add_argument("--out", required=True, metavar="RUN.npz",
+                       help="where to write the spectrograms and poses")
     p_sim.add_argument("--truth", default=None, metavar="TRUTH.json",
                        help="also write the truth (kept out of RUN.npz)")
     _common(p_sim)
     p_sim.set_defaults(run=simulate)
     p_track = rsub.add_parser("track", help="filter a recorded run")
-    p_track.add_argument("run_file", metavar="RUN.npz")
-    p_track.add_argument("--filter", choices=("tbd", "dtt"), default="tbd")
-    p_track.add_argument("--out", required=True, metavar="EST.json")
+    p_track.add_argument("run_file", metavar="RUN.npz",
+                         help="a run written by radio simulate")
+    p_track.add_argument("--filter", choices=("tbd", "dtt"), default="tbd",
+                         help="tbd: track before detect on the raw STFT; dtt: detect, then "
+                         "track (default tbd)")
+    p_track.add_argument("--out", required=True, metavar="EST.json",
+                         help="where to write the estimates")
     p_track.add_argument("--particles", type=int_at_least(10), default=50_000, metavar="N",
                          help="particles per label (default 50000, the paper's)")
     p_track.add_argument("--seed", type=seed_arg, default=None,
                          help="filter seed (default: the run's)")
     p_track.set_defaults(run=track)
     p_mis = rsub.add_parser("mission", help="fly the closed loop: filter + planner")
-    p_mis.add_argument("scenario", metavar="SCENARIO.toml")
-    p_mis.add_argument("--filter", choices=("tbd", "dtt"), default="tbd")
-    p_mis.add_argument("--planner", choices=("renyi", "cs", "straight"), default="renyi")
+    p_mis.add_argument("scenario", metavar="SCENARIO.toml",
+                       help="radio scenario (e.g. searchtrack/data/scenarios/radio_paper.toml)")
+    p_mis.add_argument("--filter", choices=("tbd", "dtt"), default="tbd",
+                       help="tbd or dtt, as in radio track (default tbd)")
+    p_mis.add_argument("--planner", choices=("renyi", "cs", "straight"), default="renyi",
+                       help="reward: Rényi or Cauchy–Schwarz divergence, or a straight sweep "
+                       "(default renyi)")
     p_mis.add_argument("--backend", default="exhaustive",
                        choices=("exhaustive", "beam", "greedy", "auto"),
                        help="planning backend (default exhaustive)")

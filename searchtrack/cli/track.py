@@ -40,5 +40,6 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p.add_argument("--particles", type=int_at_least(1), default=None, metavar="N",
                    help="cap on the number of particles (default 10000)")
     p.add_argument("--seed", type=seed_arg, default=0, help="random seed (default 0)")
-    p.add_argument("--out", required=True, metavar="EST.json")
+    p.add_argument("--out", required=True, metavar="EST.json",
+                   help="where to write the estimates")
     p.set_defaults(run=track_command)

@@ -13,6 +13,7 @@ from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from searchtrack.cli.common import seed_arg
+from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
 from searchtrack.sim.road_track_job import (
     read_road_job,
@@ -26,6 +27,7 @@ def track_roads_command(args: argparse.Namespace, console: Console) -> int:
     out = output_file("--out", args.out)
     job = read_road_job(args.detections)
     seed = job.seed if args.seed is None else args.seed
+    ready_kernels(console, ("road-filter",))
     with Progress(TextColumn("{task.description}"), BarColumn(),
                   TextColumn("{task.completed}/{task.total} steps"), TimeElapsedColumn(),
                   console=console, transient=True) as bar:
@@ -47,8 +49,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     """Register ``track-roads`` on the top-level subparsers."""
     p = sub.add_parser("track-roads", help="Rao-Blackwellized road filter on recorded detections",
                        description=__doc__.split("\n\n")[0] if __doc__ else None)
-    p.add_argument("detections", metavar="DETECTIONS.json")
-    p.add_argument("--out", required=True, metavar="EST.json")
+    p.add_argument("detections", metavar="DETECTIONS.json",
+                   help="recorded road detections (examples/make_road_detections.py writes one)")
+    p.add_argument("--out", required=True, metavar="EST.json",
+                   help="where to write the estimates")
     p.add_argument("--seed", type=seed_arg, default=None,
                    help="random seed (default: the file's seed, else 0)")
     p.add_argument("-v", "--verbose", action="store_true", default=argparse.SUPPRESS,

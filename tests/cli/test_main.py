@@ -1,13 +1,18 @@
-"""The top-level command: help without arguments, ``--version``, ``-v`` after a subcommand."""
+"""The top-level command: help without arguments, ``--version``, ``-v`` after a subcommand,
+help text on every argument."""
 
 from __future__ import annotations
 
+import argparse
 import logging
+import re
+from collections.abc import Iterator
 
 import pytest
 
 import searchtrack
-from searchtrack.cli import main
+from searchtrack.cli import build_parser, main
+from searchtrack.cli.plan import BACKEND_NAMES, available_families, family_module
 
 
 def test_no_arguments_prints_the_help(capsys: pytest.CaptureFixture[str]) -> None:
@@ -33,3 +38,41 @@ def test_verbose_before_or_after_the_subcommand(where: str, monkeypatch: pytest.
     assert main(argv) == 2                      # the scenario is missing: bad input
     assert levels == [logging.INFO]
     assert "missing.toml" in capsys.readouterr().err
+
+
+def _parsers(parser: argparse.ArgumentParser,
+             path: tuple[str, ...] = ("searchtrack",)
+             ) -> Iterator[tuple[tuple[str, ...], argparse.ArgumentParser]]:
+    """Every parser of the command tree with its command path."""
+    yield path, parser
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                yield from _parsers(sub, (*path, name))
+
+
+def test_every_argument_has_help_and_no_bracketed_options() -> None:
+    """Every positional and option of every subcommand says what it is, and no help sentence
+    shows a literal ``[--flag]`` (the usage line already does)."""
+    missing, bracketed = [], []
+    for path, parser in _parsers(build_parser()):
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction | argparse._HelpAction):
+                continue
+            if not action.help:
+                missing.append(f"{' '.join(path)} {action.dest}")
+            if re.search(r"\[--?\w", str(action.help or "")):
+                bracketed.append(f"{' '.join(path)} {action.dest}")
+        if re.search(r"\[--?\w", (parser.description or "") + (parser.epilog or "")):
+            bracketed.append(" ".join(path))
+    assert not missing, missing
+    assert not bracketed, bracketed
+
+
+def test_plan_help_lists_each_familys_backends() -> None:
+    """``plan FAMILY --help`` names the family's backends, as its module registers them."""
+    for name in available_families():
+        assert BACKEND_NAMES[name] == tuple(family_module(name).backends()), name
+        parser = dict(_parsers(build_parser()))[("searchtrack", "plan", name)]
+        text = " ".join(parser.format_help().split())
+        assert ", ".join(BACKEND_NAMES[name]) in text

@@ -58,6 +58,9 @@ from searchtrack.sim.road_track_job import FieldReader, read_map
 FAMILY = "associate"
 DESCRIPTION = "pair trackers with detections on a road map by gated EMD (thesis 001)"
 
+KERNELS = ("simplex",)
+"""The numba kernel sets this family's backends compile on first use."""
+
 #: Largest PROBLEM.json read (bytes).
 MAX_PROBLEM_BYTES = 32 * 2**20
 #: Most trackers and detections (the EMD matrix has ``k·q`` transport problems).

@@ -49,11 +49,15 @@ from searchtrack.plan.optw import BACKENDS, OPTWInstance, Routes
 from searchtrack.plan.optw import solve as solve_optw
 from searchtrack.plan.optw.routes import schedule
 from searchtrack.sim.campaigns.report import save_png
+from searchtrack.sim.kernels import OPTW_KERNELS
 from searchtrack.sim.road_track_job import FieldReader, read_map
 from searchtrack.sim.track_job import MAX_DISTANCE_M
 
 FAMILY = "route"
 DESCRIPTION = "one UAV's OPTW route over tracker beliefs on roads, as reacquisition (thesis 001)"
+
+KERNELS = OPTW_KERNELS
+"""The numba kernel sets this family's backends compile on first use."""
 
 #: Largest PROBLEM.json read (bytes).
 MAX_PROBLEM_BYTES = 8 * 2**20

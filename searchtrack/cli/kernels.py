@@ -1,0 +1,61 @@
+"""``searchtrack warm-up``: compile the numba kernels ahead of use, and the one-line notice the
+other commands print when a solve must compile them first (:func:`ready_kernels`)."""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections.abc import Iterable
+
+from rich.console import Console
+from rich.table import Table
+
+from searchtrack.sim.kernels import KERNEL_SETS, cold_sets, is_cold, warm
+
+NOTICE = "compiling solver kernels, once per install"
+"""What a command says before it compiles kernels that numba has not cached yet."""
+
+
+def ready_kernels(console: Console, names: Iterable[str]) -> dict[str, float]:
+    """Compile the kernel sets ``names`` that are not in numba's cache yet, saying so first
+    (once per install: later processes load the machine code from disk). Seconds per set."""
+    cold = cold_sets(names)
+    if not cold:
+        return {}
+    what = ", ".join(ks.description for ks in cold)
+    console.print(f"{NOTICE} ({what}; about 30 s at most, then cached on disk)")
+    with console.status(NOTICE):
+        return warm(cold)
+
+
+def warm_up_command(args: argparse.Namespace, console: Console) -> int:
+    """Handler of ``searchtrack warm-up``."""
+    names = args.only or list(KERNEL_SETS)
+    unknown = [n for n in names if n not in KERNEL_SETS]
+    if unknown:
+        raise ValueError(f"--only {unknown[0]!r}: unknown kernel set; choose from "
+                         + ", ".join(KERNEL_SETS))
+    table = Table(title="numba kernels")
+    for column in ("set", "computes", "was", "seconds"):
+        table.add_column(column, justify="right" if column == "seconds" else "left")
+    started = time.perf_counter()
+    for name in names:
+        ks = KERNEL_SETS[name]
+        was = "cold" if is_cold(ks) else "cached"
+        with console.status(f"{NOTICE}: {ks.description}" if was == "cold"
+                            else f"loading {ks.description}"):
+            took = warm([ks])[name]
+        table.add_row(name, ks.description, was, f"{took:.1f}")
+    console.print(table)
+    console.print(f"kernels ready in {time.perf_counter() - started:.1f} s")
+    return 0
+
+
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Register ``warm-up`` on the top-level subparsers."""
+    p = sub.add_parser("warm-up", help="compile the numba solver kernels now (once per install)",
+                       description="Compile every numba kernel set into numba's on-disk cache, "
+                       "so that the first solve starts at once (make runs it at install).")
+    p.add_argument("--only", nargs="+", metavar="SET",
+                   help="kernel sets to compile: " + ", ".join(KERNEL_SETS) + " (default all)")
+    p.set_defaults(run=warm_up_command)

@@ -1,0 +1,166 @@
+"""The library's compiled kernels: which numba kernel sets exist, whether their machine code is
+already in numba's on-disk cache, and how to compile each one ahead of use.
+
+Several hot loops are numba kernels compiled with ``cache=True``: the OPTW iterated local search
+and labelling DP, the network simplex behind EMD association, the road particle filter and the
+radio TBD likelihood. The first process to call one compiles it (seconds to tens of seconds per
+set) and numba stores the machine code on disk; later processes load it in well under a second.
+:func:`cold_sets` tells, without compiling anything, which sets a command would have to compile,
+so that the command can say so before it goes quiet; :func:`warm` compiles them (the
+``searchtrack warm-up`` command and the install step of ``make`` run it for every set).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+import logging
+import time
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+log = logging.getLogger(__name__)
+
+
+def _warm_optw_ils() -> None:
+    from searchtrack.plan.optw import ils
+
+    ils.warm_up()
+
+
+def _warm_optw_labelling() -> None:
+    from searchtrack.plan.optw import labelling
+
+    labelling.warm_up()
+
+
+def _warm_simplex() -> None:
+    from searchtrack.estimate.transport import simplex
+
+    simplex.warm_up()
+
+
+def _warm_road_filter() -> None:
+    """One filter on a 3 × 3 grid of roads through a hit, a miss and a resampling."""
+    from searchtrack.estimate.road_pf import RoadParticleFilter
+    from searchtrack.models import grid_network
+    from searchtrack.models.road_particles import DirectedRoads
+
+    rng = np.random.default_rng(0)
+    pf = RoadParticleFilter(DirectedRoads(grid_network(3, 3, 100.0, spacing_m=100.0)), 200, rng)
+    pf.predict(1.0, rng)
+    pf.update(np.array([100.0, 100.0]), np.array([100.0, 100.0]), rng)
+    pf.update(None, np.array([0.0, 0.0]), rng)
+    pf.likelihood_sum(np.array([100.0, 100.0]))
+
+
+def _warm_radio() -> None:
+    """Two seconds of each radio filter, with one planning call, on the paper's scenario."""
+    from searchtrack.models.radio import RadioScenario
+    from searchtrack.plan.radio import RadioPlanSettings
+    from searchtrack.sim.radio_mission import RadioMissionConfig, run_radio_mission
+
+    scenario = dataclasses.replace(RadioScenario.paper(), duration_s=2.0)
+    plan = RadioPlanSettings(horizon=1, plan_particles=20)
+    for filt, planner in (("tbd", "renyi"), ("dtt", "straight")):
+        config = RadioMissionConfig(filter=filt, planner=planner, particles_per_label=20,
+                                    plan=plan)
+        run_radio_mission(scenario, config, seed=0)
+
+
+@dataclass(frozen=True)
+class KernelSet:
+    """A group of numba kernels compiled together.
+
+    Attributes
+    ----------
+    name
+        Short name (``searchtrack warm-up --only NAME``).
+    description
+        What the kernels compute.
+    modules
+        The modules whose ``cache=True`` dispatchers form the set.
+    warm
+        Compiles every kernel of the set, with the argument types real calls use.
+    """
+
+    name: str
+    description: str
+    modules: tuple[str, ...]
+    warm: Callable[[], None]
+
+
+KERNEL_SETS: dict[str, KernelSet] = {s.name: s for s in (
+    KernelSet("optw-ils", "OPTW iterated local search",
+              ("searchtrack.plan.optw.ils_kernels", "searchtrack.plan.optw.ils_search"),
+              _warm_optw_ils),
+    KernelSet("optw-labelling", "OPTW labelling DP", ("searchtrack.plan.optw.labelling_kernels",),
+              _warm_optw_labelling),
+    KernelSet("simplex", "network simplex (EMD association)",
+              ("searchtrack.estimate.transport.simplex_kernels",), _warm_simplex),
+    KernelSet("road-filter", "road particle filter", ("searchtrack.estimate.road_filter_kernels",),
+              _warm_road_filter),
+    KernelSet("radio", "radio TBD likelihood and propagation",
+              ("searchtrack.estimate.radio.likelihood", "searchtrack.estimate.radio.propagation",
+               "searchtrack.estimate.radio.particles", "searchtrack.plan.radio.kernels"),
+              _warm_radio),
+)}
+"""Every kernel set of the library, by name."""
+
+OPTW_KERNELS = ("optw-ils", "optw-labelling")
+"""The sets an OPTW solve may use (the ``auto`` backend runs both)."""
+
+ROAD_MISSION_KERNELS = (*OPTW_KERNELS, "simplex", "road-filter")
+"""The sets a road mission may use: reacquisition routes, EMD association, the road filter."""
+
+
+def dispatchers(module: str) -> list[Any]:
+    """The numba dispatchers compiled with ``cache=True`` that ``module`` defines."""
+    from numba.core.dispatcher import Dispatcher
+
+    mod = importlib.import_module(module)
+    return [f for f in vars(mod).values()
+            if isinstance(f, Dispatcher) and getattr(f, "__module__", None) == module
+            and getattr(f, "_cache", None) is not None
+            and type(getattr(f, "_cache", None)).__name__ != "NullCache"]
+
+
+def _cached(dispatcher: Any) -> bool:
+    """True when numba's index for ``dispatcher`` is on disk and matches its source file."""
+    try:
+        return bool(dispatcher._cache._cache_file._load_index())
+    except Exception:  # numba internals moved: say "cold" rather than fail
+        log.debug("cannot read numba's cache index of %s", dispatcher, exc_info=True)
+        return False
+
+
+def uncached(kernel_set: KernelSet) -> list[str]:
+    """The kernels of ``kernel_set`` with no machine code in numba's cache (``module.name``)."""
+    return [f"{m}.{f.__name__}" for m in kernel_set.modules for f in dispatchers(m)
+            if not _cached(f)]
+
+
+def is_cold(kernel_set: KernelSet) -> bool:
+    """True when some module of ``kernel_set`` has none of its kernels in numba's cache (never
+    compiled here, or its source changed since). Kernels that numba folds into their callers
+    never get an index of their own, so one cached kernel per module is taken as warm."""
+    return any(not any(_cached(f) for f in dispatchers(m)) for m in kernel_set.modules)
+
+
+def cold_sets(names: Iterable[str]) -> list[KernelSet]:
+    """The sets among ``names`` that a process would have to compile before using them."""
+    return [KERNEL_SETS[n] for n in names if is_cold(KERNEL_SETS[n])]
+
+
+def warm(kernel_sets: Iterable[KernelSet]) -> dict[str, float]:
+    """Compile (or load from the cache) every set; seconds each took, by name."""
+    took: dict[str, float] = {}
+    for ks in kernel_sets:
+        started = time.perf_counter()
+        ks.warm()
+        took[ks.name] = time.perf_counter() - started
+        log.info("%s kernels ready in %.1f s", ks.name, took[ks.name])
+    return took
