@@ -1,4 +1,5 @@
-"""``searchtrack mission run``: fly a scenario, print a summary, write JSON and PNG figures."""
+"""``searchtrack mission run``: fly a scenario, print a summary, write JSON, PNG figures and the
+replay page; ``searchtrack mission view``: the replay page of a written mission.json."""
 
 from __future__ import annotations
 
@@ -13,12 +14,15 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from searchtrack.cli.common import positive_float, seed_arg
-from searchtrack.cli.output import output_dir
+from searchtrack.cli.kernels import ready_kernels
+from searchtrack.cli.output import OutputError, output_dir, output_file
 from searchtrack.core.files import write_text_atomic
 from searchtrack.core.interrupt import stop_requested
 from searchtrack.sim.figures import plot_map, plot_moc
+from searchtrack.sim.kernels import ROAD_MISSION_KERNELS
 from searchtrack.sim.mission import Mission
 from searchtrack.sim.record import PHASES, MissionLog
+from searchtrack.sim.replay_page import load_record, write_replay
 from searchtrack.sim.scenario_file import load_scenario
 
 
@@ -63,6 +67,7 @@ def run_mission(args: argparse.Namespace, console: Console) -> int:
     if args.duration is not None:
         scenario = dataclasses.replace(scenario, duration_s=args.duration)
     out = output_dir("--out", args.out)
+    ready_kernels(console, ROAD_MISSION_KERNELS)
     with console.status(f"building {scenario.map.describe()}"):
         mission = Mission(scenario)
     started = time.perf_counter()
@@ -81,15 +86,32 @@ def run_mission(args: argparse.Namespace, console: Console) -> int:
     record["summary"]["interrupted"] = stop_requested()
     written = [write_text_atomic(out / "mission.json", json.dumps(record) + "\n"),
                plot_map(log, out / "map.png"), plot_moc(log, out / "moc.png")]
+    with console.status("writing the replay page"):
+        written.append(write_replay(record, out / "replay.html", source=written[0]))
     console.print("wrote " + ", ".join(str(p) for p in written))
     return 0
 
 
+def view_mission(args: argparse.Namespace, console: Console) -> int:
+    """Handler of ``searchtrack mission view``: MISSION.json's replay page, by default
+    ``replay.html`` beside it."""
+    source = Path(args.mission)
+    out = output_file("--out", args.out if args.out is not None
+                      else source.with_name("replay.html"))
+    if out.exists() and source.exists() and out.resolve() == source.resolve():
+        raise OutputError("--out", out, "is the mission record itself; give another file")
+    with console.status(f"drawing {source}"):
+        written = write_replay(load_record(source), out, source=source)
+    console.print(f"wrote {written}")
+    return 0
+
+
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    """Register ``mission run`` on the top-level subparsers."""
+    """Register ``mission run`` and ``mission view`` on the top-level subparsers."""
     mission = sub.add_parser("mission", help="closed-loop road search-and-track missions")
     msub = mission.add_subparsers(dest="command", required=True)
-    p_run = msub.add_parser("run", help="fly a TOML scenario; write JSON and PNG figures")
+    p_run = msub.add_parser("run", help="fly a TOML scenario; write JSON, PNG figures and "
+                            "the replay page")
     p_run.add_argument("scenario", help="scenario TOML file")
     p_run.add_argument("--out", default="mission-output", metavar="DIR",
                        help="output directory (default: mission-output)")
@@ -97,3 +119,10 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p_run.add_argument("--duration", type=positive_float, default=None, metavar="S",
                        help="override the scenario's duration (s)")
     p_run.set_defaults(run=run_mission)
+    p_view = msub.add_parser("view", help="write the offline replay page (HTML) of a "
+                             "mission.json")
+    p_view.add_argument("mission", metavar="MISSION.json",
+                        help="the mission.json that `searchtrack mission run` wrote")
+    p_view.add_argument("--out", default=None, metavar="HTML",
+                        help="page to write (default: replay.html beside MISSION.json)")
+    p_view.set_defaults(run=view_mission)

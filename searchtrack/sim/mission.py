@@ -252,6 +252,9 @@ class Mission:
             valid = int(np.count_nonzero(now_match >= 0))
             step = StepScore(len(bank), valid, n_valid_assoc, n_false_assoc)
             record.add(t_now, uavs.xy_m, truth_xy, step, guidance, times, bank, pairs)
+            if record.heat_due():
+                record.add_heat(field if particles is None
+                                else particles.field.as_likelihood_field(), bank)
             if progress is not None:
                 progress(k + 1, sc.n_steps)
             if sc.mode == "detect" and detected.all():

@@ -1,4 +1,13 @@
-"""What a mission leaves behind: paths, per-step scores and timings, births, the final beliefs."""
+"""What a mission leaves behind: paths, per-step scores and timings, births, the final beliefs,
+the road map and sparse heat frames of the beliefs (what the replay page draws).
+
+A log keeps the beliefs of at most :data:`MAX_HEAT_FRAMES` evenly spaced steps of the planned
+mission as heat frames (and its last step when it ends early). Each holds the nodes where ``φ``
+(3.3) exceeds :data:`HEAT_LLR_MIN` (the evidence of a target building towards ``φ_max``; the
+negative evidence of searched roads is left out, being dense) and where the trackers' summed
+node probabilities exceed :data:`HEAT_TRACKER_MIN`, each at most the :data:`HEAT_MAX_NODES`
+highest (the RBPF's search score, its ``φ``, is positive over every unsearched road).
+"""
 
 from __future__ import annotations
 
@@ -8,7 +17,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from searchtrack.core.types import FloatArray
+from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate import LikelihoodField, TrackerBank
 from searchtrack.models import RoadNetwork
 from searchtrack.sim.metrics import MissionScore, StepScore, score
@@ -56,6 +65,71 @@ class Birth:
     distance_m: float
 
 
+MAX_HEAT_FRAMES = 150
+"""Most heat frames a log keeps (plus the last step when a mission ends early)."""
+
+HEAT_LLR_MIN = 0.05
+"""Smallest LRT ``φ`` (nats) a heat frame keeps."""
+
+HEAT_TRACKER_MIN = 1e-3
+"""Smallest summed tracker node probability a heat frame keeps."""
+
+HEAT_MAX_NODES = 400
+"""Most nodes a heat frame keeps of each belief (the highest values)."""
+
+
+def heat_steps(n_steps: int, max_frames: int = MAX_HEAT_FRAMES) -> IntArray:
+    """The step indices (0-based) of the heat frames of an ``n_steps`` mission: at most
+    ``max_frames`` (≥ 2) evenly spaced ones, the first and the last always among them."""
+    if n_steps <= 0 or max_frames <= 0:
+        return np.zeros(0, dtype=np.int64)
+    picked = np.round(np.linspace(0, n_steps - 1, min(n_steps, max_frames)))
+    return np.unique(picked.astype(np.int64))
+
+
+def sparse_top(values: FloatArray, minimum: float,
+               most: int = HEAT_MAX_NODES) -> tuple[IntArray, FloatArray]:
+    """The nodes (ascending) where ``values > minimum``, at most the ``most`` highest (the
+    lower node first on ties), and a copy of their values."""
+    nodes = np.flatnonzero(values > minimum)
+    if nodes.size > most:
+        nodes = np.sort(nodes[np.argsort(-values[nodes], kind="stable")[:most]])
+    return nodes, np.array(values[nodes], dtype=np.float64)
+
+
+def significant(values: FloatArray, digits: int = 3) -> list[float]:
+    """``values`` rounded to ``digits`` significant digits, as plain floats."""
+    return [float(f"{v:.{digits}g}") for v in np.asarray(values, dtype=np.float64).tolist()]
+
+
+@dataclass(frozen=True, eq=False)
+class HeatFrame:
+    """The beliefs at the end of one step, kept sparsely: node indices and their values."""
+
+    step: int
+    llr_nodes: IntArray
+    llr: FloatArray
+    tracker_nodes: IntArray
+    trackers: FloatArray
+
+    @classmethod
+    def capture(cls, step: int, field_: LikelihoodField, bank: TrackerBank) -> HeatFrame:
+        """The nodes of ``φ > HEAT_LLR_MIN`` and of summed tracker probability above
+        :data:`HEAT_TRACKER_MIN` (see :func:`sparse_top`; copies, the frame outlives the
+        beliefs)."""
+        llr_nodes, llr = sparse_top(field_.llr, HEAT_LLR_MIN)
+        tracker_nodes, mass = sparse_top(bank.node_probability(), HEAT_TRACKER_MIN)
+        return cls(step, llr_nodes, llr, tracker_nodes, mass)
+
+    def to_json(self) -> dict[str, Any]:
+        """``{"step", "llr": {"nodes", "values"}, "trackers": {"nodes", "values"}}``, values
+        to 3 significant digits."""
+        return {"step": self.step,
+                "llr": {"nodes": self.llr_nodes.tolist(), "values": significant(self.llr)},
+                "trackers": {"nodes": self.tracker_nodes.tolist(),
+                             "values": significant(self.trackers)}}
+
+
 TrackRecord = tuple[int, int, float]
 """A live tracker at the end of a step: ``(track_id, peak node, peak probability)``."""
 
@@ -83,6 +157,7 @@ class MissionLog:
     final_llr: FloatArray
     final_trackers: FloatArray
     score: MissionScore
+    heat: tuple[HeatFrame, ...] = ()
 
     @property
     def moc(self) -> FloatArray:
@@ -142,6 +217,10 @@ class MissionLog:
             "step_ms": np.round(self.step_ms, 3).tolist(),
             "uav_xy_m": np.round(self.uav_xy_m, 1).tolist(),
             "target_xy_m": np.round(self.target_xy_m, 1).tolist(),
+            "map": {"nodes_xy_m": np.round(self.network.coords, 1).tolist(),
+                    "edges": self.network.edges.tolist()},
+            "heat": {"llr_min": HEAT_LLR_MIN, "tracker_min": HEAT_TRACKER_MIN,
+                     "max_nodes": HEAT_MAX_NODES, "frames": [h.to_json() for h in self.heat]},
         }
 
 
@@ -163,6 +242,13 @@ class Recorder:
     _births: list[Birth] = field(default_factory=list)
     _tracks: list[tuple[TrackRecord, ...]] = field(default_factory=list)
     _pairs: list[tuple[PairRecord, ...]] = field(default_factory=list)
+    _heat: list[HeatFrame] = field(default_factory=list)
+    max_heat_frames: int = MAX_HEAT_FRAMES
+    _heat_at: frozenset[int] = field(init=False, default=frozenset())
+
+    def __post_init__(self) -> None:
+        self._heat_at = frozenset(heat_steps(self.scenario.n_steps,
+                                             self.max_heat_frames).tolist())
 
     def add(self, time_s: float, uav_xy: FloatArray, target_xy: FloatArray, step: StepScore,
             guidance: StepGuidance, times: StepTimes, bank: TrackerBank,
@@ -180,14 +266,27 @@ class Recorder:
         self._plan.append(float(guidance.plan_ms))
         self._phases.append(times.as_ms())
 
+    def heat_due(self) -> bool:
+        """Whether the step just added is one of the heat frames."""
+        return len(self._time) - 1 in self._heat_at
+
+    def add_heat(self, field_: LikelihoodField, bank: TrackerBank) -> None:
+        """Keep the beliefs at the end of the step just added as a heat frame (call it only
+        when :meth:`heat_due`: the frame copies the beliefs' sparse part)."""
+        self._heat.append(HeatFrame.capture(len(self._time) - 1, field_, bank))
+
     def birth(self, time_s: float, track_id: int, target: int, distance_m: float) -> None:
         """Record a tracker birth."""
         self._births.append(Birth(time_s, track_id, target, distance_m))
 
     def finish(self, field_: LikelihoodField, bank: TrackerBank,
                first_detection_s: FloatArray) -> MissionLog:
-        """The frozen log."""
+        """The frozen log; ``field_`` and ``bank`` are the beliefs after the last step, which
+        is also kept as a heat frame when it was not one (a mission that ended early)."""
         n = self.network.n_nodes
+        last = len(self._time) - 1
+        if last >= 0 and (not self._heat or self._heat[-1].step != last):
+            self._heat.append(HeatFrame.capture(last, field_, bank))
         final = bank.probabilities().sum(axis=0) if len(bank) else np.zeros(n)
         return MissionLog(
             scenario=self.scenario, network=self.network,
@@ -202,4 +301,5 @@ class Recorder:
             first_detection_s=np.array(first_detection_s),
             final_llr=np.array(field_.llr), final_trackers=final,
             score=score(self._steps, self.scenario.target_count, first_detection_s),
+            heat=tuple(self._heat),
         )

@@ -264,6 +264,10 @@ def detection_log_likelihoods(signal: RadioSignal, detections: Detections, x: Fl
 class DttLmbFilter(LabelledFilter):
     """Detection-then-track LMB filter (§IV-B): the TBD-LMB's particle core on STFT peaks.
 
+    The interface (:meth:`step`, :attr:`state`, :meth:`estimates`, the cardinality read-outs and
+    the belief seams) is :class:`~.filter.LabelledFilter`'s; :attr:`detections` adds the peaks
+    of the last measurement.
+
     Parameters
     ----------
     scenario
@@ -274,10 +278,6 @@ class DttLmbFilter(LabelledFilter):
         Seed of the filter's random generator: equal seeds and inputs give equal states.
     detector
         Peak-detector settings (``P_FA``, minimum separation).
-
-    The interface (:meth:`step`, :attr:`state`, :meth:`estimates`, the cardinality read-outs and
-    the belief seams) is :class:`~.filter.LabelledFilter`'s; :attr:`detections` adds the peaks
-    of the last measurement.
     """
 
     def __init__(self, scenario: RadioScenario, config: FilterConfig | None = None, *,

@@ -100,6 +100,9 @@ def _frozen(state: LabelledParticles) -> LabelledParticles:
 class LabelledFilter:
     """Labelled particle LMB filter over the scenario's known labels (tag frequencies).
 
+    The initial state (before the first step) has ``r = r_B`` for every label and particles
+    drawn from the birth density.
+
     Parameters
     ----------
     scenario
@@ -114,9 +117,6 @@ class LabelledFilter:
         data-driven births; ``None``: uniform births.
     seed
         Seed of the filter's random generator: equal seeds and inputs give equal states.
-
-    The initial state (before the first step) has ``r = r_B`` for every label and particles
-    drawn from the birth density.
     """
 
     def __init__(self, scenario: RadioScenario, config: FilterConfig | None = None, *,

@@ -23,6 +23,9 @@ __all__ = ["FilterConfig", "TbdLmbFilter"]
 class TbdLmbFilter(LabelledFilter):
     """Track-before-detect LMB filter over the scenario's known labels (tag frequencies).
 
+    The interface (:meth:`step`, :attr:`state`, :meth:`estimates`, the cardinality read-outs and
+    the belief seams) is :class:`~.filter.LabelledFilter`'s.
+
     Parameters
     ----------
     scenario
@@ -32,9 +35,6 @@ class TbdLmbFilter(LabelledFilter):
         Particle budget and read-out.
     seed
         Seed of the filter's random generator: equal seeds and inputs give equal states.
-
-    The interface (:meth:`step`, :attr:`state`, :meth:`estimates`, the cardinality read-outs and
-    the belief seams) is :class:`~.filter.LabelledFilter`'s.
     """
 
     def __init__(self, scenario: RadioScenario, config: FilterConfig | None = None, *,

@@ -252,6 +252,8 @@ def solve_exact(problem: AssignmentProblem, *, time_limit_s: float = 10.0, seed:
                 initial: Assignment | None = None, reduce: bool = True) -> Result[Assignment]:
     """Solve the END assignment exactly by the outer-approximation program (module docstring).
 
+    ``seed`` is unused (both solvers run single-threaded and deterministic).
+
     Parameters
     ----------
     solver
@@ -263,8 +265,6 @@ def solve_exact(problem: AssignmentProblem, *, time_limit_s: float = 10.0, seed:
         Drop dominated actions first (exact; see :func:`undominated`).
     initial
         A plan to hint to the solver (e.g. greedy's); the answer is never worse than it.
-
-    ``seed`` is unused (both solvers run single-threaded and deterministic).
     """
     del seed
     reason = coverage_only(problem)

@@ -26,6 +26,9 @@ MODES = ("search", "loiter", "reacquire")
 class StrategyConfig:
     """Parameters of the Ch. 5 guidance laws (defaults: Tables 6.2 and 6.4).
 
+    ``α`` and ``Δt`` are those of the tracker predictor of the
+    :class:`~searchtrack.plan.guidance.problem.GuidanceProblem`.
+
     Parameters
     ----------
     sensor_range_m
@@ -55,9 +58,6 @@ class StrategyConfig:
         :func:`~searchtrack.plan.guidance.reacquire.candidate_nodes`).
     max_reacquire_steps
         Cap on the prediction steps simulated for ``T_r``.
-
-    ``α`` and ``Δt`` are those of the tracker predictor of the
-    :class:`~searchtrack.plan.guidance.problem.GuidanceProblem`.
     """
 
     sensor_range_m: float = 120.0

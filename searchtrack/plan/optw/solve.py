@@ -110,6 +110,9 @@ def solve(
 ) -> Result[Routes]:
     """Solve ``instance`` with the named backend within ``time_limit_s`` seconds.
 
+    The first call in a process first readies the backend's numba kernels (see :func:`warm_up`);
+    that one-off cost is outside ``time_limit_s`` and ``runtime_s``.
+
     Parameters
     ----------
     instance
@@ -120,9 +123,6 @@ def solve(
         Wall-clock limit, honoured by every backend.
     seed
         Seed of the heuristic's random choices and of the solvers that take one.
-
-    The first call in a process first readies the backend's numba kernels (see :func:`warm_up`);
-    that one-off cost is outside ``time_limit_s`` and ``runtime_s``.
 
     Raises
     ------
