@@ -43,6 +43,7 @@ def test_every_command_parses_and_names_files_that_exist() -> None:
     for line in COMMANDS:
         argv = shlex.split(line)[1:]
         assert not any(a.startswith("[") or a.endswith("]") for a in argv), line
+        assert not any(a.isupper() for a in argv), f"{line!r}: a placeholder"
         try:
             parser.parse_args(argv)
         except SystemExit as exc:  # argparse's way of refusing

@@ -3,7 +3,8 @@
 later frame, and draws a picture that is not blank.
 
 Skipped when Playwright is not installed or there is no Chromium at ``/usr/bin/chromium`` (or at
-``$SEARCHTRACK_CHROMIUM``).
+``$SEARCHTRACK_CHROMIUM``). ``$SEARCHTRACK_SCREENSHOT_DIR``, when set, keeps the screenshot there
+(``replay.png``).
 """
 
 from __future__ import annotations
@@ -88,7 +89,9 @@ def test_slider_moves_to_a_later_frame(page: tuple[Any, list[str]],
     }}""")
     tab.wait_for_function(f"{PLOT}.layout.sliders[0].active === 49", timeout=5_000)
     assert first == pytest.approx(0.3) and tab.evaluate(cursor) == pytest.approx(15.0)
-    shot = replay[0].with_suffix(".png")
+    keep = os.environ.get("SEARCHTRACK_SCREENSHOT_DIR")  # where to keep the picture, if set
+    shot = Path(keep) / "replay.png" if keep else replay[0].with_suffix(".png")
+    shot.parent.mkdir(parents=True, exist_ok=True)
     tab.screenshot(path=str(shot), full_page=True)
     image = matplotlib.image.imread(shot)[..., :3]
     colours = np.unique((image.reshape(-1, 3) * 255).round().astype(np.uint8), axis=0)
