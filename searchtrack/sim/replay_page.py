@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 from plotly.subplots import make_subplots
 
 from searchtrack.core.errors import ParseError
+from searchtrack.core.fields import TOP_LEVEL, JsonFields
 from searchtrack.core.files import read_text, write_text_atomic
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.sim.record import HeatFrame
@@ -67,30 +68,9 @@ _NUMBERS = np.frompyfunc(lambda v: isinstance(v, (int, float, np.integer, np.flo
                          and not isinstance(v, bool), 1, 1)
 
 
-@dataclass(frozen=True)
-class _Reader:
-    """Field checks raising :class:`ParseError` naming ``source`` and the field."""
-
-    source: str | Path
-
-    def fail(self, field: str, reason: str) -> ParseError:
-        return ParseError(self.source, None, field, reason)
-
-    def obj(self, value: Any, field: str) -> Mapping[str, Any]:
-        if not isinstance(value, Mapping):
-            raise self.fail(field, f"must be a JSON object, got {type(value).__name__}")
-        return value
-
-    def get(self, obj: Mapping[str, Any], key: str, prefix: str = "") -> Any:
-        if key not in obj:
-            raise self.fail(prefix + key, "missing key")
-        return obj[key]
-
-    def text(self, obj: Mapping[str, Any], key: str, prefix: str) -> str:
-        value = self.get(obj, key, prefix)
-        if not isinstance(value, str):
-            raise self.fail(prefix + key, f"must be a string, got {type(value).__name__}")
-        return value
+class _Reader(JsonFields):
+    """Field checks raising :class:`ParseError` naming the record's source and the field: the
+    common ones and numeric arrays."""
 
     def array(self, value: Any, field: str, shape: tuple[int | None, ...], what: str, *,
               integer: Any = False, low: Any = -math.inf, high: Any = math.inf) -> NDArray[Any]:
@@ -123,12 +103,12 @@ def read_replay(record: Mapping[str, Any], source: str | Path = "mission record"
     """Check a mission record and gather what the page draws; :class:`ParseError` names
     ``source`` and the field at fault (and says to re-run a mission recorded without a map)."""
     r = _Reader(source)
-    top = r.obj(record, "(top level)")
+    top = r.obj(record, TOP_LEVEL)
     if "map" not in top:
         raise r.fail("map", "missing: the record predates the replay page; re-run `searchtrack "
                      "mission run` on its scenario to record the map and heat frames it draws")
     sc = r.obj(r.get(top, "scenario"), "scenario")
-    title = "{}: {} on {}".format(*(r.text(sc, k, "scenario.")
+    title = "{}: {} on {}".format(*(r.text(r.get(sc, k, "scenario."), f"scenario.{k}")
                                     for k in ("name", "strategy", "map")))
     time_s = r.array(r.get(top, "time_s"), "time_s", (None,), "a list of times (s)")
     s = time_s.size
@@ -171,9 +151,7 @@ def read_replay(record: Mapping[str, Any], source: str | Path = "mission record"
 def _heat_frames(r: _Reader, heat: Mapping[str, Any], steps: int,
                  nodes: int) -> tuple[HeatFrame, ...]:
     """The heat frames, at increasing steps in ``[0, steps)``, on nodes in ``[0, nodes)``."""
-    raw = r.get(heat, "frames", "heat.")
-    if not isinstance(raw, list) or not raw:
-        raise r.fail("heat.frames", "must be a non-empty list of frame objects")
+    raw = r.items(r.get(heat, "frames", "heat."), "heat.frames", "frame objects")
     out: list[HeatFrame] = []
     for i, value in enumerate(raw):
         where = f"heat.frames[{i}]"

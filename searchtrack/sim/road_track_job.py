@@ -41,6 +41,7 @@ from typing import Any
 import numpy as np
 
 from searchtrack.core.errors import ParseError, SearchtrackError
+from searchtrack.core.fields import TOP_LEVEL, JsonFields
 from searchtrack.core.files import read_text, write_text_atomic
 from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.registry import MAX_SEED
@@ -142,65 +143,29 @@ class RoadTrackResult:
                 "ms_per_step": round(self.ms_per_step, 4), "interrupted": self.interrupted}
 
 
-def _shown(value: Any) -> str:
-    """``repr(value)``, shortened to 60 characters."""
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
+class FieldReader(JsonFields):
+    """Field checks raising :class:`ParseError` naming the file and the JSON field: numbers are
+    ``≥ 0`` unless a call says otherwise, bad values are shown shortened to 60 characters.
 
-
-class FieldReader:
-    """Field checks raising :class:`ParseError` naming the file and the JSON field."""
+    Parameters
+    ----------
+    path
+        The file read.
+    """
 
     def __init__(self, path: Path) -> None:
+        super().__init__(path, low=0.0, shown_chars=60)
         self.path = path
-
-    def fail(self, field: str, reason: str) -> ParseError:
-        return ParseError(self.path, None, field, reason)
-
-    def obj(self, value: Any, field: str, known: tuple[str, ...]) -> dict[str, Any]:
-        """A JSON object without unknown keys."""
-        if not isinstance(value, dict):
-            raise self.fail(field, f"must be a JSON object, got {type(value).__name__}")
-        unknown = sorted(set(value) - set(known))
-        if unknown:
-            prefix = "" if field == "(top level)" else field + "."
-            raise self.fail(prefix + unknown[0], f"unknown key; expected one of {list(known)}")
-        return value
-
-    def get(self, obj: dict[str, Any], key: str, prefix: str = "") -> Any:
-        if key not in obj:
-            raise self.fail(prefix + key, "missing key")
-        return obj[key]
-
-    def number(self, value: Any, field: str, *, low: float = 0.0, low_open: bool = False,
-               high: float = math.inf, high_open: bool = False) -> float:
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.fail(field, f"must be a number, got {_shown(value)}")
-        try:
-            x = float(value)
-        except OverflowError:
-            x = math.inf
-        if not math.isfinite(x):
-            raise self.fail(field, f"must be finite, got {_shown(value)}")
-        if (x <= low if low_open else x < low) or (x >= high if high_open else x > high):
-            lo, hi = "(" if low_open else "[", ")" if high_open else "]"
-            raise self.fail(field, f"must be in {lo}{low:g}, {high:g}{hi}, got {_shown(value)}")
-        return x
-
-    def integer(self, value: Any, field: str, low: int, high: int) -> int:
-        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-            raise self.fail(field, f"must be an integer in [{low}, {high}], got {_shown(value)}")
-        return value
 
     def points(self, value: Any, field: str, box: FloatArray) -> FloatArray:
         """A list of points ``(k, 2)``, each inside ``box`` ``[[x0, x1], [y0, y1]]``."""
         if not isinstance(value, list):
-            raise self.fail(field, f"must be a list of x, y points, got {_shown(value)}")
+            raise self.fail(field, f"must be a list of x, y points, got {self.shown(value)}")
         out = np.empty((len(value), 2))
         for j, p in enumerate(value):
             where = f"{field}[{j}]"
             if not isinstance(p, list) or len(p) != 2:
-                raise self.fail(where, f"must be a list of 2 numbers (x, y), got {_shown(p)}")
+                raise self.fail(where, f"must be a list of 2 numbers (x, y), got {self.shown(p)}")
             for i, v in enumerate(p):
                 x = self.number(v, f"{where}[{i}]", low=-math.inf)
                 lo, hi = box[i]
@@ -217,7 +182,7 @@ def _map_spec(r: FieldReader, spec: dict[str, Any], base: Path, field: str) -> M
     if field == "map.grid":
         grid = spec["grid"]
         if not isinstance(grid, list) or len(grid) != 2:
-            raise r.fail(field, f"must be a list of 2 integers (rows, cols), got {_shown(grid)}")
+            raise r.fail(field, f"must be a list of 2 integers (rows, cols), got {r.shown(grid)}")
         rows, cols = (r.integer(v, f"{field}[{i}]", 2, MAX_ROAD_NODES)
                       for i, v in enumerate(grid))
         block = r.number(r.get(spec, "spacing_m", "map."), "map.spacing_m", low_open=True,
@@ -229,7 +194,7 @@ def _map_spec(r: FieldReader, spec: dict[str, Any], base: Path, field: str) -> M
     name = spec["osm"]
     if not isinstance(name, str) or not name:
         raise r.fail(field, f"must be a bundled map name {list(BUNDLED_MAPS)} or a file path, "
-                     f"got {_shown(name)}")
+                     f"got {r.shown(name)}")
     spacing = r.number(spec.get("spacing_m", 10.0), "map.spacing_m", low=1.0,
                        high=MAX_DISTANCE_M)
     return MapSpec("osm", bundled_map(name) if name in BUNDLED_MAPS else base / name, spacing)
@@ -258,7 +223,7 @@ def _sensor(r: FieldReader, spec: dict[str, Any]) -> DiscSensor:
 
     clutter = spec.get("clutter", "roads")
     if clutter not in ("roads", "view"):
-        raise r.fail("sensor.clutter", f"must be 'roads' or 'view', got {_shown(clutter)}")
+        raise r.fail("sensor.clutter", f"must be 'roads' or 'view', got {r.shown(clutter)}")
     return DiscSensor(
         r.number(get("fov_radius_m"), "sensor.fov_radius_m", low_open=True, high=MAX_DISTANCE_M),
         r.number(get("sigma2_m2"), "sensor.sigma2_m2", low_open=True, high=MAX_DISTANCE_M**2),
@@ -286,7 +251,7 @@ def _config(r: FieldReader, top: dict[str, Any], sensor: DiscSensor) -> RBPFConf
     association = spec.get("association", "sequential")
     if association not in ("sequential", "joint"):
         raise r.fail("filter.association", f"must be 'sequential' or 'joint', got "
-                     f"{_shown(association)}")
+                     f"{r.shown(association)}")
     return RBPFConfig(n_targets=targets, n_histories=histories, n_particles=particles,
                       motion=motion, sensor=sensor, association=association)
 
@@ -315,7 +280,7 @@ def read_road_job(path: str | Path) -> RoadTrackJob:
     """
     p = Path(path)
     r = FieldReader(p)
-    top = r.obj(_load(p), "(top level)", _TOP_KEYS)
+    top = r.obj(_load(p), TOP_LEVEL, _TOP_KEYS)
     dt = r.number(r.get(top, "dt"), "dt", low_open=True, high=MAX_DT_S)
     sensor = _sensor(r, r.obj(r.get(top, "sensor"), "sensor", _SENSOR_KEYS))
     config = _config(r, top, sensor)

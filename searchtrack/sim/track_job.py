@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -33,6 +32,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from searchtrack.core.errors import ParseError
+from searchtrack.core.fields import TOP_LEVEL, JsonFields
 from searchtrack.core.files import read_text, write_text_atomic
 from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.types import FloatArray
@@ -75,42 +75,11 @@ class TrackSummary:
     out_path: Path
 
 
-class _Reader:
-    """Field checks that raise :class:`ParseError` naming the file and the JSON field.
-
-    Messages avoid ``[x, y]``-like text: the CLI prints them through rich, which would read it
-    as markup.
-    """
-
-    def __init__(self, path: Path) -> None:
-        self.path = path
-
-    def fail(self, field: str, reason: str) -> ParseError:
-        return ParseError(self.path, None, field, reason)
-
-    def get(self, obj: dict[str, Any], key: str, prefix: str = "") -> Any:
-        if key not in obj:
-            raise self.fail(prefix + key, "missing key")
-        return obj[key]
-
-    def obj(self, value: Any, field: str) -> dict[str, Any]:
-        if not isinstance(value, dict):
-            raise self.fail(field, f"must be a JSON object, got {type(value).__name__}")
-        return value
-
-    def number(self, value: Any, field: str, *, low: float = -math.inf,
-               low_open: bool = False, high: float = math.inf) -> float:
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.fail(field, f"must be a number, got {value!r}")
-        x = float(value)
-        if not math.isfinite(x):
-            raise self.fail(field, f"must be finite, got {value!r}")
-        if (x <= low if low_open else x < low) or x > high:
-            lo = "(" if low_open else "["
-            raise self.fail(field, f"must be in {lo}{low:g}, {high:g}], got {value!r}")
-        return x
+class _Reader(JsonFields):
+    """SCANS.json's field checks: the common ones and points."""
 
     def point(self, value: Any, field: str) -> list[float]:
+        """A point ``(x, y)`` (m) within ±:data:`MAX_DISTANCE_M`."""
         if not isinstance(value, list) or len(value) != 2:
             raise self.fail(field, f"must be a list of 2 numbers (x, y), got {value!r}")
         return [self.number(v, f"{field}[{i}]", low=-MAX_DISTANCE_M, high=MAX_DISTANCE_M)
@@ -122,10 +91,7 @@ def _motion(r: _Reader, spec: dict[str, Any]) -> MotionModel:
     if name not in MOTION_MODELS:
         raise r.fail("motion.model", f"must be one of {MOTION_MODELS}, got {name!r}")
     known = {"cv": ("model", "q"), "rw": ("model", "sigma"), "static": ("model",)}[name]
-    unknown = sorted(set(spec) - set(known))
-    if unknown:
-        raise r.fail(f"motion.{unknown[0]}", f"unknown key for model {name!r}; expected one of "
-                     f"{list(known)}")
+    r.check_keys(spec, "motion", known, unknown=f"unknown key for model {name!r}")
     if name == "cv":
         return ConstantVelocity(r.number(r.get(spec, "q", "motion."), "motion.q", low=0.0,
                                          low_open=True, high=MAX_RATE))
@@ -153,7 +119,7 @@ def read_scans(path: str | Path) -> TrackJob:
         raw = json.loads(read_text(p, max_bytes=MAX_SCANS_BYTES))
     except json.JSONDecodeError as exc:
         raise ParseError(p, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
-    top = r.obj(raw, "(top level)")
+    top = r.obj(raw, TOP_LEVEL)
     area_raw = r.get(top, "area")
     if not isinstance(area_raw, list) or len(area_raw) != 2:
         raise r.fail("area", f"must be a list of 2 pairs (x0, x1), (y0, y1), got {area_raw!r}")
@@ -169,13 +135,10 @@ def read_scans(path: str | Path) -> TrackJob:
                        high=MAX_RATE)
     motion = _motion(r, r.obj(r.get(top, "motion"), "motion"))
     birth = r.number(top.get("birth_weight", 0.25), "birth_weight", low=0.0, high=MAX_RATE)
-    for where, obj, known in (("", top, _TOP_KEYS), ("sensor.", sensor, _SENSOR_KEYS)):
-        unknown = sorted(set(obj) - set(known))
-        if unknown:
-            raise r.fail(where + unknown[0], f"unknown key; expected one of {list(known)}")
-    scans_raw = r.get(top, "scans")
-    if not isinstance(scans_raw, list):
-        raise r.fail("scans", "must be a list of scans (lists of x, y detections)")
+    r.check_keys(top, TOP_LEVEL, _TOP_KEYS)
+    r.check_keys(sensor, "sensor", _SENSOR_KEYS)
+    scans_raw = r.items(r.get(top, "scans"), "scans", "scans (lists of x, y detections)",
+                        allow_empty=True)
     scans = []
     for k, scan in enumerate(scans_raw):
         if not isinstance(scan, list):

@@ -27,7 +27,6 @@ The ``"plan"`` object of PLAN.json: ``{"objective": "end", "actions": [a_0, ...]
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -35,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from searchtrack.core.errors import InvalidInputError, ParseError
+from searchtrack.core.fields import TOP_LEVEL, JsonFields
 from searchtrack.core.files import read_text
 from searchtrack.core.result import Result
 from searchtrack.estimate.particle_belief import WeightedParticles
@@ -79,44 +79,19 @@ class AssignJob:
         return self.path.stem
 
 
-class ProblemFields:
-    """Field checks raising :class:`ParseError` naming the file and the dotted JSON key."""
+class ProblemFields(JsonFields):
+    """Field checks raising :class:`ParseError` naming the file and the dotted JSON key: numbers
+    lie within ±:data:`MAX_DISTANCE_M` unless a call says otherwise.
+
+    Parameters
+    ----------
+    path
+        The file read.
+    """
 
     def __init__(self, path: Path) -> None:
+        super().__init__(path, low=-MAX_DISTANCE_M, high=MAX_DISTANCE_M, finite_in_range=True)
         self.path = path
-
-    def fail(self, key: str, reason: str) -> ParseError:
-        return ParseError(self.path, None, key, reason)
-
-    def obj(self, value: Any, key: str, known: tuple[str, ...]) -> dict[str, Any]:
-        if not isinstance(value, dict):
-            raise self.fail(key, f"must be a JSON object, got {type(value).__name__}")
-        unknown = sorted(set(value) - set(known))
-        if unknown:
-            where = unknown[0] if key == "(top level)" else f"{key}.{unknown[0]}"
-            raise self.fail(where, f"unknown key; expected one of {list(known)}")
-        return value
-
-    def get(self, obj: dict[str, Any], key: str, prefix: str = "") -> Any:
-        if key not in obj:
-            raise self.fail(prefix + key, "missing key")
-        return obj[key]
-
-    def number(self, value: Any, key: str, *, low: float = -MAX_DISTANCE_M,
-               low_open: bool = False, high: float = MAX_DISTANCE_M) -> float:
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise self.fail(key, f"must be a number, got {value!r}")
-        x = float(value)
-        if not math.isfinite(x) or (x <= low if low_open else x < low) or x > high:
-            lo = "(" if low_open else "["
-            raise self.fail(key, f"must be a finite number in {lo}{low:g}, {high:g}], "
-                            f"got {value!r}")
-        return x
-
-    def items(self, value: Any, key: str, what: str) -> list[Any]:
-        if not isinstance(value, list) or not value:
-            raise self.fail(key, f"must be a non-empty list of {what}")
-        return value
 
     def points(self, value: Any, key: str, dims: tuple[int, ...]) -> np.ndarray[Any, Any]:
         """A list of points of one length in ``dims`` as an ``(n, d)`` array."""
@@ -196,7 +171,7 @@ def load_problem(path: str | Path,
         raw = json.loads(read_text(p, max_bytes=MAX_PROBLEM_BYTES))
     except json.JSONDecodeError as exc:
         raise ParseError(p, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
-    return f, f.obj(raw, "(top level)", keys)
+    return f, f.obj(raw, TOP_LEVEL, keys)
 
 
 def read_problem(path: str | Path) -> AssignJob:
