@@ -165,7 +165,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p_export.add_argument("db", help="results database")
     p_export.add_argument("out", metavar="OUT", help="output file (.parquet or .csv)")
     p_export.set_defaults(run=export)
-    p_report = csub.add_parser("report", help="mean ± 95 % CI by group, the paper's claim, "
+    p_report = csub.add_parser("report", help="mean ± 95 %% CI by group, the paper's claim, "
                                "figures")
     p_report.add_argument("db", help="results database")
     p_report.add_argument("--out", default=None, metavar="DIR",

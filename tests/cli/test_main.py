@@ -76,3 +76,13 @@ def test_plan_help_lists_each_familys_backends() -> None:
         parser = dict(_parsers(build_parser()))[("searchtrack", "plan", name)]
         text = " ".join(parser.format_help().split())
         assert ", ".join(BACKEND_NAMES[name]) in text
+
+
+def test_every_help_page_renders() -> None:
+    """``--help`` of every (sub)command formats (a stray ``%`` in a help text breaks it)."""
+    for path, parser in _parsers(build_parser()):
+        assert parser.format_help(), path
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                for choice in action._choices_actions:
+                    assert "%" not in (choice.help or "").replace("%%", ""), (path, choice.dest)

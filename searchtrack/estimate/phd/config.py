@@ -106,6 +106,17 @@ class PHDConfig:
     birth_mass
         Expected number of targets born per scan from measurements; shared by the measurements of
         the last update in proportion to how little the existing PHD explains them (``1 − ρ_z``).
+        With ``adaptive_birth`` it is instead the birth mass of one wholly unexplained
+        measurement, in ``[0, 1]``.
+    adaptive_birth
+        Scale the birth by what the PHD leaves unexplained instead of injecting ``birth_mass``
+        every scan: measurement ``z`` seeds ``birth_mass · (1 − ρ_z)``, the weights of Ristic et
+        al. (2012) without their renormalisation to a constant total, so a scan's births are
+        ``birth_mass · Σ_z (1 − ρ_z) ≤ birth_mass · |Z|`` and vanish when the PHD explains every
+        measurement. Without clutter ``1 − ρ_z`` is the part of ``z`` that no existing target
+        explains, which must come from a target not yet in the PHD: with ``birth_mass = 1`` each
+        measurement then adds exactly one unit of mass, ``ρ_z`` in the update and ``1 − ρ_z`` at
+        the next prediction (see :mod:`searchtrack.estimate.phd.update`). Off by default.
     birth_particles_per_measurement
         Newborn particles drawn around each measurement, ``≥ 1``.
     birth_position_sigma_m
@@ -142,6 +153,7 @@ class PHDConfig:
     survival_probability: float = 0.99
     survival_map: SurvivalMap | None = None
     birth_mass: float = 0.25
+    adaptive_birth: bool = False
     birth_particles_per_measurement: int = 60
     birth_position_sigma_m: float = 10.0
     birth_velocity_sigma_mps: float = 5.0
@@ -165,6 +177,11 @@ class PHDConfig:
             raise InvalidInputError("survival_map", self.survival_map,
                                     "must have a survival(positions, dt_s) method, or be None")
         object.__setattr__(self, "birth_mass", c.non_negative("birth_mass", self.birth_mass))
+        if not isinstance(self.adaptive_birth, bool):
+            raise InvalidInputError("adaptive_birth", self.adaptive_birth, "must be True or False")
+        if self.adaptive_birth and self.birth_mass > 1.0:
+            raise InvalidInputError("birth_mass", self.birth_mass,
+                                    "must be ≤ 1 with adaptive_birth (mass per measurement)")
         object.__setattr__(self, "birth_particles_per_measurement", c.count(
             "birth_particles_per_measurement", self.birth_particles_per_measurement, 1))
         for name in ("birth_position_sigma_m", "birth_velocity_sigma_mps",

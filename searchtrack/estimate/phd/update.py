@@ -11,7 +11,15 @@ update records, for the extraction and the next prediction:
 - per measurement, the mass ``ρ_z = Σ_i A_{z,i}`` of its term ``A_{z,i} = L_{z,i} / C_z`` (the
   expected number of targets behind ``z``) and the term's weighted mean state;
 - per measurement, a birth seed at ``h⁻¹(z)``: the seeds share ``birth_mass`` in proportion to
-  the part ``1 − ρ_z`` the PHD does not explain (Ristic et al. 2012, adaptive birth);
+  the part ``1 − ρ_z`` the PHD does not explain (Ristic et al. 2012, adaptive birth). With
+  ``adaptive_birth`` the seed is ``birth_mass · (1 − ρ_z)`` itself, not renormalised, so the
+  births follow the unexplained measurements instead of a constant total. Without clutter
+  ``C_z = Σ_i L_{z,i}``, so ``ρ_z`` is 1 for a measurement any particle explains and 0 for one no
+  particle can (``C_z = 0``): the renormalised shares of such a scan are ratios of rounding
+  errors that still sum to ``birth_mass``, the upward drift of the expected count in paper
+  004's clutter-free search. The adaptive seeds add ``Σ_z (1 − ρ_z)`` per unit of
+  ``birth_mass``, and the update plus the next births add ``Σ_z ρ_z + birth_mass Σ_z (1 − ρ_z)``
+  ``≤ |Z|`` (equal for ``birth_mass = 1``);
 - per *missed target*: particles carry the tag of the group they were assigned to at the last
   update. A group with predicted mass ``P`` of which measurements explain less than one half is a
   target that may have been missed. Treating the group as a Bernoulli component with existence
@@ -205,7 +213,10 @@ def update(state: PHDState, scans: Sequence[SensorScan], config: PHDConfig) -> P
     tags[coast] = acc.offset + member[coast]
     unexplained = np.clip(1.0 - rho, 0.0, None)
     total = unexplained.sum()
-    seed_mass = config.birth_mass * unexplained / total if total > 0.0 else unexplained * 0.0
+    if config.adaptive_birth:
+        seed_mass = config.birth_mass * unexplained
+    else:
+        seed_mass = config.birth_mass * unexplained / total if total > 0.0 else unexplained * 0.0
     record = UpdateRecord(
         np.vstack(acc.means) if acc.means else np.empty((0, d)), kept_rho, missed_states,
         existence, np.vstack(acc.seeds) if acc.seeds else np.empty((0, p)), seed_mass)

@@ -22,11 +22,21 @@ target are *false*. The episode ends when every target is found or after ``max_s
 Thresholds: 004 prints ``T_r = 1.1 m``, ``T_m = 2.2``, ``T_z = 5 m``; a cluster mass of 2.2 needs
 a much larger birth mass than this filter's. With this filter a repeatedly seen target carries a
 mass near ``1/π ≈ 1``, so the default ``T_m`` here is 0.7 (set ``found=FoundConfig(mass=2.2)`` to
-use the printed value).
+use the printed value). With ``PHDConfig(adaptive_birth=True, birth_mass=1)`` a measurement no
+particle explains seeds one unit and one that a particle explains seeds nothing. A static target
+then carries ``m' = (1 − π) m + 1`` after a scan that detects it and ``(1 − π) m`` after a miss,
+so its mass averages 1. Right after a detection it is at least 1, and after a miss it is below 1
+whenever ``π > 1/2``: ``T_m = 1`` is the threshold derived for that birth.
 
-Observed behaviour: with centre refinement and the printed heavy-tailed field of view the planner
-often oscillates between two waypoints 120–170 m from every cluster where ``ι ≈ 0`` (a local
-maximum of ``Σ_i π(x̂_i, q)``; about half the steps of the slow episodes); MI refinement does not.
+The centres ``x̂_i`` of the refinement term (eq. 11) are those of k-means clusters that together
+cover every particle group carrying at least ``cover_mass``: the ``round(λ)`` clusters of the
+found-target test, plus one more cluster seeded at the heaviest particle left outside them while
+the particles outside carry ``cover_mass`` or more. 004's k-means partitions all particles, so
+every group of the PHD has a centre in eq. (11). The ``round(λ)`` trimmed clusters alone leave
+whole groups out: with ``λ ≈ 1.4`` and two groups 370 m apart only the group holding the heaviest
+particle had a centre, the group the UAV approached lost weight by ``(1 − π)`` and the other took
+the centre, so the refinement goal jumped between the two each step and the UAV oscillated
+between two waypoints half-way, where ``ι ≈ 0`` (up to half the steps of the slow episodes).
 """
 
 from __future__ import annotations
@@ -133,6 +143,9 @@ class SearchConfig:
         particles are only copied by resampling, and without clutter a measurement's unit of mass
         lands on whichever few copies explain it best, however far: such a cluster is narrow and
         heavy but is one or two stale hypotheses, not a localised target.
+    cover_mass
+        Particles outside every cluster get one more centre for the refinement term while they
+        carry at least this expected number of targets, ``> 0`` (see the module docstring).
     """
 
     planner: SearchPlanner = "proposed"
@@ -151,6 +164,7 @@ class SearchConfig:
     phd: PHDConfig = field(default_factory=_phd_004)
     found: FoundConfig = field(default_factory=lambda: FoundConfig(1.1, 0.7, 5.0))
     min_distinct: int = 10
+    cover_mass: float = 0.1
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -170,6 +184,7 @@ class SearchConfig:
             raise InvalidInputError("refinement", self.refinement,
                                     "must be CentreProbability() or EmptyHorizonMI()")
         set_(self, "min_distinct", checks.count("min_distinct", self.min_distinct, 1))
+        set_(self, "cover_mass", checks.positive("cover_mass", self.cover_mass))
         for name in ("step_m", "bonus_resolution_m", "lawnmower_spacing_m", "match_m"):
             set_(self, name, checks.positive(name, getattr(self, name)))
         s = np.array(self.start, dtype=np.float64).reshape(-1)
@@ -265,9 +280,18 @@ def _filter_step(state: PHDState, found: FloatArray, z: FloatArray, position: Fl
             masses[i] = 0.0
     solid = replace(clusters, masses=masses)
     state, found = mark_found(state, solid, config.found, found)
-    hit = (solid.radii_m <= config.found.radius_m) & (solid.masses >= config.found.mass)
-    centres = clusters.centres[~hit & (clusters.masses > 0.0), :3]
-    return resample(state, config.phd, rng), found, centres
+    return resample(state, config.phd, rng), found, _refinement_centres(state, k, config)
+
+
+def _refinement_centres(state: PHDState, k: int, config: SearchConfig) -> FloatArray:
+    """``(c, 3)`` centres of k-means clusters (``k`` or more) covering every particle group of
+    at least ``cover_mass``: eq. (11)'s ``x̂_i``, on the PHD left after the found-target test."""
+    while True:
+        clusters = kmeans_clusters(state, k, config.phd)
+        outside = clusters.members < 0
+        if k >= state.n_particles or state.weights[outside].sum() < config.cover_mass:
+            return clusters.centres[clusters.masses > 0.0, :3]
+        k += 1
 
 
 def run_search_episode(config: SearchConfig, seed: int) -> SearchEpisode:

@@ -41,6 +41,8 @@ def test_config_coerces_numbers_and_freezes_the_region() -> None:
     ({"attribution_threshold": 0.0}, "attribution_threshold"),
     ({"kmeans_iterations": 0}, "kmeans_iterations"),
     ({"survival_probability": 1.5}, "survival_probability"),
+    ({"adaptive_birth": 1}, "adaptive_birth"),
+    ({"adaptive_birth": True, "birth_mass": 1.5}, "birth_mass"),
 ])
 def test_more_bad_settings(kwargs: dict[str, object], field: str) -> None:
     """Non-bool flags, negative radii and out-of-range thresholds name the field."""

@@ -2,12 +2,22 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.plan.search import EmptyHorizonMI, NoRefinement, lawnmower_3d
-from searchtrack.sim.experiments.phd_search import SearchConfig, run_search_episode
+from searchtrack.estimate.phd import PHDState
+from searchtrack.plan.search import (
+    EmptyHorizonMI,
+    ExplorationBonus,
+    NoRefinement,
+    SearchProblem,
+    lawnmower_3d,
+    solve,
+)
+from searchtrack.sim.experiments.phd_search import SearchConfig, _filter_step, run_search_episode
 
 BOX = np.array([[0.0, 96.0]] * 3)
 
@@ -104,3 +114,43 @@ def test_mi_refinement_episode_runs_and_repeats() -> None:
     b = run_search_episode(small("proposed", refinement=EmptyHorizonMI(), max_steps=25), 2)
     np.testing.assert_array_equal(a.path, b.path)
     assert a.path.shape[1] == 3
+
+
+def _two_groups(seed: int) -> tuple[PHDState, np.ndarray]:
+    """A 004 PHD with two static particle groups 370 m apart (masses 0.8 and 0.6: λ = 1.4, so
+    ``round(λ)`` gives one cluster) and a UAV half-way between them."""
+    rng = np.random.default_rng(seed)
+    a, b = np.array([242.0, 209.0, -19.0]), np.array([-16.0, 209.0, 234.0])
+    pos = np.vstack([a + rng.standard_normal((400, 3)), b + rng.standard_normal((300, 3))])
+    w = np.concatenate([np.full(400, 0.8 / 400), np.full(300, 0.6 / 300)])
+    return PHDState.from_particles(pos, w, position_dim=3), np.array([108.0, 180.0, 108.0])
+
+
+def test_refinement_centres_cover_every_particle_group() -> None:
+    """Eq. (11) gets a centre for each of two far groups although round(λ) = 1 (the trimmed
+    k-means alone left the lighter group out of the refinement term)."""
+    state, q = _two_groups(0)
+    cfg = SearchConfig(planner="refinement")
+    _, _, centres = _filter_step(state, np.empty((0, 3)), np.empty((0, 3)), q, cfg,
+                                 np.random.default_rng(0))
+    assert centres.shape[0] == 2
+    assert np.linalg.norm(centres[0] - centres[1]) > 300.0
+
+
+def test_centre_refinement_does_not_oscillate_between_far_groups() -> None:
+    """From half-way between two far groups, centre refinement flies toward one of them: no
+    move undoes the previous one (it flipped between the groups every step before)."""
+    state, q = _two_groups(1)
+    cfg = SearchConfig(planner="refinement")
+    rng = np.random.default_rng(1)
+    bonus = ExplorationBonus(cfg.bounds, cfg.bonus_resolution_m)
+    moves = []
+    for _ in range(8):
+        state, _, centres = _filter_step(state, np.empty((0, 3)), np.empty((0, 3)), q, cfg, rng)
+        bonus = bonus.updated(cfg.sensor, q)
+        plan = solve(SearchProblem(q, cfg.bounds, bonus, cfg.sensor, cfg.settings(),
+                                   belief=state, centres=centres), backend="receding").plan
+        assert plan is not None
+        moves.append(plan.waypoint - q)
+        q = plan.waypoint
+    assert not any(np.allclose(m1, -m0) for m0, m1 in itertools.pairwise(moves))
