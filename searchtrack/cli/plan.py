@@ -55,7 +55,7 @@ BACKEND_NAMES: dict[str, tuple[str, ...]] = {
     "assign": ("auto", "greedy", "lazy_greedy", "exact", "exact_cpsat", "exact_bnb",
                "brute_force", "nlp"),
     "associate": ("auto", "greedy", "optimal"),
-    "route": ("auto", "ils", "labelling", "cpsat", "mip"),
+    "route": ("auto", "ils", "labelling", "cpsat", "bp", "mip"),
     "search": ("auto", "receding", "lawnmower"),
     "trajectory": ("auto", "nmpc", "ltv_mpc", "closed_form"),
 }

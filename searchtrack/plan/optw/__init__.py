@@ -1,8 +1,8 @@
 """Orienteering with time windows (OPTW) and team OPTW: instances, files, validator, solvers.
 
 ``solve(instance, backend="auto", time_limit_s=..., seed=...)`` picks a backend of
-:data:`BACKENDS` by name (``auto``, ``ils``, ``labelling``, ``cpsat``, ``mip``); each backend's
-module, and with it Numba, OR-Tools or SCIP, is imported only when it is first used.
+:data:`BACKENDS` by name (``auto``, ``ils``, ``labelling``, ``cpsat``, ``bp``, ``mip``); each
+backend's module, and with it Numba, OR-Tools or SCIP, is imported only when it is first used.
 """
 
 from __future__ import annotations

@@ -289,9 +289,9 @@ class _Search:
             core.thr, core.cum, core.src, core.snk,
             np.zeros((core.n, buckets)) if tab is None else tab, tab is not None,
             core.horizon, width, (core.horizon >> _MAX_QUEUE_LOG2).bit_length(),
-            self.lb, self.upper, self.gap, _CAP_MAX, self.deadline.end, _SCAN,
+            self.lb, self.upper, self.gap, _CAP_MAX, self.deadline.end, _SCAN, 0, core.prof,
         )
-        code, lb, best, sinks, n_sinks, lv, lp, par, n_lab, own, pops, work = out
+        code, lb, best, sinks, n_sinks, lv, lp, par, n_lab, own, pops, work = out[:12]
         for key, value in zip(("passes", "labels", "expanded", "checks"), (1, n_lab, pops, work),
                               strict=True):
             self.stats[key] += float(value)

@@ -23,6 +23,7 @@ from searchtrack.core.interrupt import stop_clock
 DONE = 0  # the pass finished: every label was expanded or pruned
 TIMEOUT = 1  # the deadline passed
 FULL = 2  # the label store reached its capacity
+ENOUGH = 3  # collect mode: the asked number of elementary paths was found
 
 _CHECK_EVERY = 64  # expanded labels between two clock reads
 
@@ -98,12 +99,56 @@ def _completion(tab, v, t, horizon, width, prof):  # type: ignore[no-untyped-def
 
 
 @njit(cache=True)
-def _profit_outside(mask, prof, n):  # type: ignore[no-untyped-def]
-    """Total profit of the customers ``1 … n − 2`` whose bit is not set in ``mask``."""
+def _outside_tables(cum, ng, prof):  # type: ignore[no-untyped-def]
+    """What the bound without a table needs, so that it costs O(|ng-set|), not O(N).
+
+    ``outside[v, r]`` is the total ``prof`` of the customers not among the first ``r`` that fall
+    out of reach from ``v`` (``cum[v, r]``); ``ngl[ngp[v]:ngp[v + 1]]`` lists ``v`` and the
+    customers of its ng-set.
+    """
+    n, k1, nw = cum.shape
+    one = np.uint64(1)
     total = 0.0
     for c in range(1, n - 1):
-        if not (mask[c >> 6] >> np.uint64(c & 63)) & np.uint64(1):
-            total += prof[c]
+        total += prof[c]
+    outside = np.empty((n, k1))
+    for v in range(n):
+        outside[v, 0] = total
+        for r in range(1, k1):
+            s = outside[v, r - 1]
+            for w in range(nw):
+                diff = cum[v, r, w] & ~cum[v, r - 1, w]
+                b = 0
+                while diff:
+                    if diff & one:
+                        s -= prof[w * 64 + b]
+                    diff >>= one
+                    b += 1
+            outside[v, r] = s
+    ngp = np.zeros(n + 1, dtype=np.int64)
+    ngl = np.empty(n * n, dtype=np.int64)
+    m = 0
+    for v in range(n):
+        for c in range(1, n - 1):
+            if c == v or (ng[v, c >> 6] >> np.uint64(c & 63)) & one:
+                ngl[m] = c
+                m += 1
+        ngp[v + 1] = m
+    return outside, ngp, ngl
+
+
+@njit(cache=True)
+def _profit_outside(outside, ngp, ngl, cum, j, r, memo, prof):  # type: ignore[no-untyped-def]
+    """Total profit of the customers neither in ``memo`` (the ng-memory at ``j``) nor among the
+    ``r`` out of reach from ``j`` (the customers ``1 … N − 2`` not in the label's mask)."""
+    one = np.uint64(1)
+    total = outside[j, r]
+    for e in range(ngp[j], ngp[j + 1]):
+        c = ngl[e]
+        w = c >> 6
+        bit = np.uint64(c & 63)
+        if (memo[w] >> bit) & one and not (cum[j, r, w] >> bit) & one:
+            total -= prof[c]
     return total
 
 
@@ -207,7 +252,7 @@ def _rehash(slots, gv, gkey, n_groups):  # type: ignore[no-untyped-def]
 @njit(cache=True)
 def label_pass(  # type: ignore[no-untyped-def]
     dur, succ_ptr, succ, opn, cls, prof, ng, thr, cum, src, snk,
-    tab, use_tab, horizon, width, qshift, lb, ub, gap, cap_max, deadline, scan,
+    tab, use_tab, horizon, width, qshift, lb, ub, gap, cap_max, deadline, scan, collect, bprof,
 ):
     """Run one labelling pass; see the module docstring.
 
@@ -220,7 +265,8 @@ def label_pass(  # type: ignore[no-untyped-def]
     opn, cls
         ``(N,)`` window on the service start of each vertex in this pass's time axis.
     prof
-        ``(N,)`` profit of each vertex (0 for ``src`` and ``snk``).
+        ``(N,)`` profit of each vertex (0 for ``src`` and ``snk``); may be negative when
+        ``bprof`` bounds it from above.
     ng
         ``(N, W)`` ng-neighbourhood bitmask of each vertex (own bit included).
     thr, cum
@@ -241,6 +287,14 @@ def label_pass(  # type: ignore[no-untyped-def]
     scan
         A new label is compared with every label at its vertex with the same ng-memory, and
         with the ``scan`` most recent other labels there.
+    collect
+        0: search for the best path (each elementary path found raises ``lb``). ``K > 0``
+        (pricing mode): keep ``lb`` fixed and collect the elementary paths reaching ``lb + gap``
+        in ``found``, stopping with ``ENOUGH`` once ``K`` are found.
+    bprof
+        ``(N,)`` non-negative upper bounds on ``prof`` for the bound without a table (``prof``
+        itself when profits are non-negative).
+
     Returns
     -------
     tuple
@@ -248,7 +302,8 @@ def label_pass(  # type: ignore[no-untyped-def]
         sink label of the best elementary path that beat the given ``lb`` (−1 if none),
         ``sinks[:n_sinks]`` sink labels of non-elementary paths that reached ``lb + gap`` when
         found, ``own`` this pass's profit table (same bucketing as ``tab``), ``pops`` the labels
-        expanded.
+        expanded, ``work`` the labels visited by dominance checks, ``found[:n_found]`` the sink
+        labels of the elementary paths collected (collect mode).
     """
     n = dur.shape[0]
     nw = ng.shape[1]
@@ -267,6 +322,8 @@ def label_pass(  # type: ignore[no-untyped-def]
     own = np.full(tab.shape, -np.inf)
     sinks = np.empty(64, dtype=np.int64)
     n_sinks = 0
+    found = np.empty(64, dtype=np.int64)
+    n_found = 0
     stamp = np.zeros(n, dtype=np.int64)
     mark = 0
     best = -1
@@ -282,6 +339,7 @@ def label_pass(  # type: ignore[no-untyped-def]
     ghead = np.empty(1 << 11, dtype=np.int64)
     n_groups = 0
     work = np.zeros(1, dtype=np.int64)  # labels visited by dominance checks
+    outside, ngp, ngl = _outside_tables(cum, ng, bprof)
 
     t0 = opn[src]
     r = _unreach_count(thr, src, t0)
@@ -344,7 +402,7 @@ def label_pass(  # type: ignore[no-untyped-def]
                     scratch[w] = memo[w] | cum[j, r, w]
                 if not use_tab:
                     # without a table: at most the customers neither remembered nor out of reach
-                    bnd = p2 + _profit_outside(scratch, prof, n)
+                    bnd = p2 + _profit_outside(outside, ngp, ngl, cum, j, r, memo, bprof)
                     if bnd < lb + gap:
                         continue
                 g = _find_group(slots, gv, gkey, j, memo)
@@ -395,6 +453,15 @@ def label_pass(  # type: ignore[no-untyped-def]
                 alive[s] = False
                 mark += 1
                 if _is_elementary(par, lv, s, stamp, mark):
+                    if collect > 0:
+                        if n_found == found.shape[0]:
+                            found = _grow1(found, 2 * n_found)
+                        found[n_found] = s
+                        n_found += 1
+                        if n_found >= collect:
+                            status = ENOUGH
+                            break
+                        continue
                     lb = p2
                     best = s
                     if lb + gap > ub:
@@ -422,4 +489,5 @@ def label_pass(  # type: ignore[no-untyped-def]
                 own[j, k] = p2
         if status != DONE or lb + gap > ub:
             break
-    return status, lb, best, sinks, n_sinks, lv, lp, par, n_lab, own, pops, work[0]
+    return (status, lb, best, sinks, n_sinks, lv, lp, par, n_lab, own, pops, work[0], found,
+            n_found)

@@ -37,6 +37,12 @@ def _cpsat(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Rout
     return solve_cpsat(inst, time_limit_s=time_limit_s, seed=seed)
 
 
+def _bp(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:
+    from searchtrack.plan.optw.bp import solve_bp
+
+    return solve_bp(inst, time_limit_s=time_limit_s, seed=seed)
+
+
 def _mip(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:
     from searchtrack.plan.optw.mip import solve_mip
 
@@ -50,11 +56,11 @@ def heuristic_share(time_limit_s: float) -> float:
 
 
 def _auto(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:
-    from searchtrack.plan.optw.cpsat import solve_cpsat
+    from searchtrack.plan.optw.bp import solve_bp
     from searchtrack.plan.optw.ils import solve_ils
     from searchtrack.plan.optw.labelling import solve_labelling
 
-    exact_solve = solve_labelling if inst.vehicles == 1 else solve_cpsat
+    exact_solve = solve_labelling if inst.vehicles == 1 else solve_bp
 
     def exact(problem: OPTWInstance, first: Result[Routes], limit_s: float,
               seed: int) -> Result[Routes]:
@@ -73,7 +79,8 @@ def warm_up(backend: str) -> None:
     ``solve`` calls it before starting the clock, so a time limit measures solving, not
     just-in-time compilation (about 20 s per kernel set on a cold cache, under 1 s warm).
     """
-    needs = {"ils": ["ils"], "labelling": ["labelling"], "auto": ["ils", "labelling"]}
+    needs = {"ils": ["ils"], "labelling": ["labelling"], "auto": ["ils", "labelling"],
+             "bp": ["ils", "labelling"]}
     for kernel in needs.get(backend, []):
         if kernel in _WARMED:
             continue
@@ -96,12 +103,15 @@ def _single_vehicle(inst: OPTWInstance) -> str | None:
 
 BACKENDS: Registry[OPTWInstance, Routes] = Registry("optw")
 BACKENDS.register(Backend("auto", _auto, True,
-                          "ILS answer at once, then labelling (m = 1) or CP-SAT to prove it"))
+                          "ILS answer at once, then labelling (m = 1) or branch-and-price "
+                          "(m ≥ 2) to prove it"))
 BACKENDS.register(Backend("ils", _ils, False, "iterated local search (Vansteenwegen et al. 2009+)"))
 BACKENDS.register(Backend("labelling", _labelling, True,
                           "labelling DP with decremental state-space relaxation (m = 1)",
                           supports=_single_vehicle))
 BACKENDS.register(Backend("cpsat", _cpsat, True, "OR-Tools CP-SAT circuit model"))
+BACKENDS.register(Backend("bp", _bp, True,
+                          "branch-and-price on route columns (Boussier, Feillet & Gendreau 2007)"))
 BACKENDS.register(Backend("mip", _mip, True, "integer program (5.17)–(5.26) with OR-Tools SCIP"))
 
 
@@ -118,7 +128,7 @@ def solve(
     instance
         The (team) OPTW.
     backend
-        ``"auto"``, ``"ils"``, ``"labelling"``, ``"cpsat"`` or ``"mip"``.
+        ``"auto"``, ``"ils"``, ``"labelling"``, ``"cpsat"``, ``"bp"`` or ``"mip"``.
     time_limit_s
         Wall-clock limit, honoured by every backend.
     seed

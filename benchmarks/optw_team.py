@@ -1,0 +1,145 @@
+"""Team OPTW benchmark: branch-and-price beside CP-SAT and ILS, with bounds and root gaps.
+
+    python benchmarks/optw_team.py --vehicles 2 3 4 --limit 300 --instances c101 r101 pr01
+    python benchmarks/optw_team.py --vehicles 2 --limit 60 --backends bp cpsat ils \\
+        --instances c101 c105 r101 r105 rc101 pr01 --csv out/optw_team_dev.csv
+
+Each (instance, m, backend, limit, seed) row is appended to the CSV as soon as it is solved, and
+rows already in the CSV are skipped, so a long run can be stopped and resumed. The table printed
+at the end is built from every row of the CSV that matches the request. ``gap %`` is
+``(bound − profit) / profit``; ``root gap %`` compares bp's root bound with the best profit any
+backend found for that instance and ``m`` (the optimum when some backend proved it). Every plan is
+re-checked by the independent validator (``solve`` does it). Run serially on an idle machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import sys
+import time
+from pathlib import Path
+
+from threadpoolctl import threadpool_limits
+
+from searchtrack.plan.optw import read_optw, solve
+
+ROOT = Path(__file__).resolve().parents[2] / "shared" / "benchmarks" / "optw"
+FIELDS = ["instance", "m", "backend", "limit", "seed", "status", "profit", "bound", "time_s",
+          "nodes", "columns", "root_bound", "root_s", "pricing_per_s", "lp_s", "pricing_s",
+          "heuristic_s", "message"]
+
+
+def _path(name: str) -> Path:
+    for sub in ("solomon100", "cordeau"):
+        p = ROOT / sub / f"{name}.txt"
+        if p.exists():
+            return p
+    raise SystemExit(f"unknown instance {name!r} (looked in {ROOT})")
+
+
+def _key(row: dict[str, str]) -> tuple[str, str, str, str, str]:
+    return (row["instance"], row["m"], row["backend"], row["limit"], row["seed"])
+
+
+def _num(x: object) -> str:
+    return "" if x is None else f"{float(x):g}"  # type: ignore[arg-type]
+
+
+def run(args: argparse.Namespace) -> list[dict[str, str]]:
+    """Solve every missing row, appending it to the CSV; return the requested rows."""
+    path = Path(args.csv)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    done: dict[tuple[str, str, str, str, str], dict[str, str]] = {}
+    if path.exists():
+        with path.open() as fh:
+            done = {_key(r): r for r in csv.DictReader(fh)}
+    new = not path.exists()
+    wanted = []
+    with path.open("a", newline="") as fh:
+        out = csv.DictWriter(fh, fieldnames=FIELDS)
+        if new:
+            out.writeheader()
+        for name in args.instances:
+            inst = read_optw(_path(name))
+            for m in args.vehicles:
+                for backend in args.backends:
+                    key = (name, str(m), backend, f"{args.limit:g}", str(args.seed))
+                    wanted.append(key)
+                    if key in done:
+                        continue
+                    res = solve(inst.with_vehicles(m), backend=backend, time_limit_s=args.limit,
+                                seed=args.seed)
+                    st = res.stats
+                    row = dict(zip(FIELDS, [*key, res.status.name, _num(res.objective),
+                                            _num(res.bound), f"{res.runtime_s:.2f}",
+                                            *(_num(st.get(k)) for k in FIELDS[9:17]),
+                                            res.message[:200]], strict=True))
+                    out.writerow(row)
+                    fh.flush()
+                    done[key] = row
+                    print(f"{name} m={m} {backend}: {row['status']} {row['profit']} "
+                          f"≤ {row['bound']} in {row['time_s']} s", flush=True)
+    return [done[k] for k in wanted]
+
+
+def table(rows: list[dict[str, str]]) -> None:
+    """Print the aligned table, with gaps against the best profit found per (instance, m)."""
+    best: dict[tuple[str, str], float] = {}
+    for r in rows:
+        if r["profit"]:
+            k = (r["instance"], r["m"])
+            best[k] = max(best.get(k, 0.0), float(r["profit"]))
+    header = ["instance", "m", "backend", "status", "profit", "bound", "gap %", "root bound",
+              "root gap %", "time s", "nodes", "columns", "pricing/s"]
+    body = []
+    for r in rows:
+        p = float(r["profit"]) if r["profit"] else None
+        gap = (f"{100 * (float(r['bound']) - p) / max(p, 1e-9):.2f}" if p is not None
+               and r["bound"] else "-")
+        ref = best.get((r["instance"], r["m"]))
+        root = r["root_bound"]
+        rgap = f"{100 * (float(root) - ref) / max(ref, 1e-9):.2f}" if root and ref else "-"
+        body.append([r["instance"], r["m"], r["backend"], r["status"], r["profit"] or "-",
+                     r["bound"] or "-", gap, root or "-", rgap, r["time_s"], r["nodes"] or "-",
+                     r["columns"] or "-",
+                     f"{float(r['pricing_per_s']):.1f}" if r["pricing_per_s"] else "-"])
+    widths = [max(len(h), *(len(b[k]) for b in body)) if body else len(h)
+              for k, h in enumerate(header)]
+    print("  ".join(h.ljust(w) if k < 3 else h.rjust(w)
+                    for k, (h, w) in enumerate(zip(header, widths, strict=True))))
+    for b in body:
+        print("  ".join(c.ljust(w) if k < 3 else c.rjust(w)
+                        for k, (c, w) in enumerate(zip(b, widths, strict=True))))
+    for backend in sorted({r["backend"] for r in rows}):
+        mine = [r for r in rows if r["backend"] == backend]
+        proven = sum(r["status"] == "OPTIMAL" for r in mine)
+        print(f"{backend}: proven optimal {proven}/{len(mine)}")
+
+
+def main() -> None:
+    """Parse the options, warm the kernels up, solve what is missing, print the table."""
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    p.add_argument("--instances", nargs="+", default=["c101", "c105", "r101", "r105", "rc101",
+                                                      "pr01"])
+    p.add_argument("--vehicles", type=int, nargs="+", default=[2])
+    p.add_argument("--backends", nargs="+", default=["bp", "cpsat", "ils"])
+    p.add_argument("--limit", type=float, default=60.0)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--csv", default="out/optw_team.csv")
+    args = p.parse_args()
+    started = time.perf_counter()
+    with threadpool_limits(1):
+        from searchtrack.plan.optw.solve import warm_up
+
+        for backend in args.backends:
+            warm_up(backend)
+        rows = run(args)
+    print(f"\nteam OPTW, {args.limit:g} s per run, seed {args.seed}")
+    table(rows)
+    print(f"\ntotal {time.perf_counter() - started:.0f} s")
+    sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()

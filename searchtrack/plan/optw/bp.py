@@ -1,0 +1,387 @@
+"""Exact team OPTW by branch-and-price (Boussier, Feillet & Gendreau 2007).
+
+* **Master** (:mod:`~searchtrack.plan.optw.bp_master`): set packing over routes, solved as a
+  linear program by GLOP, columns added incrementally; first columns from the ILS plan, the
+  ``initial`` plan and the feasible single-customer routes.
+* **Pricing** (:mod:`~searchtrack.plan.optw.bp_pricing`): the ng/DSSR labelling on reduced
+  profits ``p_i − π_i``, exact at every call and returning up to 200 columns. Duals are smoothed
+  towards the best Lagrangian point (Wentges 1997); a mis-priced round is repeated at the
+  master's own duals. A guided heuristic pass (:attr:`Tuning.heuristic_cap`) can run first; on
+  the Solomon instances it found columns but more iterations, and more labels overall, than
+  exact pricing alone, so it is off by default.
+* **Bounds**: every completed pricing gives the Lagrangian bound ``Σ_i π_i + m · U`` (``U`` ≥ the
+  best reduced profit of a route), valid for any duals of the right signs; a node's bound is the
+  least of them (rounded down for integer profits). Column generation stops at a node once the
+  rounded bound equals the rounded master value.
+* **Branching**: on a customer's fractional visit (forbidden / required; the largest
+  ``min(y, 1 − y) × profit``: on c103, c104, r105, c101 and pr02 it needed no more nodes than
+  the most fractional visit, and it closed pr02 at m = 2), then on a fractional arc (forbidden /
+  forced), best bound first. An integral master solution is an incumbent; the
+  pool's columns are also solved as an integer program with CP-SAT after the root and
+  periodically.
+
+A stopped solve reports its best plan with the largest bound of the open nodes.
+"""
+
+from __future__ import annotations
+
+import heapq
+import itertools
+import logging
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from searchtrack.core.deadline import Deadline, check_time_limit
+from searchtrack.core.interrupt import stop_requested
+from searchtrack.core.result import Result, Status
+from searchtrack.plan.optw.bp_master import LPSolution, Master, Path, Restrictions, pool_ip
+from searchtrack.plan.optw.bp_pricing import Pricer, droppable
+from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes
+from searchtrack.plan.optw.labelling import _BIG, _CAP_MAX, Core, build_cores
+from searchtrack.plan.optw.routes import idle_routes, initial_plan
+
+log = logging.getLogger("searchtrack.plan.optw.bp")
+
+BACKEND = "bp"
+_EPS = 1e-5  # least reduced profit of a new column
+_FRAC = 1e-6
+
+
+@dataclass(frozen=True)
+class Tuning:
+    """Knobs of the branch-and-price (defaults: the measured best)."""
+
+    smoothing: float = 0.5  # Wentges α (0: off)
+    heuristic_cap: int = 0  # labels of a guided (heuristic) pricing pass (0: off)
+    table_ng: int | None = 4  # ng-size of the completion-table pass of exact pricing
+    collect: int = 200  # most columns per pricing call
+    ils_share: float = 0.02  # of the time limit, at most ils_max_s
+    ils_max_s: float = 1.5
+    ils_iterations: int = 20000  # the ILS stops here unless its time share ends first
+    primal_s: float = 2.0  # CP-SAT on the column pool, after the root and every primal_every
+    primal_every: int = 50
+
+
+@dataclass(order=True)
+class _Node:
+    key: tuple[float, int, int]
+    bound: float = field(compare=False)
+    depth: int = field(compare=False)
+    restr: Restrictions = field(compare=False)
+
+
+@dataclass
+class _Tree:
+    inst: OPTWInstance
+    fwd: Core
+    orig: NDArray[np.int64]
+    master: Master
+    pricer: Pricer
+    deadline: Deadline
+    tuning: Tuning
+    seed: int
+    whole: bool
+    value: float = -math.inf
+    best: list[Path] = field(default_factory=list)
+    stats: dict[str, float] = field(default_factory=dict)
+
+    def tick(self, key: str, since: float) -> None:
+        self.stats[key] = self.stats.get(key, 0.0) + time.perf_counter() - since
+
+    def rounded(self, bound: float) -> float:
+        return math.floor(bound + 1e-6) if self.whole else bound
+
+    def pruned(self, bound: float) -> bool:
+        """True when a node of this bound cannot beat the incumbent (or holds no plan)."""
+        b = self.rounded(bound)
+        if self.value == -math.inf:
+            return b < -1e-6
+        return b <= self.value + (0.0 if self.whole else 1e-9 * max(1.0, abs(self.value)))
+
+    def offer(self, paths: list[Path]) -> None:
+        """Make ``paths`` (disjoint feasible routes) the incumbent if they collect more."""
+        profits = [self.path_profit(p) for p in paths]
+        self.master.add(paths, profits)
+        value = float(sum(profits))
+        if value > self.value + 1e-9:
+            self.value, self.best = value, list(paths)
+            log.debug("incumbent %g at %.2f s", value, self.deadline.elapsed())
+
+    def path_profit(self, path: Path) -> float:
+        return float(sum(float(self.inst.profit[self.orig[v]]) for v in path[1:-1]))
+
+    def primal(self) -> None:
+        """CP-SAT over the pool's columns."""
+        t0 = time.perf_counter()
+        limit = min(self.tuning.primal_s, 0.5 * self.deadline.remaining())
+        if limit > 0.05:
+            hint = [self.master._known[p] for p in self.best]
+            chosen = pool_ip(self.master.paths, self.master.profits, self.inst.vehicles,
+                             self.master.empty_ok, self.value, limit, self.seed, hint)
+            if chosen is not None:
+                self.offer([self.master.paths[k] for k in chosen])
+        self.tick("heuristic_s", t0)
+
+    def column_generation(self, node: _Node) -> tuple[LPSolution | None, bool]:
+        """Solve the node's master by column generation and tighten ``node.bound``; the last
+        master solution (``None`` when the node is pruned or time ran out) and whether the
+        node's bound is proven."""
+        m, t = self.master, self.tuning
+        t0 = time.perf_counter()
+        m.restrict(node.restr)
+        dur = self.pricer.node_dur(node.restr)
+        drop = not node.restr.arcs and not node.restr.no_arcs
+        self.tick("branching_s", t0)
+        prof = np.zeros(self.fwd.n)
+        prof[1:-1] = self.fwd.prof[1:-1]
+        centre: tuple[NDArray[np.float64], float] | None = None
+        centre_bound = math.inf
+        while True:
+            if self.deadline.expired():
+                return None, False
+            t0 = time.perf_counter()
+            lp = m.solve(self.deadline.remaining())
+            self.tick("lp_s", t0)
+            if lp is None:
+                return None, False
+            self.stats["cg_iterations"] = self.stats.get("cg_iterations", 0.0) + 1
+            if self.pruned(node.bound):
+                return None, True
+            if self.whole and self.rounded(node.bound) <= math.floor(lp.objective + 1e-6):
+                return lp, True  # the rounded bound cannot fall further: branch here
+            # the guided heuristic at the master's duals, then exact pricing at the smoothed
+            # duals (Wentges 1997) and, if that mis-prices, at the master's duals
+            points = [(lp.pi, lp.mu, True)]
+            if centre is not None and t.smoothing > 0:
+                a = t.smoothing
+                points.insert(0, (a * centre[0] + (1 - a) * lp.pi,
+                                  a * centre[1] + (1 - a) * lp.mu, True))
+            if t.heuristic_cap > 0:
+                points.insert(0, (lp.pi, lp.mu, False))
+            added, proven = 0, False
+            for pi, mu, exact in points:
+                paths, upper = self.price(dur, prof - pi, mu, drop, node.restr.forbidden, exact)
+                if upper is not None:
+                    lag = float(pi[1:-1].sum()) + m.vehicles * upper
+                    node.bound = min(node.bound, lag)
+                    if lag < centre_bound:
+                        centre_bound, centre = lag, (pi.copy(), upper)
+                rc = [self.path_profit(p) - float(lp.pi[list(p[1:-1])].sum()) - lp.mu
+                      for p in paths]
+                good = [p for p, r in zip(paths, rc, strict=True) if r > _EPS]
+                added = m.add(good, [self.path_profit(p) for p in good])
+                proven = upper is not None and pi is lp.pi and exact
+                if added:
+                    break
+            if not added:
+                if not proven and not self.deadline.expired():
+                    log.warning("pricing stalled at %s", node.restr)
+                return (lp, True) if proven else (None if self.deadline.expired() else lp, False)
+
+    def price(self, dur: NDArray[np.int64], prof: NDArray[np.float64], mu: float, drop: bool,
+              forbidden: frozenset[int], exact: bool) -> tuple[list[Path], float | None]:
+        """Columns above ``mu`` and, if proven, a bound on the best reduced profit + ``mu``."""
+        t0 = time.perf_counter()
+        t = self.tuning
+        if not exact:
+            got = self.pricer.guided(dur, prof, mu, _EPS, forbidden=forbidden, collect=t.collect,
+                                     cap=t.heuristic_cap, deadline=self.deadline)
+            self.tick("heuristic_pricing_s", t0)
+            if got.paths:
+                self.stats["heuristic_pricing_hits"] = self.stats.get(
+                    "heuristic_pricing_hits", 0.0) + 1
+        else:
+            got = self.pricer.price(dur, prof, mu, _EPS, drop=drop, forbidden=forbidden,
+                                    collect=t.collect, cap=_CAP_MAX, deadline=self.deadline)
+            self.stats["exact_pricing_calls"] = self.stats.get("exact_pricing_calls", 0.0) + 1
+        self.tick("pricing_s", t0)
+        return got.paths, got.upper
+
+
+def _core_path(inst: OPTWInstance, where: dict[int, int], route: Route) -> Path | None:
+    inner = route[1:] if inst.end is None else route[1:-1]
+    if any(v not in where for v in inner):
+        return None
+    return (0, *(where[v] for v in inner), len(where) + 1)
+
+
+def _feasible(core: Core, path: Path) -> bool:
+    t = int(core.opn[core.src])
+    for a, b in itertools.pairwise(path):
+        if core.dur[a, b] >= _BIG:
+            return False
+        t = max(int(core.opn[b]), t + int(core.dur[a, b]))
+        if t > core.cls[b]:
+            return False
+    return True
+
+
+def _branch(tree: _Tree, node: _Node, lp: LPSolution) -> list[Restrictions] | None:
+    """The two children of ``node``, or ``None`` when its master solution is integral."""
+    m = tree.master
+    if np.all(np.abs(lp.values - np.round(lp.values)) <= _FRAC):
+        return None
+    y = m.visits(lp.values)
+    # the customer whose fractional visit weighs most: min(y, 1 − y) × profit
+    score = np.minimum(y, 1.0 - y) * tree.fwd.prof
+    score[(y <= _FRAC) | (y >= 1 - _FRAC)] = -1.0
+    i = int(np.argmax(score))
+    if score[i] > 0:
+        return [node.restr.child(forbid=i), node.restr.child(require=i)]
+    x = {a: f for a, f in m.arc_flows(lp.values).items() if _FRAC < f < 1 - _FRAC}
+    if not x:
+        return None
+    a = min(x, key=lambda k: (abs(x[k] - 0.5), k))
+    return [node.restr.child(no_arc=a), node.restr.child(arc=a)]
+
+
+def solve_bp(instance: OPTWInstance, *, time_limit_s: float = 60.0, seed: int = 0,
+             initial: Routes | None = None, tuning: Tuning | None = None) -> Result[Routes]:
+    """Solve the team OPTW to proven optimality by branch-and-price (or to the time limit).
+
+    Parameters
+    ----------
+    instance
+        The instance (``instance.vehicles`` routes).
+    time_limit_s
+        Wall-clock limit for the heuristic start, the tree, the LPs and every pricing pass.
+    seed
+        Seed of the ILS start and of CP-SAT on the column pool.
+    initial
+        A feasible plan (at most ``m`` routes): its routes are first columns and its profit a
+        lower bound.
+    tuning
+        The method's knobs (defaults: the measured best).
+
+    Returns
+    -------
+    Result
+        ``OPTIMAL`` when the tree is closed; ``FEASIBLE`` (or ``NO_SOLUTION``) with the largest
+        bound of the open nodes when stopped by the limit or a stop request; ``INFEASIBLE`` when
+        no ``m`` routes exist.
+
+    Raises
+    ------
+    InvalidInputError
+        If ``initial`` is not a feasible plan or the time limit is not positive.
+    """
+    deadline = Deadline(check_time_limit(time_limit_s))
+    inst, t = instance, tuning or Tuning()
+    start = None if initial is None else initial_plan(inst, initial)
+    fwd, _, orig = build_cores(inst)
+    where = {int(v): c for c, v in enumerate(orig[1:-1].tolist(), start=1)}
+    empty_ok = bool(fwd.dur[fwd.src, fwd.snk] < _BIG)
+    total = float(fwd.prof.sum())
+    master = Master(fwd.n, inst.vehicles, empty_ok, 100.0 * (total + 1.0))
+    profit = inst.profit
+    pricer = Pricer(fwd, droppable(inst, orig), table_ng=t.table_ng, guide=t.heuristic_cap > 0)
+    tree = _Tree(inst, fwd, orig, master, pricer, deadline, t, seed,
+                 bool(np.all(profit == np.round(profit))))
+    seeds: list[list[Route]] = [] if start is None else [list(start)]
+    if fwd.n > 2:
+        from searchtrack.plan.optw.ils import solve_ils
+
+        t0 = time.perf_counter()
+        share = max(0.02, min(t.ils_max_s, t.ils_share * time_limit_s))
+        first = solve_ils(inst, time_limit_s=share, seed=seed, initial=start,
+                          max_iterations=t.ils_iterations)
+        tree.tick("heuristic_s", t0)
+        if first.plan is not None:
+            seeds.append(list(first.plan))
+    singles = [(0, c, fwd.n - 1) for c in range(1, fwd.n - 1)]
+    columns: list[Path] = [p for p in singles if _feasible(fwd, p)]
+    columns += [(0, fwd.n - 1)] if empty_ok else []
+    for plan in seeds:
+        paths = [_core_path(inst, where, r) for r in plan]
+        good = [p for p in paths if p is not None and _feasible(fwd, p) and len(p) > 2]
+        columns += good
+        if len(good) == inst.vehicles or empty_ok:
+            tree.offer(good)
+    master.add(columns, [tree.path_profit(p) for p in columns])
+    root = _Node((-math.inf, 0, 0), total, 0, Restrictions())
+    return _run(tree, root, empty_ok)
+
+
+def _run(tree: _Tree, root: _Node, empty_ok: bool) -> Result[Routes]:
+    deadline, t = tree.deadline, tree.tuning
+    heap: list[_Node] = [root]
+    counter = itertools.count(1)
+    nodes = 0
+    tree.stats["root_bound"] = tree.rounded(root.bound)  # until the root is solved
+    tree.stats["root_s"] = deadline.elapsed()
+    stuck: list[float] = []
+    current: _Node | None = None
+    while heap and not deadline.expired():
+        current = heapq.heappop(heap)
+        if tree.pruned(current.bound):
+            current = None
+            continue
+        nodes += 1
+        lp, proven = tree.column_generation(current)
+        if nodes == 1:
+            tree.stats["root_bound"] = tree.rounded(current.bound)
+            tree.stats["root_s"] = deadline.elapsed()
+        if lp is None and proven:
+            current = None  # pruned
+            continue
+        if lp is None:
+            break
+        if nodes == 1 or nodes % t.primal_every == 0:
+            tree.primal()
+        if tree.pruned(current.bound):
+            current = None
+            continue
+        t0 = time.perf_counter()
+        kids = _branch(tree, current, lp)
+        tree.tick("branching_s", t0)
+        if kids is None:
+            if lp.artificial <= 1e-6:
+                chosen = np.flatnonzero(lp.values > 0.5).tolist()
+                tree.offer([tree.master.paths[k] for k in chosen])
+            if not proven and not tree.pruned(current.bound):
+                stuck.append(current.bound)  # nothing left to branch on, bound not proven
+            current = None
+            continue
+        for r in kids:
+            b = current.bound
+            heapq.heappush(heap, _Node((-tree.rounded(b), -(current.depth + 1), next(counter)),
+                                       b, current.depth + 1, r))
+        current = None
+    open_bounds = [n.bound for n in heap] + stuck
+    open_bounds += [] if current is None else [current.bound]
+    return _result(tree, nodes, open_bounds, empty_ok)
+
+
+def _result(tree: _Tree, nodes: int, open_bounds: list[float], empty_ok: bool) -> Result[Routes]:
+    inst, deadline, m = tree.inst, tree.deadline, tree.master
+    pricing_s = tree.stats.get("pricing_s", 0.0)
+    calls = tree.pricer.stats["pricing_calls"]
+    stats = {**tree.stats, **{f"pricing_{k}": v for k, v in tree.pricer.stats.items()
+                              if k != "pricing_calls"},
+             "nodes": float(nodes), "columns": float(m.size),
+             "pricing_calls": calls, "pricing_per_s": calls / pricing_s if pricing_s else 0.0}
+    open_bounds = [b for b in open_bounds if not tree.pruned(b)]
+    tail = () if inst.end is None else (inst.end,)
+    plan: Routes | None = None
+    if tree.best or tree.value > -math.inf:
+        routes = [(inst.start, *(int(tree.orig[v]) for v in p[1:-1]), *tail) for p in tree.best]
+        routes = [r for r in routes if len(r) > 1 + len(tail)]
+        plan = tuple(routes) + idle_routes(inst)[len(routes):] if empty_ok else tuple(routes)
+    elapsed = deadline.elapsed()
+    if not open_bounds:
+        if plan is None:
+            return Result(Status.INFEASIBLE, None, None, elapsed, BACKEND, None,
+                          message=f"no {inst.vehicles} routes exist", stats=stats)
+        return Result(Status.OPTIMAL, tree.value, tree.value, elapsed, BACKEND, plan,
+                      message=f"proven optimal; {nodes} nodes", stats=stats)
+    bound = max(tree.rounded(b) for b in open_bounds)
+    why = "stopped on request" if stop_requested() else "time limit"
+    if plan is None:
+        return Result(Status.NO_SOLUTION, None, float(bound), elapsed, BACKEND, None,
+                      message=why, stats=stats)
+    return Result(Status.FEASIBLE, tree.value, float(max(bound, tree.value)), elapsed, BACKEND,
+                  plan, message=f"{why}; {nodes} nodes", stats=stats)

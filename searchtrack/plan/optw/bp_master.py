@@ -1,0 +1,246 @@
+"""Restricted master problem of the team-OPTW branch-and-price (Boussier, Feillet & Gendreau 2007).
+
+Set packing over route columns, as a linear program solved by OR-Tools GLOP::
+
+    max  Σ_r c_r λ_r
+    s.t. Σ_r a_ir λ_r ≤ 1   (= 1 when customer i is required by a branch)   duals π_i
+         Σ_r λ_r      ≤ m   (= m when the empty route is infeasible)       dual  μ
+         λ ≥ 0
+
+Customers are the vertices ``1 … n − 2`` of the labelling core graph
+(:func:`searchtrack.plan.optw.labelling.build_cores`); a column is a feasible elementary core path
+``src → … → snk``. Every row also has an artificial variable of profit ``−M`` (bounded to 0
+unless the row is an equality), so the RMP is always feasible; it only restricts the duals
+(``π_i ≥ −M``), so every Lagrangian bound computed from them stays valid.
+
+Branching restricts the master by bounds only: a column a node forbids gets upper bound 0, a
+required customer's row gets lower bound 1. GLOP keeps its basis across these changes and across
+added columns.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+from ortools.linear_solver import pywraplp
+
+Path = tuple[int, ...]
+Arc = tuple[int, int]
+
+
+@dataclass(frozen=True)
+class Restrictions:
+    """The branching decisions of a node, on core vertices and arcs."""
+
+    forbidden: frozenset[int] = frozenset()
+    required: frozenset[int] = frozenset()
+    no_arcs: frozenset[Arc] = frozenset()
+    arcs: frozenset[Arc] = frozenset()  # forced: i → j is the only way out of i and into j
+
+    def child(self, *, forbid: int | None = None, require: int | None = None,
+              no_arc: Arc | None = None, arc: Arc | None = None) -> Restrictions:
+        """These restrictions plus one more decision."""
+        return Restrictions(
+            self.forbidden | ({forbid} if forbid is not None else set()),
+            self.required | ({require} if require is not None else set()),
+            self.no_arcs | ({no_arc} if no_arc is not None else set()),
+            self.arcs | ({arc} if arc is not None else set()),
+        )
+
+    def allows(self, path: Path, src: int, snk: int) -> bool:
+        """True when the core path ``path`` (``src`` … ``snk``) obeys every decision."""
+        if any(v in self.forbidden for v in path[1:-1]):
+            return False
+        steps = set(itertools.pairwise(path))
+        if steps & self.no_arcs:
+            return False
+        for i, j in self.arcs:
+            out = [b for a, b in steps if a == i]
+            inn = [a for a, b in steps if b == j]
+            if i != src and out and out[0] != j:
+                return False
+            if j != snk and inn and inn[0] != i:
+                return False
+        return True
+
+
+@dataclass
+class LPSolution:
+    """One RMP optimum: objective, column values and the duals."""
+
+    objective: float
+    values: NDArray[np.float64]
+    pi: NDArray[np.float64]  # by core vertex (0 at src and snk)
+    mu: float
+    artificial: float  # total artificial activity (> 0: the node looks infeasible)
+
+
+@dataclass
+class Master:
+    """The RMP over a growing pool of columns, shared by every node of the tree.
+
+    Parameters
+    ----------
+    n
+        Core vertices (source 0, customers ``1 … n − 2``, sink ``n − 1``).
+    vehicles
+        Routes ``m``.
+    empty_ok
+        Whether the empty route is feasible (then ``Σ λ ≤ m``, else ``= m``).
+    penalty
+        Profit ``M`` lost per unit of artificial variable.
+    """
+
+    n: int
+    vehicles: int
+    empty_ok: bool
+    penalty: float
+    paths: list[Path] = field(default_factory=list)
+    profits: list[float] = field(default_factory=list)
+    _known: dict[Path, int] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        s = pywraplp.Solver.CreateSolver("GLOP")
+        if s is None:  # pragma: no cover - GLOP ships with OR-Tools
+            raise RuntimeError("OR-Tools GLOP is not available")
+        self.solver = s
+        inf = s.infinity()
+        self.rows = [s.Constraint(-inf, 1.0) for _ in range(self.n)]
+        m = float(self.vehicles)
+        self.fleet = s.Constraint(-inf if self.empty_ok else m, m)
+        self.objective = s.Objective()
+        self.objective.SetMaximization()
+        self.slack = []
+        for i in range(1, self.n - 1):
+            a = s.NumVar(0.0, 0.0, "")
+            self.rows[i].SetCoefficient(a, 1.0)
+            self.objective.SetCoefficient(a, -self.penalty)
+            self.slack.append(a)
+        self.fleet_slack = s.NumVar(0.0, 0.0 if self.empty_ok else m, "")
+        self.fleet.SetCoefficient(self.fleet_slack, 1.0)
+        self.objective.SetCoefficient(self.fleet_slack, -self.penalty)
+        self.vars: list[pywraplp.Variable] = []
+
+    @property
+    def size(self) -> int:
+        """Columns in the pool."""
+        return len(self.paths)
+
+    def add(self, paths: Iterable[Path], profits: Iterable[float], allowed: bool = True) -> int:
+        """Add the new ones of ``paths`` (core paths with their profit); return how many."""
+        added = 0
+        s = self.solver
+        for path, c in zip(paths, profits, strict=True):
+            if path in self._known:
+                continue
+            v = s.NumVar(0.0, s.infinity() if allowed else 0.0, "")
+            for i in path[1:-1]:
+                self.rows[i].SetCoefficient(v, 1.0)
+            self.fleet.SetCoefficient(v, 1.0)
+            self.objective.SetCoefficient(v, float(c))
+            self._known[path] = len(self.paths)
+            self.paths.append(path)
+            self.profits.append(float(c))
+            self.vars.append(v)
+            added += 1
+        return added
+
+    def restrict(self, node: Restrictions) -> None:
+        """Bounds of the node ``node``: its forbidden columns at 0, its required rows at 1."""
+        inf = self.solver.infinity()
+        src, snk = 0, self.n - 1
+        simple = not node.no_arcs and not node.arcs
+        for v, path in zip(self.vars, self.paths, strict=True):
+            if simple:
+                ok = not any(i in node.forbidden for i in path[1:-1])
+            else:
+                ok = node.allows(path, src, snk)
+            v.SetUb(inf if ok else 0.0)
+        for i in range(1, self.n - 1):
+            req = i in node.required
+            self.rows[i].SetLb(1.0 if req else -inf)
+            self.slack[i - 1].SetUb(1.0 if req else 0.0)
+
+    def solve(self, time_limit_s: float) -> LPSolution | None:
+        """Solve the RMP; ``None`` when GLOP stops before its optimum."""
+        s = self.solver
+        s.SetTimeLimit(max(1, int(1000 * time_limit_s)))
+        if s.Solve() != pywraplp.Solver.OPTIMAL:
+            return None
+        values = np.array([v.solution_value() for v in self.vars], dtype=np.float64)
+        pi = np.zeros(self.n)
+        pi[1:-1] = [self.rows[i].dual_value() for i in range(1, self.n - 1)]
+        art = sum(a.solution_value() for a in self.slack) + self.fleet_slack.solution_value()
+        return LPSolution(self.objective.Value(), values, pi, self.fleet.dual_value(), art)
+
+    def visits(self, values: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``Σ_r a_ir λ_r`` for every core vertex."""
+        y = np.zeros(self.n)
+        for k in np.flatnonzero(values > 1e-9).tolist():
+            for i in self.paths[k][1:-1]:
+                y[i] += values[k]
+        return y
+
+    def arc_flows(self, values: NDArray[np.float64]) -> dict[Arc, float]:
+        """``x_ij = Σ_r λ_r`` over the columns using arc ``i → j``."""
+        x: dict[Arc, float] = {}
+        for k in np.flatnonzero(values > 1e-9).tolist():
+            path = self.paths[k]
+            for a in itertools.pairwise(path):
+                x[a] = x.get(a, 0.0) + float(values[k])
+        return x
+
+
+def pool_ip(paths: Sequence[Path], profits: Sequence[float], vehicles: int, empty_ok: bool,
+            floor: float, time_limit_s: float, seed: int,
+            hint: Sequence[int] = ()) -> list[int] | None:
+    """The best set of at most ``m`` disjoint pool columns (exactly ``m`` when the empty route is
+    infeasible), by CP-SAT within ``time_limit_s``; ``None`` when none beats ``floor``.
+
+    The restricted master's columns as an integer program: a cheap primal heuristic that often
+    closes the gap of a branch-and-price on its own.
+    """
+    from ortools.sat.python import cp_model
+
+    from searchtrack.core.interrupt import watch
+
+    p = np.asarray(profits, dtype=np.float64)
+    whole = bool(np.all(p == np.round(p)))
+    scale = 1.0 if whole else 1e6 / max(1.0, float(p.max(initial=1.0)))
+    weights = np.round(p * scale).astype(np.int64).tolist()
+    model = cp_model.CpModel()
+    x = [model.new_bool_var("") for _ in paths]
+    cover: dict[int, list[cp_model.IntVar]] = {}
+    for var, path in zip(x, paths, strict=True):
+        for i in path[1:-1]:
+            cover.setdefault(i, []).append(var)
+    for vs in cover.values():
+        if len(vs) > 1:
+            model.add_at_most_one(vs)
+    if empty_ok:
+        model.add(sum(x) <= vehicles)
+    else:
+        model.add(sum(x) == vehicles)
+    model.maximize(cp_model.LinearExpr.weighted_sum(x, weights))
+    for k in hint:
+        model.add_hint(x[k], True)
+    solver = cp_model.CpSolver()
+    # deterministic time units (about seconds), so that a seed fixes the answer; the wall
+    # clock only guards against a slow machine
+    solver.parameters.max_deterministic_time = max(0.01, time_limit_s)
+    solver.parameters.max_time_in_seconds = max(0.01, 2.0 * time_limit_s)
+    solver.parameters.num_workers = 1
+    solver.parameters.random_seed = seed
+    solver.parameters.catch_sigint_signal = False
+    with watch(solver.stop_search):
+        status = solver.solve(model)
+    if status not in (cp_model.OPTIMAL, cp_model.FEASIBLE):
+        return None
+    chosen = [k for k, var in enumerate(x) if solver.value(var)]
+    if float(p[chosen].sum()) <= floor:
+        return None
+    return chosen

@@ -1,0 +1,105 @@
+"""The branch-and-price master: LP duals, branching bounds, artificial rows, pool IP."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from searchtrack.plan.optw.bp_master import Master, Restrictions, pool_ip
+
+# core graph of two customers: source 0, customers 1 and 2, sink 3
+PATHS = [(0, 1, 3), (0, 2, 3), (0, 1, 2, 3), (0, 3)]
+PROFITS = [5.0, 3.0, 7.0, 0.0]
+
+
+def _master(vehicles: int = 1, empty_ok: bool = True) -> Master:
+    m = Master(4, vehicles, empty_ok, penalty=1e3)
+    m.add(PATHS, PROFITS)
+    return m
+
+
+@pytest.mark.parametrize("vehicles", [1, 2])
+def test_duals_close_the_duality_gap(vehicles: int) -> None:
+    """Σ π + m μ equals the LP optimum and no column has a positive reduced profit."""
+    m = _master(vehicles)
+    lp = m.solve(10.0)
+    assert lp is not None
+    assert lp.objective == pytest.approx(7.0 if vehicles == 1 else 8.0)
+    assert float(lp.pi.sum()) + vehicles * lp.mu == pytest.approx(lp.objective)
+    assert np.all(lp.pi >= -1e-9) and lp.mu >= -1e-9
+    for path, c in zip(PATHS, PROFITS, strict=True):
+        assert c - sum(lp.pi[i] for i in path[1:-1]) - lp.mu <= 1e-9
+
+
+def test_known_columns_are_not_added_twice() -> None:
+    """Adding a column already in the pool is a no-op."""
+    m = _master()
+    assert m.add([PATHS[0], (0, 2, 1, 3)], [5.0, 6.0]) == 1
+    assert m.size == len(PATHS) + 1
+
+
+def test_restrict_forbids_columns_and_requires_rows() -> None:
+    """A forbidden customer removes its columns; a required one forces its row to 1."""
+    m = _master()
+    m.restrict(Restrictions(forbidden=frozenset({1})))
+    lp = m.solve(10.0)
+    assert lp is not None and lp.objective == pytest.approx(3.0)
+    m.restrict(Restrictions(required=frozenset({2}), no_arcs=frozenset({(1, 2)})))
+    lp = m.solve(10.0)
+    assert lp is not None and lp.objective == pytest.approx(3.0)
+    assert m.visits(lp.values)[2] == pytest.approx(1.0)
+    m.restrict(Restrictions())
+    lp = m.solve(10.0)
+    assert lp is not None and lp.objective == pytest.approx(7.0)
+
+
+def test_unservable_required_row_uses_the_artificial() -> None:
+    """A required customer that no column serves makes the artificial variable positive."""
+    m = Master(4, 1, True, penalty=1e3)
+    m.add([(0, 1, 3), (0, 3)], [5.0, 0.0])
+    m.restrict(Restrictions(required=frozenset({2})))
+    lp = m.solve(10.0)
+    assert lp is not None and lp.artificial == pytest.approx(1.0)
+    assert lp.objective < 0
+
+
+def test_empty_route_infeasible_makes_the_fleet_row_an_equality() -> None:
+    """Without the empty route, exactly m columns must be chosen."""
+    m = Master(4, 2, False, penalty=1e3)
+    m.add(PATHS[:3], PROFITS[:3])
+    lp = m.solve(10.0)
+    assert lp is not None and lp.objective == pytest.approx(8.0)
+    assert float(lp.values.sum()) == pytest.approx(2.0)
+
+
+@pytest.mark.parametrize(("restr", "allowed"), [
+    (Restrictions(no_arcs=frozenset({(1, 2)})), [True, True, False, True]),
+    (Restrictions(arcs=frozenset({(1, 2)})), [False, False, True, True]),
+    (Restrictions(arcs=frozenset({(0, 2)})), [True, True, False, True]),
+    (Restrictions(arcs=frozenset({(2, 3)})), [True, True, True, True]),
+    (Restrictions(forbidden=frozenset({2})), [True, False, False, True]),
+])
+def test_restrictions_allow(restr: Restrictions, allowed: list[bool]) -> None:
+    """A forced arc i → j is the only way out of i and into j (not out of the source or into
+    the sink); a forbidden arc or customer rules out the paths that use it."""
+    assert [restr.allows(p, 0, 3) for p in PATHS] == allowed
+
+
+def test_arc_flows_and_visits() -> None:
+    """Arc flows and visits sum the column values."""
+    m = _master()
+    values = np.array([0.5, 0.5, 0.5, 0.0])
+    assert m.visits(values)[1:3].tolist() == [1.0, 1.0]
+    assert m.arc_flows(values)[(0, 1)] == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize(("vehicles", "empty_ok", "best"), [(1, True, 7.0), (2, True, 8.0),
+                                                            (3, False, None)])
+def test_pool_ip_packs_disjoint_columns(vehicles: int, empty_ok: bool, best: float | None) -> None:
+    """CP-SAT on the pool picks the best disjoint columns, or none when m cannot be met."""
+    chosen = pool_ip(PATHS[:3], PROFITS[:3], vehicles, empty_ok, -1.0, 5.0, 0)
+    if best is None:
+        assert chosen is None
+        return
+    assert chosen is not None and sum(PROFITS[k] for k in chosen) == best
+    assert pool_ip(PATHS[:3], PROFITS[:3], vehicles, empty_ok, best, 5.0, 0) is None
