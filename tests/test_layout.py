@@ -16,6 +16,7 @@ EXEMPT = {
     "models/particle_models.py": "protocols only; each implementation's tests check it fits",
     "plan/optw/ils_kernels.py": "numba kernels, tested through ils.py's tests",
     "plan/optw/labelling_kernels.py": "numba kernels, tested through labelling.py's tests",
+    "plan/optw/labelling_primitives.py": "numba kernels, tested through labelling.py's tests",
 }
 
 

@@ -49,9 +49,11 @@ from searchtrack.plan.optw.labelling import (
     _SCAN,
     Core,
     _finish,
+    _path,
     base_ng,
     initial_ng,
 )
+from searchtrack.plan.optw.labelling_primitives import shortest_paths
 
 _FULL_MEMORY = 16
 
@@ -257,7 +259,7 @@ class Pricer:
                idx: NDArray[np.intp]) -> tuple[Core, Core]:
         """Forward and reversed core graphs on the vertices ``idx`` (source and sink kept)."""
         d = np.ascontiguousarray(dur[np.ix_(idx, idx)])
-        sp = K.shortest_paths(d, _BIG)
+        sp = shortest_paths(d, _BIG)
         f = self.fwd
         opn, cls, h = f.opn[idx], f.cls[idx], f.horizon
         p = np.ascontiguousarray(prof[idx], dtype=np.float64)
@@ -279,12 +281,3 @@ class Pricer:
                     ng[u, word] |= bit
                     self.memory[idx[u], idx[v]] = True
             last[v] = pos
-
-
-def _path(lv: NDArray[np.int64], par: NDArray[np.int64], leaf: int) -> list[int]:
-    out = []
-    x = leaf
-    while x >= 0:
-        out.append(int(lv[x]))
-        x = int(par[x])
-    return out[::-1]

@@ -33,6 +33,7 @@ from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw import labelling_kernels as K
 from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes
+from searchtrack.plan.optw.labelling_primitives import shortest_paths
 from searchtrack.plan.optw.reach import reach
 
 log = logging.getLogger("searchtrack.plan.optw.labelling")
@@ -141,7 +142,7 @@ def build_cores(inst: OPTWInstance) -> tuple[Core, Core, NDArray[np.int64]]:
     # the sink's own limit may be "never": clip it to the latest possible arrival
     cls[snk] = min(limit, int((cls + dur[:, snk])[into_sink].max(initial=0)))
     horizon = int(max(int(cls.max()), dep))
-    sp = K.shortest_paths(dur, _BIG)  # a lower bound on any path's duration
+    sp = shortest_paths(dur, _BIG)  # a lower bound on any path's duration
     fwd = _finish(dur, sp, opn, cls, prof, src, snk, horizon)
     rev = _finish(np.ascontiguousarray(dur.T), np.ascontiguousarray(sp.T), horizon - cls,
                   horizon - opn, prof, snk, src, horizon)

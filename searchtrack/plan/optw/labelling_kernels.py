@@ -16,9 +16,21 @@ that has the same ng-memory (found through a hash table) and with the most recen
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, objmode
+from numba import njit
 
-from searchtrack.core.interrupt import stop_clock
+from searchtrack.plan.optw.labelling_primitives import (
+    _clock,
+    _completion,
+    _dominance,
+    _find_group,
+    _grow1,
+    _grow2,
+    _is_elementary,
+    _outside_tables,
+    _profit_outside,
+    _rehash,
+    _unreach_count,
+)
 
 DONE = 0  # the pass finished: every label was expanded or pruned
 TIMEOUT = 1  # the deadline passed
@@ -26,227 +38,6 @@ FULL = 2  # the label store reached its capacity
 ENOUGH = 3  # collect mode: the asked number of elementary paths was found
 
 _CHECK_EVERY = 64  # expanded labels between two clock reads
-
-
-@njit(cache=True)
-def _clock() -> float:
-    """The wall clock, or +inf once a stop is requested (the kernel then stops as at its
-    deadline)."""
-    with objmode(now="float64"):
-        now = stop_clock()
-    return now
-
-
-@njit(cache=True)
-def _grow1(a, cap):  # type: ignore[no-untyped-def]
-    b = np.empty(cap, dtype=a.dtype)
-    b[: a.shape[0]] = a
-    return b
-
-
-@njit(cache=True)
-def _grow2(a, cap):  # type: ignore[no-untyped-def]
-    b = np.zeros((cap, a.shape[1]), dtype=a.dtype)
-    b[: a.shape[0]] = a
-    return b
-
-
-@njit(cache=True)
-def shortest_paths(dur, big):  # type: ignore[no-untyped-def]
-    """All-pairs shortest durations (Floyd–Warshall), capped at ``big`` (no path)."""
-    n = dur.shape[0]
-    sp = dur.copy()
-    for k in range(n):
-        for i in range(n):
-            dik = sp[i, k]
-            if dik >= big:
-                continue
-            for j in range(n):
-                d = dik + sp[k, j]
-                if d < sp[i, j]:
-                    sp[i, j] = d
-    return sp
-
-
-@njit(cache=True)
-def _unreach_count(thr, v, t):  # type: ignore[no-untyped-def]
-    """Number of entries of the sorted row ``thr[v]`` below ``t`` (vertices out of reach)."""
-    lo = 0
-    hi = thr.shape[1]
-    while lo < hi:
-        mid = (lo + hi) >> 1
-        if thr[v, mid] < t:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo
-
-
-@njit(cache=True)
-def _completion(tab, v, t, horizon, width, prof):  # type: ignore[no-untyped-def]
-    """Upper bound on the profit still collectable after serving ``v`` at time ``t``.
-
-    ``tab[v, k]`` is the best profit (``v`` included) of an opposite-direction label at ``v``
-    whose time lies in bucket ``k`` or earlier; the opposite time of ``t`` is ``horizon − t``.
-    """
-    s = horizon - t
-    if s < 0:
-        return -np.inf
-    k = s // width
-    if k >= tab.shape[1]:
-        k = tab.shape[1] - 1
-    return tab[v, k] - prof[v]
-
-
-@njit(cache=True)
-def _outside_tables(cum, ng, prof):  # type: ignore[no-untyped-def]
-    """What the bound without a table needs, so that it costs O(|ng-set|), not O(N).
-
-    ``outside[v, r]`` is the total ``prof`` of the customers not among the first ``r`` that fall
-    out of reach from ``v`` (``cum[v, r]``); ``ngl[ngp[v]:ngp[v + 1]]`` lists ``v`` and the
-    customers of its ng-set.
-    """
-    n, k1, nw = cum.shape
-    one = np.uint64(1)
-    total = 0.0
-    for c in range(1, n - 1):
-        total += prof[c]
-    outside = np.empty((n, k1))
-    for v in range(n):
-        outside[v, 0] = total
-        for r in range(1, k1):
-            s = outside[v, r - 1]
-            for w in range(nw):
-                diff = cum[v, r, w] & ~cum[v, r - 1, w]
-                b = 0
-                while diff:
-                    if diff & one:
-                        s -= prof[w * 64 + b]
-                    diff >>= one
-                    b += 1
-            outside[v, r] = s
-    ngp = np.zeros(n + 1, dtype=np.int64)
-    ngl = np.empty(n * n, dtype=np.int64)
-    m = 0
-    for v in range(n):
-        for c in range(1, n - 1):
-            if c == v or (ng[v, c >> 6] >> np.uint64(c & 63)) & one:
-                ngl[m] = c
-                m += 1
-        ngp[v + 1] = m
-    return outside, ngp, ngl
-
-
-@njit(cache=True)
-def _profit_outside(outside, ngp, ngl, cum, j, r, memo, prof):  # type: ignore[no-untyped-def]
-    """Total profit of the customers neither in ``memo`` (the ng-memory at ``j``) nor among the
-    ``r`` out of reach from ``j`` (the customers ``1 … N − 2`` not in the label's mask)."""
-    one = np.uint64(1)
-    total = outside[j, r]
-    for e in range(ngp[j], ngp[j + 1]):
-        c = ngl[e]
-        w = c >> 6
-        bit = np.uint64(c & 63)
-        if (memo[w] >> bit) & one and not (cum[j, r, w] >> bit) & one:
-            total -= prof[c]
-    return total
-
-
-@njit(cache=True)
-def _is_elementary(par, lv, leaf, stamp, mark):  # type: ignore[no-untyped-def]
-    """True when the path ending at label ``leaf`` visits no vertex twice."""
-    x = leaf
-    while x >= 0:
-        v = lv[x]
-        if stamp[v] == mark:
-            return False
-        stamp[v] = mark
-        x = par[x]
-    return True
-
-
-@njit(cache=True)
-def _dominance(head, h, nxt, alive, lt, lp, lm, t, p, mask, limit, work):  # type: ignore[no-untyped-def]
-    """Compare a new label ``(t, p, mask)`` with the first ``limit`` live labels of a list.
-
-    The list starts at ``head[h]`` and follows ``nxt``. Returns True when one of them dominates
-    the new label; otherwise marks dead every label the new one dominates. Dead labels met on
-    the way are unlinked. Equal labels count as dominating the newcomer.
-    """
-    nw = mask.shape[0]
-    prev = -1
-    x = head[h]
-    k = 0
-    while x >= 0 and k < limit:
-        work[0] += 1
-        nx = nxt[x]
-        if alive[x]:
-            k += 1
-            if lt[x] <= t and lp[x] >= p:
-                sub = True
-                for w in range(nw):
-                    if lm[x, w] & ~mask[w]:
-                        sub = False
-                        break
-                if sub:
-                    return True
-            if t <= lt[x] and p >= lp[x]:
-                sup = True
-                for w in range(nw):
-                    if mask[w] & ~lm[x, w]:
-                        sup = False
-                        break
-                if sup:
-                    alive[x] = False
-        if not alive[x]:
-            if prev < 0:
-                head[h] = nx
-            else:
-                nxt[prev] = nx
-        else:
-            prev = x
-        x = nx
-    return False
-
-
-@njit(cache=True)
-def _hash(v, key):  # type: ignore[no-untyped-def]
-    h = np.uint64(v) * np.uint64(0x9E3779B97F4A7C15)
-    for w in range(key.shape[0]):
-        h = (h ^ key[w]) * np.uint64(0xBF58476D1CE4E5B9)
-        h ^= h >> np.uint64(31)
-    return h
-
-
-@njit(cache=True)
-def _find_group(slots, gv, gkey, v, key):  # type: ignore[no-untyped-def]
-    """Group of ``(v, key)``, or ``-1 − slot`` with the free slot where it would go."""
-    m = np.uint64(slots.shape[0] - 1)
-    h = np.int64(_hash(v, key) & m)
-    while slots[h] >= 0:
-        g = slots[h]
-        if gv[g] == v:
-            same = True
-            for w in range(key.shape[0]):
-                if gkey[g, w] != key[w]:
-                    same = False
-                    break
-            if same:
-                return g
-        h = np.int64((np.uint64(h) + np.uint64(1)) & m)
-    return -1 - h
-
-
-@njit(cache=True)
-def _rehash(slots, gv, gkey, n_groups):  # type: ignore[no-untyped-def]
-    new = np.full(2 * slots.shape[0], -1, dtype=np.int64)
-    m = np.uint64(new.shape[0] - 1)
-    for g in range(n_groups):
-        h = np.int64(_hash(gv[g], gkey[g]) & m)
-        while new[h] >= 0:
-            h = np.int64((np.uint64(h) + np.uint64(1)) & m)
-        new[h] = g
-    return new
 
 
 @njit(cache=True)
