@@ -8,7 +8,9 @@ Each (instance, m, backend, limit, seed) row is appended to the CSV as soon as i
 rows already in the CSV are skipped, so a long run can be stopped and resumed. The table printed
 at the end is built from every row of the CSV that matches the request. ``gap %`` is
 ``(bound − profit) / profit``; ``root gap %`` compares bp's root bound with the best profit any
-backend found for that instance and ``m`` (the optimum when some backend proved it). Every plan is
+backend found for that instance and ``m`` (the optimum when some backend proved it); ``vs bk %``
+compares the profit with the literature's best known value (``toptw_best_known.csv``, where it
+has one), and an OPTIMAL claim below a best known value is printed as a suspected bug. Every plan is
 re-checked by the independent validator (``solve`` does it). Run serially on an idle machine.
 """
 
@@ -30,12 +32,22 @@ FIELDS = ["instance", "m", "backend", "limit", "seed", "status", "profit", "boun
           "heuristic_s", "message"]
 
 
+TEAMS = Path(__file__).resolve().parents[1] / "searchtrack" / "data" / "toptw"
+BEST_KNOWN = Path(__file__).resolve().parent / "toptw_best_known.csv"
+
+
 def _path(name: str) -> Path:
-    for sub in ("solomon100", "cordeau"):
-        p = ROOT / sub / f"{name}.txt"
+    for folder in (ROOT / "solomon100", ROOT / "cordeau", TEAMS / "solomon200", TEAMS / "cordeau"):
+        p = folder / f"{name}.txt"
         if p.exists():
             return p
-    raise SystemExit(f"unknown instance {name!r} (looked in {ROOT})")
+    raise SystemExit(f"unknown instance {name!r} (looked in {ROOT} and {TEAMS})")
+
+
+def best_known() -> dict[tuple[str, str], float]:
+    """The literature's best known values by (instance, m) (``toptw_best_known.csv``)."""
+    with BEST_KNOWN.open() as fh:
+        return {(r["instance"], r["vehicles"]): float(r["best_known"]) for r in csv.DictReader(fh)}
 
 
 def _key(row: dict[str, str]) -> tuple[str, str, str, str, str]:
@@ -90,10 +102,17 @@ def table(rows: list[dict[str, str]]) -> None:
         if r["profit"]:
             k = (r["instance"], r["m"])
             best[k] = max(best.get(k, 0.0), float(r["profit"]))
+    bkv = best_known()
     header = ["instance", "m", "backend", "status", "profit", "bound", "gap %", "root bound",
-              "root gap %", "time s", "nodes", "columns", "pricing/s"]
+              "root gap %", "time s", "nodes", "columns", "pricing/s", "best known", "vs bk %"]
     body = []
     for r in rows:
+        known = bkv.get((r["instance"], r["m"]))
+        versus = (f"{100 * (float(r['profit']) - known) / known:+.2f}"
+                  if known and r["profit"] else "-")
+        if known and r["status"] == "OPTIMAL" and float(r["profit"]) < known - 1e-6:
+            print(f"BUG? {r['instance']} m={r['m']} {r['backend']}: OPTIMAL {r['profit']} "
+                  f"below the best known {known:g}")
         p = float(r["profit"]) if r["profit"] else None
         gap = (f"{100 * (float(r['bound']) - p) / max(p, 1e-9):.2f}" if p is not None
                and r["bound"] else "-")
@@ -103,7 +122,8 @@ def table(rows: list[dict[str, str]]) -> None:
         body.append([r["instance"], r["m"], r["backend"], r["status"], r["profit"] or "-",
                      r["bound"] or "-", gap, root or "-", rgap, r["time_s"], r["nodes"] or "-",
                      r["columns"] or "-",
-                     f"{float(r['pricing_per_s']):.1f}" if r["pricing_per_s"] else "-"])
+                     f"{float(r['pricing_per_s']):.1f}" if r["pricing_per_s"] else "-",
+                     f"{known:g}" if known else "-", versus])
     widths = [max(len(h), *(len(b[k]) for b in body)) if body else len(h)
               for k, h in enumerate(header)]
     print("  ".join(h.ljust(w) if k < 3 else h.rjust(w)
@@ -114,7 +134,20 @@ def table(rows: list[dict[str, str]]) -> None:
     for backend in sorted({r["backend"] for r in rows}):
         mine = [r for r in rows if r["backend"] == backend]
         proven = sum(r["status"] == "OPTIMAL" for r in mine)
-        print(f"{backend}: proven optimal {proven}/{len(mine)}")
+        gaps = [100 * (bkv[k] - float(r["profit"])) / bkv[k] for r in mine
+                if (k := (r["instance"], r["m"])) in bkv and r["profit"]]
+        beats = [f"{r['instance']} m={r['m']}" for r in mine
+                 if (k := (r["instance"], r["m"])) in bkv and r["profit"]
+                 and float(r["profit"]) > bkv[k] + 1e-6]
+        roots = [100 * (float(r["root_bound"]) - best[(r["instance"], r["m"])])
+                 / best[(r["instance"], r["m"])] for r in mine if r["root_bound"]]
+        line = f"{backend}: proven optimal {proven}/{len(mine)}"
+        if roots:
+            line += f"; mean root gap {sum(roots) / len(roots):.2f} % over {len(roots)}"
+        if gaps:
+            line += (f"; mean gap to best known {sum(gaps) / len(gaps):.2f} % over {len(gaps)}"
+                     f", above it: {', '.join(beats) or 'none'}")
+        print(line)
 
 
 def main() -> None:
