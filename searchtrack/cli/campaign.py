@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import logging
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskID, TextColumn, TimeRemainingColumn
@@ -15,18 +15,14 @@ from rich.table import Table
 from searchtrack.cli.common import int_at_least
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import OutputError, output_dir, output_file
-from searchtrack.sim.campaigns.report import build_report, table_rows, write_figures
-from searchtrack.sim.campaigns.runner import Tally, run_campaign
-from searchtrack.sim.campaigns.series import write_series_figures
-from searchtrack.sim.campaigns.spec import read_spec
-from searchtrack.sim.campaigns.store import (
-    EXPORTS,
-    StoreBusy,
-    StoreError,
-    describe,
-    open_existing,
-)
 from searchtrack.sim.kernels import KERNEL_SETS
+
+if TYPE_CHECKING:
+    from searchtrack.sim.campaigns.runner import Tally
+    from searchtrack.sim.campaigns.store import StoreError
+
+# The campaign modules (Dask, DuckDB, SciPy's statistics) are imported by the handlers that use
+# them, so that every other command starts without them.
 
 
 def _db_error(exc: StoreError) -> OutputError:
@@ -39,6 +35,10 @@ def run(args: argparse.Namespace, console: Console) -> int:
         import distributed  # noqa: F401  (it sets its loggers' levels on import)
 
         logging.getLogger("distributed").setLevel(logging.WARNING)
+    from searchtrack.sim.campaigns.runner import run_campaign
+    from searchtrack.sim.campaigns.spec import read_spec
+    from searchtrack.sim.campaigns.store import StoreError
+
     spec = read_spec(args.file)
     db = output_file("--db", args.db if args.db is not None
                      else Path(args.file).with_suffix(".duckdb"))
@@ -73,6 +73,8 @@ def run(args: argparse.Namespace, console: Console) -> int:
 
 def status(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack campaign status`` (of a campaign running now, too)."""
+    from searchtrack.sim.campaigns.store import StoreBusy, describe
+
     try:
         name, experiment, counts = describe(args.db)
     except StoreBusy as busy:
@@ -105,6 +107,8 @@ def _running(db: Path, progress: dict[str, Any], console: Console) -> int:
 
 def export(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack campaign export``."""
+    from searchtrack.sim.campaigns.store import EXPORTS, open_existing
+
     out = output_file("OUT", args.out)
     if out.suffix.lower() not in EXPORTS:
         raise OutputError("OUT", out, f"must end in one of {sorted(EXPORTS)}")
@@ -118,6 +122,10 @@ def export(args: argparse.Namespace, console: Console) -> int:
 def report(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack campaign report``: mean ± 95 % CI by group beside the paper's
     claim, and one figure per metric with ``--out``."""
+    from searchtrack.sim.campaigns.report import build_report, table_rows, write_figures
+    from searchtrack.sim.campaigns.series import write_series_figures
+    from searchtrack.sim.campaigns.store import open_existing
+
     folder = output_dir("--out", args.out) if args.out is not None else None
     with open_existing(args.db) as store:
         rows = store.rows()

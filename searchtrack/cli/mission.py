@@ -22,7 +22,6 @@ from searchtrack.sim.figures import plot_map, plot_moc
 from searchtrack.sim.kernels import ROAD_MISSION_KERNELS
 from searchtrack.sim.mission import Mission
 from searchtrack.sim.record import PHASES, MissionLog
-from searchtrack.sim.replay_page import load_record, write_replay
 from searchtrack.sim.scenario_file import load_scenario
 
 
@@ -61,6 +60,8 @@ def summary_table(log: MissionLog, wall_s: float) -> Table:
 
 def run_mission(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack mission run``."""
+    from searchtrack.sim.replay_page import write_replay  # plotly: only when a page is drawn
+
     scenario = load_scenario(Path(args.scenario))
     if args.seed is not None:
         scenario = dataclasses.replace(scenario, seed=args.seed)
@@ -95,6 +96,8 @@ def run_mission(args: argparse.Namespace, console: Console) -> int:
 def view_mission(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack mission view``: MISSION.json's replay page, by default
     ``replay.html`` beside it."""
+    from searchtrack.sim.replay_page import load_record, write_replay
+
     source = Path(args.mission)
     out = output_file("--out", args.out if args.out is not None
                       else source.with_name("replay.html"))

@@ -57,7 +57,7 @@ def _interrupt(argv: list[str], after_s: float, signals: int = 1,
 
 
 SOLVES = [("labelling", "wide", 1), ("cpsat", "c101", 3), ("mip", "rc101", 1),
-          ("auto", "rc101", 2)]
+          ("auto", "wide", 2), ("bp", "wide", 2)]
 
 
 @pytest.mark.slow
