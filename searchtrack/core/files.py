@@ -17,6 +17,7 @@ from __future__ import annotations
 import bz2
 import contextlib
 import io
+import json
 import os
 import tempfile
 from collections.abc import Iterator
@@ -51,6 +52,26 @@ class _Bounded(io.RawIOBase):
                              f"larger than the {_mib(self.limit)} an input may hold")
         buffer[: len(data)] = data
         return len(data)
+
+
+def read_json(path: str | Path, *, max_bytes: int = MAX_INPUT_BYTES) -> Any:
+    """The file's JSON value (read as :func:`read_text`).
+
+    Raises
+    ------
+    ParseError
+        As :func:`read_text`; for text that is not JSON (naming the line), nested too deeply, or
+        holding an integer of more digits than Python converts.
+    """
+    text = read_text(path, max_bytes=max_bytes)
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ParseError(path, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
+    except RecursionError:
+        raise ParseError(path, None, None, "not valid JSON: nested too deeply") from None
+    except ValueError as exc:
+        raise ParseError(path, None, None, f"not valid JSON: {exc}") from None
 
 
 @contextlib.contextmanager

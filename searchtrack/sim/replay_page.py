@@ -14,7 +14,6 @@ one raises :class:`~searchtrack.core.errors.ParseError` naming it.
 from __future__ import annotations
 
 import html
-import json
 import logging
 import math
 from collections.abc import Mapping
@@ -29,7 +28,7 @@ from plotly.subplots import make_subplots
 
 from searchtrack.core.errors import ParseError
 from searchtrack.core.fields import TOP_LEVEL, JsonFields
-from searchtrack.core.files import read_text, write_text_atomic
+from searchtrack.core.files import read_json, write_text_atomic
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.sim.record import HeatFrame
 
@@ -365,13 +364,7 @@ def load_record(path: str | Path) -> dict[str, Any]:
     """A mission.json file's record, checked when drawn; :class:`ParseError` when the file is
     missing, unreadable or not a JSON object."""
     p = Path(path)
-    text = read_text(p)  # ParseError naming the file when missing or unreadable
-    try:
-        value = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ParseError(p, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
-    except (ValueError, RecursionError) as exc:  # too deep, or an integer of too many digits
-        raise ParseError(p, None, None, f"not valid JSON: {exc}") from None
+    value = read_json(p)  # ParseError naming the file when missing, unreadable or not JSON
     if not isinstance(value, dict):
         raise ParseError(p, None, None, f"must hold a JSON object, got {type(value).__name__}")
     return value

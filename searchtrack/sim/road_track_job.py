@@ -40,9 +40,9 @@ from typing import Any
 
 import numpy as np
 
-from searchtrack.core.errors import ParseError, SearchtrackError
+from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.fields import TOP_LEVEL, JsonFields
-from searchtrack.core.files import read_text, write_text_atomic
+from searchtrack.core.files import read_json, write_text_atomic
 from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.registry import MAX_SEED
 from searchtrack.core.types import FloatArray
@@ -257,16 +257,7 @@ def _config(r: FieldReader, top: dict[str, Any], sensor: DiscSensor) -> RBPFConf
 
 
 def _load(path: Path) -> Any:
-    try:
-        return json.loads(read_text(path, max_bytes=MAX_DETECTIONS_BYTES))
-    except json.JSONDecodeError as exc:
-        raise ParseError(path, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
-    except RecursionError:
-        raise ParseError(path, None, None, "not valid JSON: nested too deeply") from None
-    except ParseError:
-        raise
-    except ValueError as exc:  # e.g. an integer of more digits than Python converts
-        raise ParseError(path, None, None, f"not valid JSON: {exc}") from None
+    return read_json(path, max_bytes=MAX_DETECTIONS_BYTES)
 
 
 def read_road_job(path: str | Path) -> RoadTrackJob:

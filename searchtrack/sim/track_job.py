@@ -31,9 +31,8 @@ from typing import Any
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from searchtrack.core.errors import ParseError
 from searchtrack.core.fields import TOP_LEVEL, JsonFields
-from searchtrack.core.files import read_text, write_text_atomic
+from searchtrack.core.files import read_json, write_text_atomic
 from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.phd import PHDConfig, PHDState, SensorScan, step
@@ -115,10 +114,7 @@ def read_scans(path: str | Path) -> TrackJob:
     """
     p = Path(path)
     r = _Reader(p)
-    try:
-        raw = json.loads(read_text(p, max_bytes=MAX_SCANS_BYTES))
-    except json.JSONDecodeError as exc:
-        raise ParseError(p, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
+    raw = read_json(p, max_bytes=MAX_SCANS_BYTES)
     top = r.obj(raw, TOP_LEVEL)
     area_raw = r.get(top, "area")
     if not isinstance(area_raw, list) or len(area_raw) != 2:

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from searchtrack.core.errors import ParseError
-from searchtrack.core.files import open_input, read_text
+from searchtrack.core.files import open_input, read_json, read_text
 
 
 def test_plain_and_bzip2_text_read_alike(tmp_path: Path) -> None:
@@ -48,3 +48,25 @@ def test_open_input_streams_within_the_limit(tmp_path: Path) -> None:
 def _write(path: Path, data: bytes) -> Path:
     path.write_bytes(data)
     return path
+
+
+@pytest.mark.parametrize(("text", "reason"), [
+    ('{"a": 1,\n "b": }', "not valid JSON: Expecting value"),
+    ("[" * 100_000 + "]" * 100_000, "nested too deeply"),
+    ("1" * 5000, "not valid JSON: Exceeds the limit"),
+])
+def test_read_json_names_the_file_for_text_that_is_not_json(tmp_path: Path, text: str,
+                                                            reason: str) -> None:
+    """Broken syntax (with its line), deep nesting and an over-long integer are parse errors
+    naming the file, never a traceback."""
+    path = tmp_path / "bad.json"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(ParseError, match=reason) as info:
+        read_json(path)
+    assert str(path) in str(info.value)
+
+
+def test_read_json_reads_a_value(tmp_path: Path) -> None:
+    path = tmp_path / "good.json"
+    path.write_text('{"a": [1, 2.5]}', encoding="utf-8")
+    assert read_json(path) == {"a": [1, 2.5]}

@@ -26,16 +26,15 @@ The ``"plan"`` object of PLAN.json: ``{"objective": "end", "actions": [a_0, ...]
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from searchtrack.core.errors import InvalidInputError, ParseError
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.fields import TOP_LEVEL, JsonFields
-from searchtrack.core.files import read_text
+from searchtrack.core.files import read_json
 from searchtrack.core.result import Result
 from searchtrack.estimate.particle_belief import WeightedParticles
 from searchtrack.models.footprint import GaussianFieldOfView
@@ -167,10 +166,7 @@ def load_problem(path: str | Path,
     """
     p = Path(path)
     f = ProblemFields(p)
-    try:
-        raw = json.loads(read_text(p, max_bytes=MAX_PROBLEM_BYTES))
-    except json.JSONDecodeError as exc:
-        raise ParseError(p, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
+    raw = read_json(p, max_bytes=MAX_PROBLEM_BYTES)
     return f, f.obj(raw, TOP_LEVEL, keys)
 
 

@@ -31,7 +31,6 @@ gate; ``total_emd_m`` sums the EMD of the pairs.
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from dataclasses import dataclass
@@ -40,8 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from searchtrack.core.errors import ParseError
-from searchtrack.core.files import read_text
+from searchtrack.core.files import read_json
 from searchtrack.core.result import Result
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.association import BACKENDS, Association
@@ -162,10 +160,7 @@ def read_problem(path: str | Path) -> AssociateJob:
     """
     p = Path(path)
     r = FieldReader(p)
-    try:
-        raw = json.loads(read_text(p, max_bytes=MAX_PROBLEM_BYTES))
-    except json.JSONDecodeError as exc:
-        raise ParseError(p, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
+    raw = read_json(p, max_bytes=MAX_PROBLEM_BYTES)
     top = r.obj(raw, "(top level)", _TOP_KEYS)
     roads, label = read_map(r, r.obj(r.get(top, "map"), "map", _MAP_KEYS), p.parent)
     network = roads.network

@@ -32,15 +32,14 @@ The ``"plan"`` object of PLAN.json: ``{"nodes": [start, n_1, ...], "xy": [[x, y]
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from searchtrack.core.errors import InvalidInputError, ParseError
-from searchtrack.core.files import read_text
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.files import read_json
 from searchtrack.core.result import Result
 from searchtrack.core.types import FloatArray
 from searchtrack.models.roads import RoadNetwork
@@ -134,10 +133,7 @@ def _tracker(r: FieldReader, raw: Any, field: str, network: RoadNetwork) -> Floa
 
 
 def _load(path: Path) -> Any:
-    try:
-        return json.loads(read_text(path, max_bytes=MAX_PROBLEM_BYTES))
-    except json.JSONDecodeError as exc:
-        raise ParseError(path, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
+    return read_json(path, max_bytes=MAX_PROBLEM_BYTES)
 
 
 def read_problem(path: str | Path) -> RouteJob:

@@ -39,7 +39,6 @@ and the fallbacks fired.
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from collections import Counter
@@ -52,7 +51,7 @@ import numpy as np
 
 from searchtrack.core.deadline import check_time_limit
 from searchtrack.core.errors import InvalidInputError, ParseError
-from searchtrack.core.files import read_text
+from searchtrack.core.files import read_json
 from searchtrack.core.registry import check_seed
 from searchtrack.core.result import Result, Sense, Status
 from searchtrack.core.types import FloatArray
@@ -191,10 +190,7 @@ def read_problem(path: str | Path) -> TrajectoryProblem:
         ``obstacles[0].radius_m``, ``start``, ...).
     """
     p = Path(path)
-    try:
-        raw = json.loads(read_text(p, max_bytes=MAX_PROBLEM_BYTES))
-    except json.JSONDecodeError as exc:
-        raise ParseError(p, exc.lineno, None, f"not valid JSON: {exc.msg}") from None
+    raw = read_json(p, max_bytes=MAX_PROBLEM_BYTES)
     if not isinstance(raw, dict):
         raise ParseError(p, None, None, "the top level must be a JSON object")
     top = Table(raw, p)
