@@ -84,7 +84,7 @@ def exp1(args: argparse.Namespace) -> None:
 def exp2(args: argparse.Namespace) -> None:
     """MOC, PVT, PVA for the three tracking strategies at the four altitudes."""
     header = ["UAVs/targets", "altitude m", "strategy", "runs", "MOC mean", "MOC last third",
-              "PVT %", "PVA %", "plan ms p95", "wall s"]
+              "MOC after det.", "PVT %", "PVA %", "plan ms p95", "wall s"]
     rows = []
     base = tracking_base(args.map, duration_s=args.duration)
     world = World.build(base)
@@ -99,6 +99,8 @@ def exp2(args: argparse.Namespace) -> None:
                     f"{uavs}/{targets}", f"{h:g}", strategy, str(len(runs)),
                     str(estimate([r.moc_mean for r in runs])),
                     str(estimate([r.moc_last_third for r in runs])),
+                    str(estimate([r.moc_after_detection for r in runs
+                                  if r.moc_after_detection is not None])),
                     str(estimate([r.pvt_pct for r in runs if r.pvt_pct is not None])),
                     str(estimate([r.pva_pct for r in runs if r.pva_pct is not None])),
                     f"{max(r.plan_ms_p95 for r in runs):.1f}",

@@ -5,9 +5,9 @@
   score per node), :class:`NodePredictor` (the prediction step), :class:`ParticleBelief`
   (weighted particles in open space). Planners accept any object that fits.
 - Road search and track (thesis 001): the likelihood-ratio field (Ch. 3), node trackers
-  (Ch. 4), their diffusion, scan update, births and deletion; EMD data association (§4.3) as a
-  solver family (:mod:`.association`, :mod:`.emd_association`, :mod:`.emd_matrix`,
-  :mod:`.transport`).
+  (Ch. 4), their diffusion, scan update, births, identity hand-over (:mod:`.handover`) and
+  deletion; EMD data association (§4.3) as a solver family (:mod:`.association`,
+  :mod:`.emd_association`, :mod:`.emd_matrix`, :mod:`.transport`).
 - Particle PHD filtering (papers 003, 004): :mod:`searchtrack.estimate.phd`.
 - Targets on directed roads (paper 000): the road particle filter and its bank
   (:mod:`.road_pf`), the Rao-Blackwellized filter over association histories (:mod:`.road_rbpf`),
@@ -54,6 +54,7 @@ if TYPE_CHECKING:
         emd_matrix,
         solve_emd_matrix,
     )
+    from searchtrack.estimate.handover import TrackHandover
     from searchtrack.estimate.lrt import (
         LikelihoodField,
         LRTInitiator,
@@ -149,6 +150,7 @@ _HOME: dict[str, tuple[str, str]] = {
     "TrackerBank": ("node_tracker", "TrackerBank"),
     "TrackerDeleter": ("node_tracker", "TrackerDeleter"),
     "TrackerPredictor": ("node_tracker", "TrackerPredictor"),
+    "TrackHandover": ("handover", "TrackHandover"),
     "WeightedParticles": ("particle_belief", "WeightedParticles"),
     "associate": ("association", "solve"),
     "emd": ("transport", "emd"),
@@ -207,6 +209,7 @@ __all__ = [
     "SparseNodePredictor",
     "TbdLmbFilter",
     "TrackBelief",
+    "TrackHandover",
     "TrackerBank",
     "TrackerDeleter",
     "TrackerPredictor",

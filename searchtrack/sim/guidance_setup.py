@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from searchtrack.core.types import FloatArray
 from searchtrack.estimate import BeliefBank, GraphDiffusion, SearchField
 from searchtrack.models import RoadNetwork, UavState
 from searchtrack.plan.guidance import Guidance, GuidanceProblem, GuidanceView, StrategyConfig
@@ -22,18 +23,20 @@ def strategy_config(scenario: Scenario) -> StrategyConfig:
         p_min=scenario.filter.p_min,
         speed_mps=scenario.limits.speed_max_mps,
         optw_backend=g.optw_backend,
+        coverage_weight=g.coverage_weight,
     )
 
 
 def view(network: RoadNetwork, uavs: UavState, field: SearchField, bank: BeliefBank,
-         time_s: float) -> GuidanceView:
+         time_s: float, coverage: FloatArray | None = None) -> GuidanceView:
     """What the guidance sees at ``time_s``: the search field to climb (the LRT field, or any
-    :class:`~searchtrack.estimate.belief.SearchField`) and the track beliefs (any
-    :class:`~searchtrack.estimate.belief.BeliefBank`)."""
+    :class:`~searchtrack.estimate.belief.SearchField`), the track beliefs (any
+    :class:`~searchtrack.estimate.belief.BeliefBank`) and, when kept, the road coverage
+    (:class:`~searchtrack.sim.coverage.CoverageMemory`)."""
     return GuidanceView(network=network, uav_xy_m=uavs.xy_m,
                         uav_heading_rad=np.asarray(uavs.heading_rad),
                         uav_speed_mps=np.asarray(uavs.speed_mps), field=field, bank=bank,
-                        time_s=time_s)
+                        time_s=time_s, coverage=coverage)
 
 
 def next_problem(previous: tuple[GuidanceProblem, Guidance] | None, seen: GuidanceView,

@@ -10,6 +10,12 @@ Definitions (the thesis names the metrics but not what makes a track or associat
   the tracker was matched to at the start of the step, otherwise *false* (NFA), false alarms
   included.
 - MOC = NVT / number of targets; PVT = NVT / (NVT + NST) (6.8); PVA = NVA / (NVA + NFA) (6.9).
+- MOC after detection (this library's, to separate tracking from search latency, which the
+  whole-run MOC mixes): a target counts as detected from the first step at which a tracker is
+  validly matched to it (the step a track-mode mission records as its first detection); over
+  the target-steps from then to the end, the fraction in which the target is validly tracked,
+  ``Σ_t tracked_t / Σ_t steps since detection_t`` (targets weighted by the time they were
+  known; ``None`` before any detection).
 """
 
 from __future__ import annotations
@@ -40,12 +46,14 @@ def match_trackers(peaks_xy: FloatArray, targets_xy: FloatArray,
 
 @dataclass(frozen=True)
 class StepScore:
-    """Counts at one time step."""
+    """Counts at one time step; ``tracked`` lists the targets validly tracked (the matched
+    targets of the valid trackers, ascending), for :func:`moc_after_detection`."""
 
     trackers: int
     valid_trackers: int
     valid_associations: int
     false_associations: int
+    tracked: tuple[int, ...] = ()
 
     @property
     def spurious_trackers(self) -> int:
@@ -72,6 +80,10 @@ class MissionScore:
         First time every target had been detected (``None`` if some never were).
     detected
         Number of targets ever detected.
+    moc_after_detection
+        MOC after first detection (module docstring): of the steps from each target's first
+        valid track on, the fraction in which it was validly tracked (``None`` if no target
+        ever was).
     """
 
     steps: int
@@ -86,6 +98,17 @@ class MissionScore:
     pva: float | None
     time_to_detect_all_s: float | None
     detected: int
+    moc_after_detection: float | None
+
+
+def moc_after_detection(steps: list[StepScore], targets: int) -> float | None:
+    """MOC after first detection (module docstring) from the steps' ``tracked`` targets."""
+    flags = np.zeros((len(steps), targets), dtype=bool)
+    for k, s in enumerate(steps):
+        flags[k, list(s.tracked)] = True
+    known = np.logical_or.accumulate(flags, axis=0) if steps else flags
+    exposure = int(known.sum())
+    return ratio(int(flags.sum()), exposure)
 
 
 def score(steps: list[StepScore], targets: int, first_detection_s: FloatArray) -> MissionScore:
@@ -103,4 +126,5 @@ def score(steps: list[StepScore], targets: int, first_detection_s: FloatArray) -
         moc_mean=float(moc.mean()), moc_final=float(moc[-1]),
         pvt=ratio(nvt, nvt + nst), pva=ratio(nva, nva + nfa),
         time_to_detect_all_s=all_time, detected=detected,
+        moc_after_detection=moc_after_detection(steps, targets),
     )

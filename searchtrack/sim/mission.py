@@ -23,6 +23,13 @@ Association and guidance are chosen by name from their registries
 :data:`searchtrack.plan.guidance.BACKENDS`). The guidance of each step is seeded with an
 integer drawn from the mission's generator, and the search-and-reacquire routes pass from one
 step's answer to the next step's problem.
+
+Three rules of this library, each off by default, change the thesis's loop:
+``filter.tracker_alpha`` (the trackers diffuse at their own rate, see :class:`World`),
+``filter.handover`` (a birth where a live tracker lost its target goes to that tracker, which
+keeps its identity: :mod:`searchtrack.estimate.handover`) and ``guidance.coverage_weight``
+(free searching UAVs are pushed away from road covered recently:
+:mod:`searchtrack.sim.coverage`).
 """
 
 from __future__ import annotations
@@ -52,6 +59,7 @@ from searchtrack.estimate import (
     TrackerPredictor,
 )
 from searchtrack.estimate.emd_association import EMDAssociator
+from searchtrack.estimate.handover import STALE_AFTER_S, TrackHandover
 from searchtrack.models import (
     CourierMotion,
     RoadNetwork,
@@ -63,6 +71,7 @@ from searchtrack.models import (
 from searchtrack.models.measurements import FALSE_ALARM, LrtScan, PositionScan
 from searchtrack.plan.guidance import Guidance, GuidanceProblem
 from searchtrack.plan.guidance import solve as solve_guidance
+from searchtrack.sim.coverage import CoverageMemory
 from searchtrack.sim.guidance_setup import next_problem, strategy_config, view
 from searchtrack.sim.metrics import StepScore, match_trackers
 from searchtrack.sim.rbpf_mission_belief import RBPFMissionBelief
@@ -97,7 +106,12 @@ class TimedAssociator:
 
 @dataclass(frozen=True, eq=False)
 class World:
-    """What a scenario builds once: the road network and the filter's operators."""
+    """What a scenario builds once: the road network and the filter's operators.
+
+    The LRT diffuses at ``filter.alpha`` with decay ``C`` (3.8); the trackers (4.2), and with
+    them the reacquisition horizon ``T_r`` of the guidance, at ``filter.tracker_alpha`` when
+    it is set, else at the same ``alpha`` (the thesis).
+    """
 
     network: RoadNetwork
     lrt_diffusion: GraphDiffusion
@@ -108,13 +122,27 @@ class World:
         """Build (or reuse ``network``) and prepare the diffusion operators."""
         net = network if network is not None else scenario.map.build()
         f = scenario.filter
+        tracker_alpha = f.alpha if f.tracker_alpha is None else f.tracker_alpha
         world = cls(
             net,
             GraphDiffusion.on_network(net, f.alpha, scenario.dt_s, decay_c=f.decay_c),
-            GraphDiffusion.on_network(net, f.alpha, scenario.dt_s),
+            GraphDiffusion.on_network(net, tracker_alpha, scenario.dt_s),
         )
         _ = world.lrt_diffusion.operator, world.tracker_diffusion.operator  # build them now
         return world
+
+    def mismatch(self, scenario: Scenario) -> str | None:
+        """Why this world's operators are not those ``scenario`` builds (``None``: they are):
+        a different LRT or tracker diffusivity, decay or time step."""
+        f = scenario.filter
+        tracker_alpha = f.alpha if f.tracker_alpha is None else f.tracker_alpha
+        lrt, trk = self.lrt_diffusion, self.tracker_diffusion
+        wanted = {"filter.alpha": (lrt.alpha, f.alpha), "filter.decay_c": (lrt.decay_c, f.decay_c),
+                  "filter.tracker_alpha": (trk.alpha, tracker_alpha),
+                  "dt_s": (trk.dt_s, scenario.dt_s)}
+        off = [f"{k}: world {have:g}, scenario {want:g}" for k, (have, want) in wanted.items()
+               if have != float(want)]
+        return "; ".join(off) if off else None
 
 
 def initial_uavs(scenario: Scenario, network: RoadNetwork, rng: np.random.Generator) -> UavState:
@@ -141,6 +169,10 @@ class Mission:
     def __init__(self, scenario: Scenario, world: World | None = None) -> None:
         self.scenario = scenario
         self.world = world if world is not None else World.build(scenario)
+        stale = self.world.mismatch(scenario)
+        if stale is not None:
+            raise InvalidInputError("world", stale, "was built for another filter: build it "
+                                    "with World.build(scenario, network)")
         net = self.world.network
         fits = [("targets.count", scenario.target_count, "targets spawn on the road nodes")]
         if scenario.uav_start == "random":
@@ -157,6 +189,7 @@ class Mission:
                                    f.llr_floor, detect)
         self.initiator = LRTInitiator(net, f.phi_max, f.birth_weighting, f.merge_radius_m)
         self.deleter = TrackerDeleter(f.p_min)
+        self.handover = TrackHandover(net, 2.0 * f.gate_m) if f.handover else None
         self.lrt_predictor = LRTPredictor(self.world.lrt_diffusion)
         self.tracker_predictor = TrackerPredictor(self.world.tracker_diffusion)
         self.motion = CourierMotion(net, scenario.courier)
@@ -175,8 +208,12 @@ class Mission:
         bank = TrackerBank(net.n_nodes)
         particles = RBPFMissionBelief(sc, net) if sc.filter.belief == "rbpf" else None
         first_detection = np.full(sc.target_count, np.nan)
+        last_fix: dict[int, float] = {}  # track_id -> time of its last fix or birth
         detected = np.zeros(sc.target_count, dtype=bool)
         record = Recorder(sc, net, uavs.xy_m, targets.xy_m(net))
+        coverage = (CoverageMemory(net, sc.sensor.footprint_radius_m,
+                                   sc.filter.decay_c / sc.filter.alpha)
+                    if sc.guidance.coverage_weight > 0.0 else None)
         self.associator.lap()
         for k in range(sc.n_steps):
             if stop_requested():
@@ -209,17 +246,30 @@ class Mission:
                 field, bank, pairs, n_valid_assoc, n_false_assoc = self._lrt_filter(
                     lrt_scan, pos, pos_target, truth_xy, field, bank, times)
                 tic = time.perf_counter()
-                before = {t.track_id for t in bank}
+                last_fix.update((track, t_now) for _, track, _ in pairs)
+                before, first_new = {t.track_id for t in bank}, bank.next_id
                 field, bank = self.initiator.initiate(field, bank)
-                born = [i for i, t in enumerate(bank) if t.track_id not in before]
+                taken: set[int] = set()
+                if self.handover is not None:
+                    lost = {t for t in before
+                            if t_now - last_fix.get(t, -np.inf) >= STALE_AFTER_S - 1e-9}
+                    bank, handed = self.handover.hand_over(bank, first_new, lost)
+                    taken = {kept for kept, _ in handed}
+                born = [i for i, t in enumerate(bank)
+                        if t.track_id not in before or t.track_id in taken]
+                last_fix.update((bank[i].track_id, t_now) for i in born)
                 bank = self._attribute(bank, born, truth_xy, detected, first_detection, t_now,
-                                       record)
+                                       record, taken)
                 bank = self.deleter.delete(bank)
                 times.initiate = time.perf_counter() - tic
 
             tic = time.perf_counter()
-            seen = (view(net, uavs, field, bank, t_now) if particles is None
-                    else particles.view(uavs, t_now))
+            covered = None
+            if coverage is not None:
+                coverage.see(uav_xy, t_now)
+                covered = coverage.level(t_now)
+            seen = (view(net, uavs, field, bank, t_now, covered) if particles is None
+                    else particles.view(uavs, t_now, covered))
             problem = next_problem(previous, seen, config, self.world.tracker_diffusion)
             answer = solve_guidance(problem, backend=sc.guidance.strategy,
                                     time_limit_s=sc.guidance.optw_budget_s,
@@ -250,7 +300,8 @@ class Mission:
                 fresh = fresh[~np.isfinite(first_detection[fresh])]
                 first_detection[fresh] = t_now
             valid = int(np.count_nonzero(now_match >= 0))
-            step = StepScore(len(bank), valid, n_valid_assoc, n_false_assoc)
+            step = StepScore(len(bank), valid, n_valid_assoc, n_false_assoc,
+                             tuple(sorted(int(t) for t in now_match[now_match >= 0])))
             record.add(t_now, uavs.xy_m, truth_xy, step, guidance, times, bank, pairs)
             if record.heat_due():
                 record.add_heat(field if particles is None
@@ -312,12 +363,15 @@ class Mission:
 
     def _attribute(self, bank: TrackerBank, born: list[int], truth_xy: FloatArray,
                    detected: NDArray[np.bool_], first_detection: FloatArray, t_now: float,
-                   record: Recorder) -> TrackerBank:
+                   record: Recorder, taken: set[int] | None = None) -> TrackerBank:
         """Credit each new tracker to the nearest true target within the validity distance; in
-        ``detect`` mode mark it found (invisible from now on) and drop the tracker."""
+        ``detect`` mode mark it found (invisible from now on) and drop the tracker. Trackers
+        whose ``track_id`` is in ``taken`` took a birth over (identity hand-over) and are
+        recorded as births of their kept identity."""
         if not born:
             return bank
         net = self.world.network
+        kept = taken or set()
         for i in born:
             peak = net.coords[bank[i].peak_node()]
             dist = np.linalg.norm(truth_xy - peak, axis=1)
@@ -325,7 +379,8 @@ class Mission:
                 dist[detected] = np.inf
             target = int(np.argmin(dist))
             hit = bool(dist[target] < self.scenario.valid_distance_m)
-            record.birth(t_now, bank[i].track_id, target if hit else -1, float(dist[target]))
+            record.birth(t_now, bank[i].track_id, target if hit else -1, float(dist[target]),
+                         handover=bank[i].track_id in kept)
             if hit and self.scenario.mode == "detect":
                 detected[target] = True
                 first_detection[target] = t_now

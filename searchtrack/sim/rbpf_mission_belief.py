@@ -322,6 +322,8 @@ class RBPFMissionBelief:
         """Eq. 9 over ``dt_s`` seconds."""
         self.rbpf.predict(dt_s, self.rng)
 
-    def view(self, uavs: UavState, time_s: float) -> GuidanceView:
-        """What the guidance sees: the particle search field and the localised targets."""
-        return view(self.network, uavs, self.field, self.bank, time_s)
+    def view(self, uavs: UavState, time_s: float,
+             coverage: FloatArray | None = None) -> GuidanceView:
+        """What the guidance sees: the particle search field and the localised targets (and
+        the road coverage, when kept)."""
+        return view(self.network, uavs, self.field, self.bank, time_s, coverage)

@@ -57,12 +57,15 @@ class StepTimes:
 
 @dataclass(frozen=True, eq=False)
 class Birth:
-    """A tracker instantiated by the LRT: when, which track, which true target (−1: none)."""
+    """A tracker instantiated by the LRT: when, which track, which true target (−1: none);
+    ``handover`` when the new distribution went to a live tracker that had lost its target,
+    which kept its ``track_id`` (:mod:`searchtrack.estimate.handover`)."""
 
     time_s: float
     track_id: int
     target: int
     distance_m: float
+    handover: bool = False
 
 
 MAX_HEAT_FRAMES = 150
@@ -193,6 +196,7 @@ class MissionLog:
                 "steps": s.steps, "moc_mean": s.moc_mean, "moc_final": s.moc_final,
                 "pvt": s.pvt, "pva": s.pva, "nvt": s.nvt, "nst": s.nst, "nva": s.nva,
                 "nfa": s.nfa, "detected": s.detected,
+                "moc_after_detection": s.moc_after_detection,
                 "time_to_detect_all_s": s.time_to_detect_all_s,
                 "step_ms_median": float(np.median(self.step_ms)) if self.steps else None,
                 "step_ms_p95": float(np.percentile(self.step_ms, 95)) if self.steps else None,
@@ -202,7 +206,8 @@ class MissionLog:
             "first_detection_s": [None if math.isnan(v) else v
                                   for v in self.first_detection_s.tolist()],
             "births": [{"time_s": round(b.time_s, 3), "track_id": b.track_id,
-                        "target": b.target, "distance_m": round(b.distance_m, 1)}
+                        "target": b.target, "distance_m": round(b.distance_m, 1),
+                        **({"handover": True} if b.handover else {})}
                        for b in self.births],
             "time_s": np.round(self.time_s, 3).tolist(),
             "moc": np.round(self.moc, 4).tolist(),
@@ -275,9 +280,10 @@ class Recorder:
         when :meth:`heat_due`: the frame copies the beliefs' sparse part)."""
         self._heat.append(HeatFrame.capture(len(self._time) - 1, field_, bank))
 
-    def birth(self, time_s: float, track_id: int, target: int, distance_m: float) -> None:
-        """Record a tracker birth."""
-        self._births.append(Birth(time_s, track_id, target, distance_m))
+    def birth(self, time_s: float, track_id: int, target: int, distance_m: float,
+              handover: bool = False) -> None:
+        """Record a tracker birth (``handover``: taken over by the live ``track_id``)."""
+        self._births.append(Birth(time_s, track_id, target, distance_m, handover))
 
     def finish(self, field_: LikelihoodField, bank: TrackerBank,
                first_detection_s: FloatArray) -> MissionLog:

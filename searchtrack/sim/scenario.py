@@ -13,7 +13,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Literal
 
-from searchtrack.core.checks import positive
+from searchtrack.core.checks import non_negative, positive
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.registry import MAX_SEED
 from searchtrack.estimate.association import BACKENDS as ASSOCIATION_BACKENDS
@@ -179,10 +179,25 @@ class FilterSpec:
         field and node trackers (every setting above), or ``"rbpf"``, the Rao-Blackwellized
         particle filter of Moore et al. 2021 (paper 000) for the known number of targets, read
         by the same guidance (:mod:`searchtrack.sim.rbpf_mission_belief`; of the settings above
-        it uses only ``p_min``, and ``alpha`` for the reacquisition horizon).
+        it uses only ``p_min``, and ``alpha`` — or ``tracker_alpha`` when set — for the
+        reacquisition horizon).
     histories, particles
         The RBPF's association histories ``H`` and particles per target filter ``N`` (10 and
         500, the paper's); integers ≥ 1, used when ``belief = "rbpf"``.
+    tracker_alpha
+        Diffusivity of the node trackers' prediction (4.2) (hops²/s), ``None`` (default): the
+        thesis's one ``alpha`` for the LRT and the trackers. It also sets the reacquisition
+        horizon ``T_r`` (the time a tracker's peak takes to fall to ``P_min`` under that same
+        prediction). The courier targets spread far faster than ``alpha`` = 0.447: the mean
+        square road distance they cover grows as ``2·α·t`` with α ≈ 14 hops²/s on the
+        Aguascalientes map (t = 20–120 s), while the LRT's slow spread is what keeps search
+        evidence local.
+    handover
+        Identity hand-over on re-detection (a rule of this library, the thesis has none): a
+        tracker born where a live tracker has lost its target (no fix for 1 s, half its mass
+        within ``2·gate_m`` road distance of the birth) replaces that tracker's distribution,
+        which keeps its ``track_id``, instead of becoming a second tracker (see
+        :mod:`searchtrack.estimate.handover`; off by default; ``belief = "lrt"`` only).
     """
 
     alpha: float = 0.447
@@ -198,10 +213,16 @@ class FilterSpec:
     belief: Belief = "lrt"
     histories: int = 10
     particles: int = 500
+    tracker_alpha: float | None = None
+    handover: bool = False
 
     def __post_init__(self) -> None:
         for name in ("alpha", "decay_c", "phi_max", "gate_m"):
             positive(name, getattr(self, name))
+        if self.tracker_alpha is not None:
+            positive("tracker_alpha", self.tracker_alpha)
+        if not isinstance(self.handover, bool):
+            raise InvalidInputError("handover", self.handover, "must be true or false")
         if self.belief not in BELIEFS:
             raise InvalidInputError("belief", self.belief, f"must be one of {list(BELIEFS)}")
         for name in ("histories", "particles"):
@@ -238,6 +259,12 @@ class GuidanceSpec:
     optw_backend, optw_budget_s
         Solver of the reacquisition OPTW, and the time limit of each step's guidance solve
         (shared by the OPTW solves of the UAVs that re-plan in that step).
+    coverage_weight
+        Weight (≥ 0, the units of the gradient force ∇R) of the coverage force that pushes
+        free UAVs (searching, paired with no tracker) away from road the fleet covered
+        recently and toward road it has not (a rule of this library, the thesis has none; see
+        :func:`~searchtrack.plan.guidance.forces.coverage_force` and
+        :class:`~searchtrack.sim.coverage.CoverageMemory`). 0 (default): the thesis's search.
     """
 
     strategy: str = "search_and_loiter"
@@ -246,6 +273,7 @@ class GuidanceSpec:
     revisit_threshold: float = 0.3
     optw_backend: str = "auto"
     optw_budget_s: float = 0.03
+    coverage_weight: float = 0.0
 
     def __post_init__(self) -> None:
         if self.strategy not in STRATEGIES:
@@ -262,6 +290,7 @@ class GuidanceSpec:
             raise InvalidInputError("revisit_threshold", self.revisit_threshold,
                                     "must be in (0, 1)")
         positive("optw_budget_s", self.optw_budget_s)
+        non_negative("coverage_weight", self.coverage_weight)
 
 
 @dataclass(frozen=True)

@@ -184,6 +184,8 @@ def _filter(t: Table) -> FilterSpec:
         belief=t.string("belief", "lrt", choices=BELIEFS),  # type: ignore[arg-type]
         histories=t.integer("histories", 10, minimum=1),
         particles=t.integer("particles", 500, minimum=1),
+        tracker_alpha=t.optional_number("tracker_alpha"),
+        handover=t.boolean("handover", False),
     )
     t.done()
     return spec
@@ -207,6 +209,7 @@ def _guidance(t: Table) -> GuidanceSpec:
         revisit_threshold=t.number("revisit_threshold", 0.3),
         optw_backend=t.string("optw_backend", "auto", choices=tuple(OPTW_BACKENDS.names())),
         optw_budget_s=t.number("optw_budget_s", 0.03),
+        coverage_weight=t.number("coverage_weight", 0.0),
     )
     t.done()
     return spec

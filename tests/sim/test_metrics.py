@@ -4,7 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from searchtrack.sim.metrics import UNMATCHED, StepScore, match_trackers, score
+from searchtrack.sim.metrics import (
+    UNMATCHED,
+    StepScore,
+    match_trackers,
+    moc_after_detection,
+    score,
+)
 
 
 def test_matching_is_one_to_one_and_gated() -> None:
@@ -44,3 +50,25 @@ def test_score_without_trackers() -> None:
     s = score([StepScore(0, 0, 0, 0)], 3, np.array([np.nan, 1.0, np.nan]))
     assert s.pvt is None and s.pva is None
     assert s.time_to_detect_all_s is None and s.detected == 1
+
+
+def test_moc_after_detection_by_hand() -> None:
+    """Three targets over five steps. Target 0 is tracked at steps 1, 2, 4 (known from step 1:
+    4 steps, 3 tracked); target 1 at step 3 only (known from step 3: 2 steps, 1 tracked);
+    target 2 never (no steps count). MOC after detection = (3 + 1) / (4 + 2); the whole-run
+    MOC is (0 + 1 + 1 + 1 + 1) / 15."""
+    tracked = [(), (0,), (0,), (1,), (0,)]
+    steps = [StepScore(len(t), len(t), 0, 0, t) for t in tracked]
+    s = score(steps, 3, np.array([0.6, 1.2, np.nan]))
+    assert s.moc_after_detection == 4 / 6
+    assert np.isclose(s.moc_mean, 4 / 15)
+    assert moc_after_detection(steps, 3) == 4 / 6
+
+
+def test_moc_after_detection_undefined_before_any_detection() -> None:
+    """No target ever tracked (or no step): ``None``, not 0; a target tracked every step
+    from its first detection on scores 1."""
+    assert moc_after_detection([StepScore(1, 0, 0, 0)] * 3, 2) is None
+    assert moc_after_detection([], 2) is None
+    steps = [StepScore(0, 0, 0, 0), StepScore(1, 1, 0, 0, (1,)), StepScore(1, 1, 0, 0, (1,))]
+    assert moc_after_detection(steps, 2) == 1.0

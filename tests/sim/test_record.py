@@ -7,8 +7,10 @@ import json
 import numpy as np
 import pytest
 
-from searchtrack.sim.record import PHASES, StepTimes
-from tests.sim.mission_logs import LLR, empty_log, tracker_probability, two_step_log
+from searchtrack.estimate import LikelihoodField, TrackerBank
+from searchtrack.models import grid_network
+from searchtrack.sim.record import PHASES, Recorder, StepTimes
+from tests.sim.mission_logs import LLR, SCENARIO, empty_log, tracker_probability, two_step_log
 
 
 def test_step_times_are_milliseconds_in_phase_order() -> None:
@@ -83,3 +85,18 @@ def test_a_log_without_steps() -> None:
     summary = log.to_json()["summary"]
     assert summary["steps"] == 0 and summary["step_ms_median"] is None
     assert summary["phase_ms_mean"] == {}
+
+
+def test_handover_births_are_flagged() -> None:
+    """A birth handed over to a live tracker is kept with ``handover`` set and says so in the
+    JSON; other births' JSON is unchanged. The summary reports MOC after detection (``None``
+    for hand-made steps that list no tracked target)."""
+    net = grid_network(2, 2, 100.0, 50.0)
+    rec = Recorder(SCENARIO, net, np.zeros((2, 2)), np.zeros((2, 2)))
+    rec.birth(0.3, 0, 1, 5.0)
+    rec.birth(0.6, 0, 1, 7.0, handover=True)
+    log = rec.finish(LikelihoodField(LLR), TrackerBank(net.n_nodes), np.array([0.3, np.nan]))
+    assert [b.handover for b in log.births] == [False, True]
+    births = log.to_json()["births"]
+    assert "handover" not in births[0] and births[1]["handover"] is True
+    assert two_step_log().to_json()["summary"]["moc_after_detection"] is None

@@ -72,3 +72,28 @@ def test_rbpf_size_is_capped() -> None:
     assert info.value.field == "filter.particles"
     assert Scenario("x", grid, target_count=4,
                     filter=FilterSpec(histories=1, particles=huge)).filter.belief == "lrt"
+
+
+def test_options_of_this_library_are_off_by_default_and_validated() -> None:
+    """``tracker_alpha`` (None: the LRT's α), ``handover`` (False) and ``coverage_weight`` (0)
+    default to the thesis; bad values are refused naming the field."""
+    f, g = FilterSpec(), GuidanceSpec()
+    assert (f.tracker_alpha, f.handover, g.coverage_weight) == (None, False, 0.0)
+    assert FilterSpec(tracker_alpha=0.894, handover=True).tracker_alpha == 0.894
+    assert GuidanceSpec(coverage_weight=2.0).coverage_weight == 2.0
+    bad: list[tuple[type, dict[str, object], str]] = [
+        (FilterSpec, {"tracker_alpha": 0.0}, "tracker_alpha"),
+        (FilterSpec, {"tracker_alpha": -1.0}, "tracker_alpha"),
+        (FilterSpec, {"tracker_alpha": float("nan")}, "tracker_alpha"),
+        (FilterSpec, {"tracker_alpha": float("inf")}, "tracker_alpha"),
+        (FilterSpec, {"tracker_alpha": "fast"}, "tracker_alpha"),
+        (FilterSpec, {"handover": 1}, "handover"),
+        (FilterSpec, {"handover": "yes"}, "handover"),
+        (GuidanceSpec, {"coverage_weight": -0.5}, "coverage_weight"),
+        (GuidanceSpec, {"coverage_weight": float("inf")}, "coverage_weight"),
+        (GuidanceSpec, {"coverage_weight": float("nan")}, "coverage_weight"),
+    ]
+    for cls, kwargs, name in bad:
+        with pytest.raises(InvalidInputError) as info:
+            cls(**kwargs)
+        assert info.value.field == name, kwargs

@@ -64,6 +64,12 @@ def test_grid_scenario_defaults(tmp_path: Path) -> None:
         (GRID + "[filter]\nllr_floor = 3.0\n", "filter.llr_floor"),
         (GRID + "[filter]\nllr_floor = 'off'\n", "filter.llr_floor"),
         (GRID + "[filter]\nnegative_information = 1\n", "filter.negative_information"),
+        (GRID + "[filter]\ntracker_alpha = -0.5\n", "filter.tracker_alpha"),
+        (GRID + "[filter]\ntracker_alpha = 0.0\n", "filter.tracker_alpha"),
+        (GRID + "[filter]\ntracker_alpha = 'fast'\n", "filter.tracker_alpha"),
+        (GRID + "[filter]\nhandover = 'yes'\n", "filter.handover"),
+        (GRID + "[guidance]\ncoverage_weight = -1.0\n", "guidance.coverage_weight"),
+        (GRID + "[guidance]\ncoverage_weight = inf\n", "guidance.coverage_weight"),
     ],
 )
 def test_bad_fields_are_named(tmp_path: Path, text: str, key: str) -> None:
@@ -196,3 +202,12 @@ def test_rbpf_demo_is_the_demo_on_the_rbpf() -> None:
     same = dataclasses.replace(rbpf, name=demo.name,
                                filter=dataclasses.replace(rbpf.filter, belief="lrt"))
     assert same == demo
+
+
+def test_options_of_this_library_read_from_toml(tmp_path: Path) -> None:
+    """``tracker_alpha``, ``handover`` and ``coverage_weight`` are read when given."""
+    text = GRID + ("[filter]\ntracker_alpha = 0.894\nhandover = true\n"
+                   "[guidance]\ncoverage_weight = 2\n")
+    sc = load_scenario(write(tmp_path, text))
+    assert (sc.filter.tracker_alpha, sc.filter.handover) == (0.894, True)
+    assert sc.guidance.coverage_weight == 2.0

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from searchtrack.plan.guidance.forces import (
     GradientField,
+    coverage_force,
     default_loiter_k,
     default_spring_k,
     pauli_force,
@@ -38,6 +39,7 @@ __all__ = [
     "Reacquisition",
     "StrategyConfig",
     "candidate_nodes",
+    "coverage_force",
     "default_loiter_k",
     "default_spring_k",
     "pair_uavs",

@@ -10,6 +10,8 @@ thesis's "internally scaled" units (unit mass), fed to
 - :func:`spring_force` — the drift-correcting spring ∇Q (5.10)–(5.11), rest length ``ρ``, and the
   zero-rest-length springs ∇L (5.13) and ∇W (5.32) with ``rest_m = 0``.
 - :func:`default_spring_k`, :func:`default_loiter_k` — the constants the thesis never gives.
+- :func:`coverage_force` — a push away from road covered recently, toward road that was not (a
+  term of this library for searching UAVs; the thesis has none).
 """
 
 from __future__ import annotations
@@ -225,3 +227,49 @@ def spring_force(
     r = np.hypot(d[:, 0], d[:, 1])
     unit = np.divide(d, r[:, None], out=np.zeros_like(d), where=r[:, None] > 0)
     return np.asarray(-kk * (r - rest_m)[:, None] * unit, dtype=np.float64)
+
+
+def coverage_force(network: RoadNetwork, uav_xy_m: ArrayLike, coverage: ArrayLike,
+                   inner_m: float, outer_m: float) -> FloatArray:
+    """Per UAV, the unit-bounded push away from recently covered road (a rule of this library).
+
+    Over the road nodes ``v`` of the ring ``inner_m < ‖ψ(v) − ξ‖ ≤ outer_m`` around UAV ``ξ``
+    (the UAV's own footprint, always just covered, left out), with ``c(v) ∈ [0, 1]`` the node's
+    coverage and ``c̄`` its mean over the ring,
+
+        ``F = Σ_v (c̄ − c(v)) (ψ(v) − ξ)/‖ψ(v) − ξ‖ / |ring|``:
+
+    nodes covered more than the ring's average repel, less than average attract, so the force
+    points toward the ring's least-covered road; it vanishes when the ring is evenly covered
+    (e.g. never) or holds no node, and ``‖F‖ ≤ 1``. Vectorised over UAVs and ring nodes.
+
+    Parameters
+    ----------
+    coverage
+        ``(n,)`` coverage of each road node in ``[0, 1]`` (1: covered just now).
+    inner_m, outer_m
+        The ring's radii (m), ``0 ≤ inner_m < outer_m``.
+    """
+    xy = _points("uav_xy_m", uav_xy_m)
+    c = np.asarray(coverage, dtype=np.float64)
+    if c.shape != (network.n_nodes,) or not np.all((c >= 0.0) & (c <= 1.0)):
+        raise InvalidInputError("coverage", coverage,
+                                f"must be ({network.n_nodes},) values in [0, 1]")
+    outer = positive("outer_m", outer_m)
+    if not (math.isfinite(inner_m) and 0.0 <= inner_m < outer):
+        raise InvalidInputError("inner_m", inner_m, f"must be in [0, outer_m={outer:g}) (m)")
+    n_uav = xy.shape[0]
+    force = np.zeros((n_uav, 2))
+    point, node = network.nodes_within(xy, outer)
+    d = network.coords[node] - xy[point]
+    r = np.hypot(d[:, 0], d[:, 1])
+    ring = r > inner_m
+    point, node, d, r = point[ring], node[ring], d[ring], r[ring]
+    if point.size == 0:
+        return force
+    size = np.bincount(point, minlength=n_uav).astype(np.float64)
+    mean = np.bincount(point, weights=c[node], minlength=n_uav) / np.maximum(size, 1.0)
+    w = (mean[point] - c[node]) / r / size[point]  # r > inner_m ≥ 0: no division by 0
+    force[:, 0] = np.bincount(point, weights=w * d[:, 0], minlength=n_uav)
+    force[:, 1] = np.bincount(point, weights=w * d[:, 1], minlength=n_uav)
+    return force

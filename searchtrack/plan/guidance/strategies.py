@@ -5,7 +5,8 @@ Result[Guidance]`` (registered by name in :mod:`searchtrack.plan.guidance.solve`
 Per UAV the mode decides the force:
 
 - ``"search"``: ∇R + ∇P + ∇Q (likelihood gradient, Pauli repulsion from every UAV, spring of
-  rest length ``ρ`` to ``n_max``);
+  rest length ``ρ`` to ``n_max``), plus, for a UAV paired with no tracker, the coverage force
+  when ``coverage_weight > 0`` and the view carries coverage (this library's, off by default);
 - ``"loiter"``: ∇L + ∇P, zero-rest spring to the tracker's peak node, repelled only by the other
   loitering or reacquiring UAVs (5.14);
 - ``"reacquire"``: ∇W + ∇P, zero-rest spring to the next unserved node of an OPTW route, Pauli
@@ -34,7 +35,7 @@ from numpy.typing import NDArray
 from searchtrack.core.deadline import Deadline
 from searchtrack.core.registry import MAX_SEED, SolveFn
 from searchtrack.core.result import Result, Status
-from searchtrack.plan.guidance.forces import pauli_force, spring_force
+from searchtrack.plan.guidance.forces import coverage_force, pauli_force, spring_force
 from searchtrack.plan.guidance.pairing import Pairing, pair_checked
 from searchtrack.plan.guidance.problem import GuidanceProblem
 from searchtrack.plan.guidance.reacquire import (
@@ -70,8 +71,14 @@ def search_and_loiter_modes(problem: GuidanceProblem, pairing: Pairing) -> list[
 
 
 def assemble(problem: GuidanceProblem, rng: np.random.Generator, modes: list[str],
-             anchors: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Net force per UAV for the given modes; ``anchors`` are the held UAVs' spring ends."""
+             anchors: NDArray[np.float64], pairing: Pairing | None = None
+             ) -> NDArray[np.float64]:
+    """Net force per UAV for the given modes; ``anchors`` are the held UAVs' spring ends.
+
+    With a positive ``coverage_weight`` and a view that carries coverage, the searching UAVs
+    that ``pairing`` pairs with no tracker (all searching UAVs without a pairing) also feel the
+    coverage force (:func:`~searchtrack.plan.guidance.forces.coverage_force`).
+    """
     cfg, view = problem.config, problem.view
     grad, n_max = problem.gradient_field.force(view.uav_xy_m, view.field.node_score(),
                                                cfg.sensor_range_m, rng)
@@ -85,6 +92,13 @@ def assemble(problem: GuidanceProblem, rng: np.random.Generator, modes: list[str
         force[search] += grad[search] + q
     if held.any():
         force[held] += spring_force(view.uav_xy_m[held], anchors[held], cfg.k_loiter)
+    if cfg.coverage_weight > 0.0 and view.coverage is not None:
+        free = search if pairing is None else search & (np.array(pairing.tracker) < 0)
+        if free.any():
+            rho = cfg.sensor_range_m
+            push = coverage_force(view.network, view.uav_xy_m[free], view.coverage, rho,
+                                  2.0 * rho)
+            force[free] += cfg.coverage_weight * push
     return force
 
 
@@ -127,7 +141,7 @@ def potential(rule: ModeRule, name: str) -> SolveFn[GuidanceProblem, Guidance]:
         view = problem.view
         pairing = pair_checked(view.network, view.uav_xy_m, view.bank)
         modes = rule(problem, pairing)
-        force = assemble(problem, rng, modes, _peak_anchors(view, pairing))
+        force = assemble(problem, rng, modes, _peak_anchors(view, pairing), pairing)
         guidance = Guidance(force, pairing, tuple(modes), ((),) * view.n_uavs, 0.0)
         return _answer(problem, guidance, name, clock, 0)
 
@@ -203,7 +217,7 @@ def solve_search_and_reacquire(problem: GuidanceProblem, *, time_limit_s: float,
             modes[j] = "reacquire"
             anchors[j] = view.network.coords[left[0]]
             routes[j] = left
-    force = assemble(problem, rng, modes, anchors)
+    force = assemble(problem, rng, modes, anchors, pairing)
     guidance = Guidance(force, pairing, tuple(modes), tuple(routes), 1000.0 * plan_s,
                         tuple(kept[track] for track in fading))
     return _answer(problem, guidance, "search_and_reacquire", clock, len(stale))

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from searchtrack.core.checks import count, positive
+from searchtrack.core.checks import count, non_negative, positive
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.belief import BeliefBank, SearchField
 from searchtrack.models.dubins import MPS_PER_MPH
@@ -58,6 +58,11 @@ class StrategyConfig:
         :func:`~searchtrack.plan.guidance.reacquire.candidate_nodes`).
     max_reacquire_steps
         Cap on the prediction steps simulated for ``T_r``.
+    coverage_weight
+        Weight ``w ≥ 0`` of the coverage force added to every free UAV (searching, paired with
+        no tracker) when the view carries a coverage field: ``w`` times
+        :func:`~searchtrack.plan.guidance.forces.coverage_force` over the ring ``ρ < r ≤ 2ρ``
+        (the road a UAV could cover next). 0 (default): the thesis's forces, unchanged.
     """
 
     sensor_range_m: float = 120.0
@@ -72,6 +77,7 @@ class StrategyConfig:
     max_route_nodes: int = 60
     support_mass: float = 0.95
     max_reacquire_steps: int = 2000
+    coverage_weight: float = 0.0
 
     def __post_init__(self) -> None:
         rho = positive("sensor_range_m", self.sensor_range_m)
@@ -97,6 +103,7 @@ class StrategyConfig:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                 raise InvalidInputError(name, v, "must be an integer ≥ 1")
+        set_(self, "coverage_weight", non_negative("coverage_weight", self.coverage_weight))
 
     @property
     def sigma(self) -> float:
@@ -141,6 +148,10 @@ class GuidanceView:
         network's nodes, e.g. a :class:`~searchtrack.estimate.node_tracker.TrackerBank`.
     time_s
         Mission time (s).
+    coverage
+        ``(n,)`` how recently the fleet covered each road node, in ``[0, 1]`` (1: just now, 0:
+        long ago or never), read by the coverage force
+        (:attr:`StrategyConfig.coverage_weight`); ``None`` (default): not tracked.
     """
 
     network: RoadNetwork
@@ -150,6 +161,7 @@ class GuidanceView:
     field: SearchField
     bank: BeliefBank
     time_s: float
+    coverage: NDArray[np.float64] | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.network, RoadNetwork):
@@ -170,6 +182,12 @@ class GuidanceView:
                                     f"[index] → TrackBelief), e.g. a TrackerBank, on {n} nodes")
         if not math.isfinite(self.time_s):
             raise InvalidInputError("time_s", self.time_s, "must be finite (s)")
+        if self.coverage is not None:
+            cov = np.asarray(self.coverage, dtype=np.float64)
+            if cov.shape != (n,) or not np.all((cov >= 0.0) & (cov <= 1.0)):
+                raise InvalidInputError("coverage", self.coverage,
+                                        f"must be ({n},) values in [0, 1]")
+            set_(self, "coverage", cov)
 
     @property
     def n_uavs(self) -> int:

@@ -2,12 +2,12 @@
 declared, typed parameters and metrics.
 
 Heavy shared inputs (a road network and its diffusion operators) are built once per process and
-cached by their map name, so a Dask worker builds each map once however many runs it takes.
+cached by their map name (and, for missions, the trackers' diffusivity), so a Dask worker builds
+each map once however many runs it takes.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import json
 import math
@@ -35,10 +35,9 @@ from searchtrack.sim.experiments.phd_tracking import (
     run_track_episode,
     taxi_world,
 )
-from searchtrack.sim.mission import Mission, World
 from searchtrack.sim.phd_scenario import STANDARD_AREA, standard_scenario
 from searchtrack.sim.road_planners import PLANNERS as ROAD_PLANNERS
-from searchtrack.sim.scenario import MapSpec, Scenario, bundled_map
+from searchtrack.sim.scenario import MapSpec, bundled_map
 
 ParamValue = bool | int | float | str
 """A parameter value: what TOML gives and a DuckDB column holds."""
@@ -57,12 +56,13 @@ RESERVED = ("key", "experiment", "seed", "status", "runtime_s", "error", "host",
 @dataclass(frozen=True)
 class Param:
     """A parameter of an experiment: its name, type (``bool``, ``int``, ``float``, ``str``),
-    default and, optionally, the values it may take."""
+    default and, optionally, the values it may take or the least value of a number."""
 
     name: str
     kind: type[bool] | type[int] | type[float] | type[str]
     default: ParamValue
     choices: tuple[ParamValue, ...] = ()
+    minimum: float | None = None
 
     def check(self, value: object) -> ParamValue:
         """``value`` as this parameter's type (an integer is accepted for a float).
@@ -70,7 +70,7 @@ class Param:
         Raises
         ------
         InvalidInputError
-            Naming the parameter: wrong type, or not one of the choices.
+            Naming the parameter: wrong type, not one of the choices, or below the minimum.
         """
         ok = isinstance(value, self.kind) and (self.kind is bool or not isinstance(value, bool))
         if self.kind is float and isinstance(value, int) and not isinstance(value, bool):
@@ -81,6 +81,8 @@ class Param:
             raise InvalidInputError(self.name, value, "must be finite")
         if self.choices and value not in self.choices:
             raise InvalidInputError(self.name, value, f"must be one of {list(self.choices)}")
+        if self.minimum is not None and value < self.minimum:  # type: ignore[operator]
+            raise InvalidInputError(self.name, value, f"must be ≥ {self.minimum:g}")
         return value  # type: ignore[return-value]
 
 
@@ -145,35 +147,7 @@ def _toy(params: Params, seed: int) -> Metrics:
 
 
 #: Maps of the ``mission`` experiment: the thesis's maps and a small grid for quick runs.
-MISSION_MAPS: dict[str, MapSpec] = {**road_missions.MAPS,
-                                    "grid-small": MapSpec("grid", rows=6, cols=6, block_m=100.0)}
-
-
-@functools.cache
-def _world(map_name: str) -> World:
-    """The road network and operators of ``map_name``, built once per process (default filter
-    and time step, which every ``mission`` run uses)."""
-    return World.build(Scenario(map_name, MISSION_MAPS[map_name]))
-
-
-def _mission(params: Params, seed: int) -> Metrics:
-    """One road mission (thesis §6): detect mode as experiment 1, track mode as experiment 2,
-    on ``map`` with the given fleet."""
-    map_name = str(params["map"])
-    if params["mode"] == "detect":  # experiment 1's sensor, turn rate, guidance and filter
-        cell = road_missions.detection_scenario("grid-dense")
-    else:  # experiment 2's cell: altitude-model sensor and guidance strategy
-        cell = road_missions.tracking_scenario(
-            road_missions.tracking_base("grid-dense"), uavs=int(params["uavs"]),
-            targets=int(params["targets"]), altitude_m=float(params["altitude_m"]),
-            strategy=str(params["strategy"]))
-    scenario = dataclasses.replace(cell, name=map_name, map=MISSION_MAPS[map_name],
-                                   uav_count=int(params["uavs"]),
-                                   target_count=int(params["targets"]),
-                                   duration_s=float(params["duration_s"]), seed=seed)
-    score = Mission(scenario, _world(map_name)).run().score
-    return {"detected": score.detected, "time_to_detect_all_s": score.time_to_detect_all_s,
-            "moc_mean": score.moc_mean, "pvt": score.pvt, "pva": score.pva}
+MISSION_MAPS = road_missions.MISSION_MAPS
 
 
 def _phd(params: Params, seed: int) -> Metrics:
@@ -338,9 +312,12 @@ _EXPERIMENTS = (
         Param("uavs", int, 3), Param("targets", int, 4),
         Param("strategy", str, "search_and_loiter",
               ("search", "loiter", "search_and_loiter", "search_and_reacquire")),
-        Param("altitude_m", float, 457.2), Param("duration_s", float, 60.0)),
-        {"detected": int, "time_to_detect_all_s": float, "moc_mean": float, "pvt": float,
-         "pva": float}, _mission, "a road mission (thesis §6.1 detect / §6.2 track)"),
+        Param("altitude_m", float, 457.2), Param("duration_s", float, 60.0),
+        Param("tracker_alpha", float, 0.0, minimum=0.0), Param("handover", bool, False),
+        Param("coverage_weight", float, 0.0, minimum=0.0)),
+        {"detected": int, "time_to_detect_all_s": float, "moc_mean": float,
+         "moc_after_detection": float, "pvt": float, "pva": float}, road_missions.mission_run,
+        "a road mission (thesis §6.1 detect / §6.2 track; tracker_alpha 0 = the LRT's α)"),
     Experiment("phd_tracking_scenario", (
         Param("n_targets", int, 10), Param("n_scans", int, 100), Param("burn_in", int, 20),
         Param("particles_per_target", int, 400), Param("clutter_rate", float, 10.0)),

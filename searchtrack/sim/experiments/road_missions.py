@@ -11,8 +11,9 @@ The step budget: the filter-and-plan time of one closed-loop step on Aguascalien
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,6 +21,7 @@ import numpy as np
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.models.dubins import DubinsLimits
 from searchtrack.models.lrt_sensor import AltitudeModel, SensorModel
+from searchtrack.sim.mission import Mission, World
 from searchtrack.sim.record import MissionLog
 from searchtrack.sim.scenario import FilterSpec, GuidanceSpec, MapSpec, Scenario, bundled_map
 
@@ -99,6 +101,10 @@ class TrackingRun:
         MOC averaged over the run.
     moc_last_third
         MOC averaged over the last third of the steps (after the search phase).
+    moc_after_detection
+        Of the steps from each target's first valid track on, the fraction in which it was
+        validly tracked (:func:`searchtrack.sim.metrics.moc_after_detection`); ``None`` when no
+        target was ever tracked.
     pvt_pct, pva_pct
         PVT and PVA (6.8)–(6.9) in percent; ``None`` when there was nothing to count.
     plan_ms_p95
@@ -107,6 +113,7 @@ class TrackingRun:
 
     moc_mean: float
     moc_last_third: float
+    moc_after_detection: float | None
     pvt_pct: float | None
     pva_pct: float | None
     plan_ms_p95: float
@@ -118,6 +125,7 @@ def tracking_run(log: MissionLog) -> TrackingRun:
     return TrackingRun(
         moc_mean=score.moc_mean,
         moc_last_third=float(log.moc[2 * len(log.moc) // 3:].mean()),
+        moc_after_detection=score.moc_after_detection,
         pvt_pct=None if score.pvt is None else 100 * score.pvt,
         pva_pct=None if score.pva is None else 100 * score.pva,
         plan_ms_p95=float(np.percentile(log.plan_ms, 95)),
@@ -144,3 +152,54 @@ def step_samples(logs: Sequence[MissionLog]) -> tuple[IntArray, FloatArray, Floa
     ms = np.concatenate([lg.step_ms for lg in logs])
     phases = np.concatenate([lg.phase_ms for lg in logs])
     return counts.astype(np.int64), ms, phases
+
+
+MISSION_MAPS: dict[str, MapSpec] = {**MAPS,
+                                    "grid-small": MapSpec("grid", rows=6, cols=6, block_m=100.0)}
+"""Maps of the campaign ``mission`` experiment: the thesis's maps and a small grid for quick
+runs."""
+
+
+@functools.cache
+def mission_world(map_name: str, tracker_alpha: float | None = None) -> World:
+    """The road network and operators of ``map_name`` (a key of :data:`MISSION_MAPS`), built
+    once per process: the default filter and time step, which every ``mission`` run uses, with
+    the trackers' own diffusivity when ``tracker_alpha`` is given."""
+    return World.build(Scenario(map_name, MISSION_MAPS[map_name],
+                                filter=FilterSpec(tracker_alpha=tracker_alpha)))
+
+
+def mission_run(params: Mapping[str, bool | int | float | str],
+                seed: int) -> dict[str, float | int | str | None]:
+    """One road mission of the campaign ``mission`` experiment (thesis §6): detect mode as
+    experiment 1, track mode as experiment 2's cell (altitude-model sensor, guidance
+    ``strategy``), on ``map`` with the given fleet.
+
+    This library's options, off at their defaults: ``tracker_alpha`` (0: the trackers diffuse
+    at the LRT's ``α``, else :attr:`FilterSpec.tracker_alpha`), ``handover``
+    (:attr:`FilterSpec.handover`) and ``coverage_weight`` (:attr:`GuidanceSpec.coverage_weight`).
+    The metrics are the :class:`~searchtrack.sim.metrics.MissionScore`'s ``detected``,
+    ``time_to_detect_all_s``, ``moc_mean``, ``moc_after_detection``, ``pvt`` and ``pva``.
+    """
+    map_name = str(params["map"])
+    if params["mode"] == "detect":  # experiment 1's sensor, turn rate, guidance and filter
+        cell = detection_scenario("grid-dense")
+    else:
+        cell = tracking_scenario(tracking_base("grid-dense"), uavs=int(params["uavs"]),
+                                 targets=int(params["targets"]),
+                                 altitude_m=float(params["altitude_m"]),
+                                 strategy=str(params["strategy"]))
+    tracker_alpha = float(params["tracker_alpha"]) or None
+    filt = dataclasses.replace(cell.filter, tracker_alpha=tracker_alpha,
+                               handover=bool(params["handover"]))
+    guidance = dataclasses.replace(cell.guidance,
+                                   coverage_weight=float(params["coverage_weight"]))
+    scenario = dataclasses.replace(cell, name=map_name, map=MISSION_MAPS[map_name],
+                                   uav_count=int(params["uavs"]),
+                                   target_count=int(params["targets"]),
+                                   duration_s=float(params["duration_s"]), seed=seed,
+                                   filter=filt, guidance=guidance)
+    score = Mission(scenario, mission_world(map_name, tracker_alpha)).run().score
+    return {"detected": score.detected, "time_to_detect_all_s": score.time_to_detect_all_s,
+            "moc_mean": score.moc_mean, "moc_after_detection": score.moc_after_detection,
+            "pvt": score.pvt, "pva": score.pva}

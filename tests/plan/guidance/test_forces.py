@@ -9,6 +9,7 @@ import pytest
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.plan.guidance import (
     GradientField,
+    coverage_force,
     default_loiter_k,
     default_spring_k,
     pauli_force,
@@ -165,3 +166,31 @@ def test_more_bad_force_inputs() -> None:
     with pytest.raises(InvalidInputError, match="typical_gradient"):
         default_spring_k(120.0, -1.0)
     assert default_spring_k(100.0, typical_gradient=2.0) == pytest.approx(0.02)
+
+
+def test_coverage_force_points_to_the_less_covered_road() -> None:
+    """On a straight road through the UAV, the ring ρ < r ≤ 2ρ holds three nodes each side;
+    with the west side covered the push is (c̄ − c) summed: exactly 0.5 toward the east. Even
+    coverage, or no node in the ring, gives no force."""
+    net = road([(x, 0.0) for x in range(-100, 101, 10)],
+               [(i, i + 1) for i in range(20)])
+    west = (net.coords[:, 0] < 0).astype(float)
+    force = coverage_force(net, [[0.0, 0.0]], west, 30.0, 60.0)
+    np.testing.assert_allclose(force, [[0.5, 0.0]], atol=1e-12)
+    np.testing.assert_allclose(coverage_force(net, [[0.0, 0.0]], 1.0 - west, 30.0, 60.0),
+                               [[-0.5, 0.0]], atol=1e-12)
+    for even in (np.zeros(net.n_nodes), np.ones(net.n_nodes)):
+        np.testing.assert_allclose(coverage_force(net, [[0.0, 0.0]], even, 30.0, 60.0),
+                                   [[0.0, 0.0]], atol=1e-12)
+    np.testing.assert_array_equal(coverage_force(net, [[0.0, 500.0]], west, 30.0, 60.0),
+                                  [[0.0, 0.0]])
+
+
+def test_coverage_force_refuses_bad_inputs() -> None:
+    """Coverage outside [0, 1] or of the wrong length, and a ring with inner ≥ outer."""
+    net = path_road(5)
+    for bad in (np.full(5, 1.5), np.full(4, 0.5), np.full(5, np.nan)):
+        with pytest.raises(InvalidInputError, match="coverage"):
+            coverage_force(net, [[0.0, 0.0]], bad, 10.0, 20.0)
+    with pytest.raises(InvalidInputError, match="inner_m"):
+        coverage_force(net, [[0.0, 0.0]], np.zeros(5), 20.0, 20.0)

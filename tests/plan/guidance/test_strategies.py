@@ -20,6 +20,7 @@ from searchtrack.plan.guidance import (
     GuidanceView,
     Pairing,
     StrategyConfig,
+    coverage_force,
     pauli_force,
     solve,
     spring_force,
@@ -229,3 +230,37 @@ def test_potential_backends_are_named_for_their_rule() -> None:
                      ("search_and_loiter", "(5.16)")):
         solver = getattr(strategies, f"solve_{name}")
         assert solver.__name__ == f"solve_{name}" and eq in (solver.__doc__ or "")
+
+
+def _covered_west_view(net: RoadNetwork, xy: list[list[float]], trackers: tuple[NodeTracker, ...],
+                       coverage: np.ndarray | None) -> GuidanceView:
+    base = view_of(net, xy, trackers)
+    return GuidanceView(net, base.uav_xy_m, base.uav_heading_rad, base.uav_speed_mps,
+                        base.field, base.bank, 0.0, coverage)
+
+
+@pytest.mark.parametrize("backend", ["search_and_loiter", "search_and_reacquire"])
+def test_coverage_pushes_free_searchers_toward_uncovered_road(backend: str) -> None:
+    """On a grid whose western half was just covered, a free searching UAV in the middle is
+    pushed east by exactly ``w`` times the coverage force; the UAV paired with a tracker (and
+    searching, its peak above ϱ) feels nothing new. Weight 0, or a view without coverage,
+    reproduces the thesis's force bit for bit."""
+    net = grid_network(5, 5, 100.0, 20.0)  # 400 m square
+    diff = GraphDiffusion.on_network(net, 0.447, 0.3)
+    west = (net.coords[:, 0] < 200.0).astype(float)
+    xy = [[200.0, 200.0], [400.0, 0.0]]
+    tracker = (_tracker(net.n_nodes, int(net.nearest_nodes([[400.0, 20.0]])[0]), 0.6),)
+    forces = {}
+    for weight, coverage in [(0.0, None), (0.0, west), (3.0, None), (3.0, west)]:
+        cfg = StrategyConfig(sensor_range_m=60.0, coverage_weight=weight)
+        g = _guide(backend, _covered_west_view(net, xy, tracker, coverage), cfg, diff, seed=5)
+        assert g.mode == ("search", "search") and g.pairing.tracker == (-1, 0)
+        forces[weight, coverage is not None] = g.force
+    old = forces[0.0, False]
+    np.testing.assert_array_equal(forces[0.0, True], old)
+    np.testing.assert_array_equal(forces[3.0, False], old)
+    push = forces[3.0, True] - old
+    expected = 3.0 * coverage_force(net, [xy[0]], west, 60.0, 120.0)[0]
+    np.testing.assert_allclose(push[0], expected, atol=1e-9)
+    assert push[0, 0] > 0.5 and abs(push[0, 1]) < 1e-9  # east, toward uncovered road
+    np.testing.assert_array_equal(push[1], [0.0, 0.0])  # the paired UAV

@@ -147,3 +147,25 @@ def test_guidance_answer_checks_itself() -> None:
                 "route": ((),), **kwargs}
         with pytest.raises(InvalidInputError, match=field):
             Guidance(**args)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("weight", [-1.0, float("nan"), float("inf"), True])
+def test_coverage_weight_is_checked(weight: float) -> None:
+    """The coverage weight is a finite number ≥ 0, refused by name otherwise."""
+    with pytest.raises(InvalidInputError) as info:
+        StrategyConfig(coverage_weight=weight)
+    assert info.value.field == "coverage_weight"
+    assert StrategyConfig(coverage_weight=2).coverage_weight == 2.0
+
+
+@pytest.mark.parametrize("coverage", [np.zeros(4), np.full(5, 1.5), np.full(5, -0.1),
+                                      np.full(5, np.nan)])
+def test_view_coverage_is_checked(coverage: np.ndarray) -> None:
+    """A view's coverage is one value in [0, 1] per road node, or ``None``."""
+    net = path_road(5)
+    base = view_of(net, [[0.0, 0.0]])
+    assert base.coverage is None
+    with pytest.raises(InvalidInputError) as info:
+        GuidanceView(net, base.uav_xy_m, base.uav_heading_rad, base.uav_speed_mps, base.field,
+                     base.bank, 0.0, coverage)
+    assert info.value.field == "coverage"

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 
-from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.sim.campaigns.experiments import EXPERIMENTS, Experiment, Param, get
+from searchtrack.sim.campaigns.spec import read_spec
 
 
 def _run(name: str, params: dict[str, object], seed: int = 1) -> dict[str, object]:
@@ -152,3 +154,43 @@ def test_road_tracking_episode_matches_the_direct_call() -> None:
     assert np.allclose(json.loads(str(out["entropy_series"])), log.entropy, atol=1e-4)
     assert out["mean_entropy"] == pytest.approx(log.mean_entropy)
     assert out["error_m"] == pytest.approx(float(log.error_m.mean()))
+
+
+def test_mission_options_default_off_and_are_checked(tmp_path: Path) -> None:
+    """``tracker_alpha``, ``handover`` and ``coverage_weight`` default to off (0, false, 0);
+    a negative value is refused naming the parameter, in Python and in a campaign file (the
+    file and the dotted key)."""
+    mission = get("mission")
+    resolved = mission.resolve({})
+    assert (resolved["tracker_alpha"], resolved["handover"], resolved["coverage_weight"]) == (
+        0.0, False, 0.0)
+    assert "moc_after_detection" in mission.metrics
+    for name, bad in [("tracker_alpha", -0.5), ("coverage_weight", -1.0),
+                      ("tracker_alpha", float("inf")), ("handover", 1)]:
+        with pytest.raises(InvalidInputError) as info:
+            mission.resolve({name: bad})
+        assert info.value.field == name
+    path = tmp_path / "bad.toml"
+    path.write_text('name = "b"\nexperiment = "mission"\nseeds = [0]\n[grid]\n'
+                    'cells = [{uavs = 1, tracker_alpha = -1.0}]\n', encoding="utf-8")
+    with pytest.raises(ParseError) as err:
+        read_spec(path)
+    assert err.value.field == "grid.cells[0].tracker_alpha" and "bad.toml" in str(err.value)
+    path.write_text('name = "b"\nexperiment = "mission"\nseeds = [0]\n[settings]\n'
+                    'coverage_weight = -2.0\n[grid]\nuavs = [1]\n', encoding="utf-8")
+    with pytest.raises(ParseError) as err:
+        read_spec(path)
+    assert err.value.field == "settings.coverage_weight"
+
+
+def test_mission_options_reach_the_scenario() -> None:
+    """Switched on, the options change a short grid mission's run; off, the run is the one the
+    scenario without them flies; MOC after detection is reported."""
+    common = {"duration_s": 20.0, "uavs": 2, "targets": 2}
+    base = _run("mission", common, seed=6)
+    assert base == _run("mission", {**common, "tracker_alpha": 0.0, "handover": False,
+                                    "coverage_weight": 0.0}, seed=6)
+    after = base["moc_after_detection"]
+    assert after is None or 0.0 <= float(after) <= 1.0  # type: ignore[arg-type]
+    for option in ({"tracker_alpha": 4.47}, {"coverage_weight": 2.0}):
+        assert _run("mission", {**common, **option}, seed=6) != base, option
