@@ -329,7 +329,12 @@ def _run(tree: _Tree, root: _Node, empty_ok: bool) -> Result[Routes]:
             current = None  # pruned
             continue
         if lp is None:
-            break
+            if deadline.expired():
+                break
+            log.error("the master LP of node %d failed twice; the node stays open", nodes)
+            stuck.append(current.bound)  # its bound still holds; the rest of the tree goes on
+            current = None
+            continue
         if nodes == 1 or nodes % t.primal_every == 0:
             tree.primal()
         if tree.pruned(current.bound):
@@ -362,7 +367,7 @@ def _result(tree: _Tree, nodes: int, open_bounds: list[float], empty_ok: bool) -
     calls = tree.pricer.stats["pricing_calls"]
     stats = {**tree.stats, **{f"pricing_{k}": v for k, v in tree.pricer.stats.items()
                               if k != "pricing_calls"},
-             "nodes": float(nodes), "columns": float(m.size),
+             "nodes": float(nodes), "columns": float(m.size), "lp_failures": float(m.failures),
              "pricing_calls": calls, "pricing_per_s": calls / pricing_s if pricing_s else 0.0}
     open_bounds = [b for b in open_bounds if not tree.pruned(b)]
     tail = () if inst.end is None else (inst.end,)
@@ -379,7 +384,8 @@ def _result(tree: _Tree, nodes: int, open_bounds: list[float], empty_ok: bool) -
         return Result(Status.OPTIMAL, tree.value, tree.value, elapsed, BACKEND, plan,
                       message=f"proven optimal; {nodes} nodes", stats=stats)
     bound = max(tree.rounded(b) for b in open_bounds)
-    why = "stopped on request" if stop_requested() else "time limit"
+    why = ("stopped on request" if stop_requested() else "time limit" if deadline.expired()
+           else "nodes left open by failed master LPs")
     if plan is None:
         return Result(Status.NO_SOLUTION, None, float(bound), elapsed, BACKEND, None,
                       message=why, stats=stats)

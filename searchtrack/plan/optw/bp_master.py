@@ -21,12 +21,16 @@ added columns.
 from __future__ import annotations
 
 import itertools
+import logging
+import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
-from ortools.linear_solver import pywraplp
+from ortools.linear_solver import linear_solver_pb2, pywraplp
+
+log = logging.getLogger("searchtrack.plan.optw.bp")
 
 Path = tuple[int, ...]
 Arc = tuple[int, int]
@@ -102,6 +106,8 @@ class Master:
     paths: list[Path] = field(default_factory=list)
     profits: list[float] = field(default_factory=list)
     _known: dict[Path, int] = field(default_factory=dict)
+    failures: int = field(default=0, init=False)
+    """Solves GLOP reported numerically troubled (each re-solved from scratch)."""
 
     def __post_init__(self) -> None:
         s = pywraplp.Solver.CreateSolver("GLOP")
@@ -166,16 +172,47 @@ class Master:
             self.slack[i - 1].SetUb(1.0 if req else 0.0)
 
     def solve(self, time_limit_s: float) -> LPSolution | None:
-        """Solve the RMP; ``None`` when GLOP stops before its optimum."""
+        """Solve the RMP; ``None`` when GLOP stops before its optimum.
+
+        GLOP warm-starts from the previous basis; when it reports numerical trouble
+        (``ABNORMAL``, seen after thousands of columns and many bound changes, on an RMP that a
+        fresh GLOP solves at once) the RMP is rebuilt in a new solver and solved again.
+        """
         s = self.solver
+        started = time.perf_counter()
         s.SetTimeLimit(max(1, int(1000 * time_limit_s)))
-        if s.Solve() != pywraplp.Solver.OPTIMAL:
+        status = s.Solve()
+        if status == pywraplp.Solver.ABNORMAL:
+            log.warning("GLOP: numerical trouble on the master (%d columns); solving it again "
+                        "in a fresh solver", len(self.vars))
+            self.failures += 1
+            s = self._rebuild()
+            left = time_limit_s - (time.perf_counter() - started)
+            s.SetTimeLimit(max(1, int(1000 * left)))
+            status = s.Solve()
+        if status != pywraplp.Solver.OPTIMAL:
             return None
         values = np.array([v.solution_value() for v in self.vars], dtype=np.float64)
         pi = np.zeros(self.n)
         pi[1:-1] = [self.rows[i].dual_value() for i in range(1, self.n - 1)]
         art = sum(a.solution_value() for a in self.slack) + self.fleet_slack.solution_value()
         return LPSolution(self.objective.Value(), values, pi, self.fleet.dual_value(), art)
+
+    def _rebuild(self) -> pywraplp.Solver:
+        """Move the RMP into a fresh GLOP (same rows, columns, bounds and objective) and
+        rebind the handles; return the new solver."""
+        proto = linear_solver_pb2.MPModelProto()
+        self.solver.ExportModelToProto(proto)
+        s = pywraplp.Solver.CreateSolver("GLOP")
+        error = s.LoadModelFromProto(proto)
+        if error:  # pragma: no cover - a model GLOP itself exported
+            raise RuntimeError(f"GLOP could not reload the master: {error}")
+        rows, columns = s.constraints(), s.variables()
+        k = self.n - 2  # customer slacks, then the fleet slack, then the route columns
+        self.rows, self.fleet = rows[:self.n], rows[self.n]
+        self.slack, self.fleet_slack, self.vars = columns[:k], columns[k], columns[k + 1:]
+        self.solver, self.objective = s, s.Objective()
+        return s
 
     def visits(self, values: NDArray[np.float64]) -> NDArray[np.float64]:
         """``Σ_r a_ir λ_r`` for every core vertex."""

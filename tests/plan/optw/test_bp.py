@@ -14,6 +14,7 @@ from searchtrack.core.interrupt import clear_stop, request_stop
 from searchtrack.core.result import Status
 from searchtrack.plan.optw import OPTWInstance, read_optw, validate
 from searchtrack.plan.optw.bp import Tuning, solve_bp
+from searchtrack.plan.optw.bp_master import LPSolution, Master
 from searchtrack.plan.optw.labelling import warm_up
 from tests.plan.optw.catalogue import brute_force, catalogue
 from tests.plan.optw.small import random_instance
@@ -181,6 +182,25 @@ def test_stop_request_keeps_the_bound_valid() -> None:
         clear_stop()
     assert res.status in (Status.FEASIBLE, Status.NO_SOLUTION)
     assert res.bound is not None and res.bound >= fast_brute(inst) - 1e-9
+
+
+def test_failed_master_lp_leaves_its_node_open(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A node whose master LP fails (GLOP gives no optimum twice) stays open with its bound: the
+    tree goes on, no optimum is claimed, and the message says why (not "time limit")."""
+    inst = grid_instance(3, 13, 2)  # optimum 52 of the 63 on offer: the root bound is not tight
+    optimum = fast_brute(inst)
+    calls = {"n": 0}
+    solve = Master.solve
+
+    def failing_first_solve(self: Master, time_limit_s: float) -> LPSolution | None:
+        calls["n"] += 1
+        return None if calls["n"] == 1 else solve(self, time_limit_s)
+
+    monkeypatch.setattr(Master, "solve", failing_first_solve)
+    res = solve_bp(inst, time_limit_s=20, tuning=FAST)
+    assert res.status is Status.FEASIBLE and "failed master LPs" in res.message
+    assert res.runtime_s < 20 and res.bound is not None and res.bound >= optimum - 1e-9
+    assert res.plan is not None and validate(inst, res.plan).feasible
 
 
 def test_initial_plan_is_kept_as_incumbent() -> None:

@@ -103,3 +103,38 @@ def test_pool_ip_packs_disjoint_columns(vehicles: int, empty_ok: bool, best: flo
         return
     assert chosen is not None and sum(PROFITS[k] for k in chosen) == best
     assert pool_ip(PATHS[:3], PROFITS[:3], vehicles, empty_ok, best, 5.0, 0) is None
+
+
+class _Troubled:
+    """A GLOP stand-in whose first solve reports numerical trouble."""
+
+    def __init__(self, inner: object) -> None:
+        self.inner, self.calls = inner, 0
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self.inner, name)
+
+    def Solve(self) -> int:
+        self.calls += 1
+        return int(self.inner.ABNORMAL)  # type: ignore[attr-defined]
+
+
+def test_a_troubled_solve_is_repeated_in_a_fresh_solver() -> None:
+    """After GLOP's ABNORMAL the master moves to a fresh solver and gives the same optimum,
+    duals and branching bounds, and keeps working (adding columns, restricting)."""
+    m = _master(2, empty_ok=False)
+    m.restrict(Restrictions(required=frozenset({2})))
+    before = m.solve(10.0)
+    troubled = _Troubled(m.solver)
+    m.solver = troubled  # type: ignore[assignment]
+    after = m.solve(10.0)
+    assert troubled.calls == 1 and m.failures == 1 and m.solver is not troubled
+    assert before is not None and after is not None
+    assert after.objective == pytest.approx(before.objective)
+    np.testing.assert_allclose(after.pi, before.pi, atol=1e-9)
+    assert after.mu == pytest.approx(before.mu)
+    np.testing.assert_allclose(after.values, before.values, atol=1e-9)
+    m.add([(0, 2, 1, 3)], [9.0])
+    m.restrict(Restrictions())
+    lp = m.solve(10.0)
+    assert lp is not None and lp.objective == pytest.approx(9.0)  # (0, 2, 1, 3) and the empty route
