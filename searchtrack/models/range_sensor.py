@@ -137,17 +137,42 @@ class RangeBearingElevationSensor:
         unit = np.column_stack([ce * np.cos(theta), ce * np.sin(theta), np.sin(elev)])
         return np.asarray(_pose(pose) + d[:, None] * unit)
 
+    def _residuals(self, pose: FloatArray, measurements: FloatArray,
+                   positions: FloatArray) -> FloatArray:
+        """``(k, N, 3)`` residuals ``z_i − h(x_j)``, bearing wrapped to ``[−π, π)``."""
+        z = np.asarray(measurements, dtype=np.float64).reshape(-1, 3)
+        res = z[:, None, :] - self.measurement(pose, positions)[None, :, :]
+        res[:, :, 1] = wrap_angle(res[:, :, 1])
+        return res
+
     def likelihood(self, pose: FloatArray, measurements: FloatArray,
                    positions: FloatArray) -> FloatArray:
         """``(k, N)`` densities ``N(z_i; h(x_j), R)``, eq. (3), bearing residual wrapped."""
-        z = np.asarray(measurements, dtype=np.float64).reshape(-1, 3)
-        h = self.measurement(pose, positions)
         s = self._sigma
-        res = z[:, None, :] - h[None, :, :]
-        res[:, :, 1] = wrap_angle(res[:, :, 1])
-        res /= s
+        res = self._residuals(pose, measurements, positions) / s
         norm = 1.0 / ((2.0 * math.pi) ** 1.5 * float(np.prod(s)))
         return np.asarray(norm * np.exp(-0.5 * np.sum(res * res, axis=2)))
+
+    def innovation_distance(self, pose: FloatArray, measurements: FloatArray,
+                            positions: FloatArray, position_sigma_m: float = 0.0) -> FloatArray:
+        """``(k, N)`` normalised innovations ``‖S^{-1/2} (z_i − h(x_j))‖`` (Mahalanobis).
+
+        ``S = R + H P Hᵀ`` with ``P = s² I`` the isotropic uncertainty of the position ``x_j``
+        (``s = position_sigma_m ≥ 0``) and ``H`` the Jacobian of ``h`` at ``x_j``, whose rows
+        (range, bearing, elevation) are orthogonal with norms ``1``, ``1/(d cos ϖ)`` and
+        ``1/d``: ``S = diag(σ_d² + s², σ_θ² + s²/(d cos ϖ)², σ_ϖ² + s²/d²)``. With ``s = 0`` this
+        is the distance in standard deviations of the noise of eq. (2); the position noise of a
+        measurement grows with the range (``σ_θ d`` across the line of sight), which a fixed
+        gate in metres ignores.
+        """
+        s2 = checks.non_negative("position_sigma_m", position_sigma_m) ** 2
+        h = self.measurement(pose, positions)
+        d = np.maximum(h[:, 0], 1e-9)
+        cos_e = np.maximum(np.cos(h[:, 2]), 1e-9)
+        var = np.column_stack([np.ones_like(d), 1.0 / (d * cos_e) ** 2, 1.0 / d ** 2]) * s2
+        var += self._sigma ** 2
+        res = self._residuals(pose, measurements, positions)
+        return np.asarray(np.sqrt(np.sum(res * res / var[None, :, :], axis=2)))
 
     def clutter_intensity(self, pose: FloatArray, measurements: FloatArray) -> FloatArray:
         """``(k,)`` clutter PHD ``clutter_rate / volume`` inside the measurement box (0 without

@@ -113,3 +113,22 @@ def test_bad_pose_and_positions() -> None:
         sensor.detection_probability(np.array([1.0, 2.0]), np.zeros((1, 3)))
     with pytest.raises(InvalidInputError, match="positions"):
         sensor.detection_probability(POSE, np.zeros((1, 2)))
+
+
+def test_innovation_distance_is_the_mahalanobis_distance() -> None:
+    """Without position uncertainty it is ``‖(z − h(x)) / σ‖`` (bearing wrapped) and the
+    likelihood is ``exp(−d²/2)`` over its peak; a position uncertainty ``s`` adds ``s²`` to the
+    range variance and ``s²/d²`` to the elevation's (hand values at 100 m due east)."""
+    sensor = RangeBearingElevationSensor(sigma=(1.0, 0.02, 0.03))
+    x = POSE[None, :] + np.array([[100.0, 0.0, 0.0]])
+    z = np.array([[102.0, 0.04 - 2.0 * math.pi, -0.03], [100.0, 0.0, 0.0]])
+    d = sensor.innovation_distance(POSE, z, x)
+    np.testing.assert_allclose(d[:, 0], [math.sqrt(4.0 + 4.0 + 1.0), 0.0], atol=1e-9)
+    peak = sensor.likelihood(POSE, z[1:], x)[0, 0]
+    np.testing.assert_allclose(sensor.likelihood(POSE, z[:1], x)[0, 0],
+                               peak * math.exp(-0.5 * 9.0))
+    s = 2.0  # range variance 1 + 4, bearing 0.02² + 4e-4, elevation 0.03² + 4e-4
+    wide = sensor.innovation_distance(POSE, z[:1], x, position_sigma_m=s)[0, 0]
+    assert wide == pytest.approx(math.sqrt(4.0 / 5.0 + 0.04 ** 2 / 8e-4 + 0.03 ** 2 / 13e-4))
+    with pytest.raises(InvalidInputError, match="position_sigma_m"):
+        sensor.innovation_distance(POSE, z, x, position_sigma_m=-1.0)

@@ -3,8 +3,8 @@
 One role, one verb, each a pure function of an immutable :class:`PHDState`: :func:`predict`
 (survival, motion, births), :func:`update` (sequential multi-sensor correction), :func:`extract`
 (point estimates), :func:`resample` (systematic, with a particle cap); :func:`step` chains them
-for one scan. :func:`entropy_per_target` is paper 003's eq. 15; :func:`mark_found` and
-:func:`gate_measurements` are paper 004's found-target bookkeeping.
+for one scan. :func:`entropy_per_target` is paper 003's eq. 15; :func:`mark_found`,
+:func:`gate_measurements` and :func:`gate_found` are paper 004's found-target bookkeeping.
 """
 
 from __future__ import annotations
@@ -20,7 +20,13 @@ from searchtrack.estimate.phd.extract import (
     kmeans_clusters,
 )
 from searchtrack.estimate.phd.filter import step
-from searchtrack.estimate.phd.found import FoundConfig, gate_measurements, mark_found
+from searchtrack.estimate.phd.found import (
+    FoundConfig,
+    InnovationSensor,
+    gate_found,
+    gate_measurements,
+    mark_found,
+)
 from searchtrack.estimate.phd.predict import predict
 from searchtrack.estimate.phd.resample import resample, systematic_indices
 from searchtrack.estimate.phd.state import NEWBORN, PERSISTENT, PHDState
@@ -34,6 +40,7 @@ __all__ = [
     "Clusters",
     "Estimates",
     "FoundConfig",
+    "InnovationSensor",
     "PHDConfig",
     "PHDState",
     "SensorScan",
@@ -42,6 +49,7 @@ __all__ = [
     "extract",
     "extract_attribution",
     "extract_kmeans",
+    "gate_found",
     "gate_measurements",
     "kmeans_clusters",
     "mark_found",

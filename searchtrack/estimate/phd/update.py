@@ -16,10 +16,12 @@ update records, for the extraction and the next prediction:
   births follow the unexplained measurements instead of a constant total. Without clutter
   ``C_z = Σ_i L_{z,i}``, so ``ρ_z`` is 1 for a measurement any particle explains and 0 for one no
   particle can (``C_z = 0``): the renormalised shares of such a scan are ratios of rounding
-  errors that still sum to ``birth_mass``, the upward drift of the expected count in paper
-  004's clutter-free search. The adaptive seeds add ``Σ_z (1 − ρ_z)`` per unit of
-  ``birth_mass``, and the update plus the next births add ``Σ_z ρ_z + birth_mass Σ_z (1 − ρ_z)``
-  ``≤ |Z|`` (equal for ``birth_mass = 1``);
+  errors that still sum to ``birth_mass``. In paper 004's clutter-free search that raised the
+  mass of a seen target from about 1 to about 1.1 (a small part of the upward drift of its
+  expected count, most of which came from found targets' detections passing a gate too tight
+  for the sensor noise: see :mod:`searchtrack.estimate.phd.found`). The adaptive seeds add
+  ``Σ_z (1 − ρ_z)`` per unit of ``birth_mass``, and the update plus the next births add
+  ``Σ_z ρ_z + birth_mass Σ_z (1 − ρ_z) ≤ |Z|`` (equal for ``birth_mass = 1``);
 - per *missed target*: particles carry the tag of the group they were assigned to at the last
   update. A group with predicted mass ``P`` of which measurements explain less than one half is a
   target that may have been missed. Treating the group as a Bernoulli component with existence

@@ -13,7 +13,7 @@ import json
 import math
 import time
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import resources
 
 import numpy as np
@@ -201,14 +201,26 @@ SEARCH_FOUND_BY_STEP = 250
 def _search(params: Params, seed: int) -> Metrics:
     """One closed-loop paper-004 search episode, configured as
     ``benchmarks/phd_search_experiments.py search`` / ``horizon`` do (``max_steps = 0``: the
-    3-D lawnmower's length, as the scripts' default cap)."""
+    3-D lawnmower's length, as the scripts' default cap).
+
+    ``adaptive_birth = true`` switches the filter to
+    ``PHDConfig(adaptive_birth=True, birth_mass=1)`` with the found-target mass ``T_m = 1``
+    derived for that birth (see :mod:`searchtrack.sim.experiments.phd_search`);
+    ``found_gate_sigmas`` is ``FoundConfig.gate_sigmas`` (4, the loop's innovation gate, by
+    default; 0: 004's printed ball of ``T_z = 5`` m)."""
     cap = int(params["max_steps"])
     if cap == 0:
         cap = len(lawnmower_3d(SearchConfig().bounds, 48.0, 48.0, 12.0))
     refinement = CentreProbability() if params["refinement"] == "centre" else EmptyHorizonMI()
+    base = SearchConfig()
+    phd, found = base.phd, replace(base.found, gate_sigmas=float(params["found_gate_sigmas"]))
+    if params["adaptive_birth"]:
+        phd = replace(phd, adaptive_birth=True, birth_mass=1.0)
+        found = replace(found, mass=1.0)
     config = SearchConfig(planner=str(params["planner"]),  # type: ignore[arg-type]
                           horizon=int(params["horizon"]), max_steps=cap,
-                          alpha=float(params["alpha"]), refinement=refinement)
+                          alpha=float(params["alpha"]), refinement=refinement, phd=phd,
+                          found=found)
     ep = run_search_episode(config, seed)
     counts = ep.found_per_step
     return {"steps_to_find_all": ep.steps_to_find_all if ep.finished else None,
@@ -332,7 +344,8 @@ _EXPERIMENTS = (
     Experiment("phd_search_episode", (
         Param("planner", str, "proposed", PLANNERS), Param("horizon", int, 1, (1, 2, 3, 4, 5)),
         Param("refinement", str, "centre", SEARCH_REFINEMENTS), Param("alpha", float, 1.0),
-        Param("max_steps", int, 0)),
+        Param("max_steps", int, 0), Param("adaptive_birth", bool, False),
+        Param("found_gate_sigmas", float, 4.0, minimum=0.0)),
         {"steps_to_find_all": int, "steps_capped": int, "targets_found": int,
          "found_by_step_250": int, "false_found": int, "rmse_m": float, "planner_ms": float,
          "filter_ms": float}, _search,

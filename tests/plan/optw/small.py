@@ -36,7 +36,8 @@ def random_instance(seed: int) -> OPTWInstance:
     if end:
         opn[end], close[end] = 0, 80
     return OPTWInstance(travel=travel, service=rng.integers(0, 4, size=n),
-                        profit=rng.integers(1, 9, size=n).astype(float), open=opn, close=close, end=end,
+                        profit=rng.integers(1, 9, size=n).astype(float), open=opn, close=close,
+                        end=end,
                         tmax=int(rng.integers(40, 90)), name=f"random-{seed}")
 
 

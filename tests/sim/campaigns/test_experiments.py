@@ -107,9 +107,60 @@ def test_search_episode_defaults_are_the_benchmark_defaults() -> None:
     length (``max_steps = 0``, as ``benchmarks/phd_search_experiments.py``)."""
     exp = get("phd_search_episode")
     assert exp.resolve({}) == {"planner": "proposed", "horizon": 1, "refinement": "centre",
-                               "alpha": 1.0, "max_steps": 0}
+                               "alpha": 1.0, "max_steps": 0, "adaptive_birth": False,
+                               "found_gate_sigmas": 4.0}
     with pytest.raises(InvalidInputError, match="horizon=6"):
         exp.resolve({"horizon": 6})
+
+
+def test_search_birth_and_gate_options_are_checked(tmp_path: Path) -> None:
+    """``adaptive_birth`` must be a bool and ``found_gate_sigmas`` a number ≥ 0: bad values are
+    refused naming the parameter, in Python and in a campaign file (the dotted key)."""
+    exp = get("phd_search_episode")
+    for name, bad in [("adaptive_birth", 1), ("adaptive_birth", "yes"),
+                      ("found_gate_sigmas", -1.0), ("found_gate_sigmas", float("nan")),
+                      ("found_gate_sigmas", True)]:
+        with pytest.raises(InvalidInputError) as info:
+            exp.resolve({name: bad})
+        assert info.value.field == name
+    path = tmp_path / "bad.toml"
+    path.write_text('name = "b"\nexperiment = "phd_search_episode"\nseeds = [0]\n'
+                    '[settings]\nadaptive_birth = 1\n[grid]\nplanner = ["lawnmower"]\n',
+                    encoding="utf-8")
+    with pytest.raises(ParseError) as err:
+        read_spec(path)
+    assert err.value.field == "settings.adaptive_birth"
+    path.write_text('name = "b"\nexperiment = "phd_search_episode"\nseeds = [0]\n[grid]\n'
+                    'found_gate_sigmas = [4.0, -2.0]\n', encoding="utf-8")
+    with pytest.raises(ParseError) as err:
+        read_spec(path)
+    assert str(err.value.field).startswith("grid") and "found_gate_sigmas" in str(err.value.field)
+
+
+def test_search_birth_and_gate_options_reach_the_loop(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``adaptive_birth`` switches the filter to adaptive birth of mass 1 with ``T_m = 1``;
+    ``found_gate_sigmas`` is the found-target gate; the defaults are the loop's defaults."""
+    from dataclasses import replace
+
+    from searchtrack.sim.campaigns import experiments
+    from searchtrack.sim.experiments.phd_search import SearchConfig, run_search_episode
+
+    seen: list[SearchConfig] = []
+    real = run_search_episode
+
+    def spy(config: SearchConfig, seed: int):  # type: ignore[no-untyped-def]
+        seen.append(config)
+        return real(replace(config, max_steps=1), seed)
+
+    monkeypatch.setattr(experiments, "run_search_episode", spy)
+    common: dict[str, object] = {"planner": "lawnmower", "max_steps": 2}
+    _run("phd_search_episode", common)
+    _run("phd_search_episode", {**common, "adaptive_birth": True, "found_gate_sigmas": 0})
+    default, switched = seen
+    loop = SearchConfig()
+    assert (default.phd, default.found) == (loop.phd, loop.found)
+    assert switched.phd == replace(loop.phd, adaptive_birth=True, birth_mass=1.0)
+    assert switched.found == replace(loop.found, mass=1.0, gate_sigmas=0.0)
 
 
 @pytest.mark.parametrize(("planner", "motion"), [("end", "random_walk"), ("mi", "gp"),
@@ -186,7 +237,7 @@ def test_mission_options_default_off_and_are_checked(tmp_path: Path) -> None:
 def test_mission_options_reach_the_scenario() -> None:
     """Switched on, the options change a short grid mission's run; off, the run is the one the
     scenario without them flies; MOC after detection is reported."""
-    common = {"duration_s": 20.0, "uavs": 2, "targets": 2}
+    common: dict[str, object] = {"duration_s": 20.0, "uavs": 2, "targets": 2}
     base = _run("mission", common, seed=6)
     assert base == _run("mission", {**common, "tracker_alpha": 0.0, "handover": False,
                                     "coverage_weight": 0.0}, seed=6)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -154,3 +155,21 @@ def test_centre_refinement_does_not_oscillate_between_far_groups() -> None:
         moves.append(plan.waypoint - q)
         q = plan.waypoint
     assert not any(np.allclose(m1, -m0) for m0, m1 in itertools.pairwise(moves))
+
+
+@pytest.mark.parametrize("offset_m", [6.0, 9.0])
+def test_far_detection_of_a_found_target_does_not_rebuild_it(offset_m: float) -> None:
+    """A found target seen from 150 m, its measurement 6 or 9 m across the line of sight from
+    the saved estimate (2–3 σ of the 3 m bearing noise there): the loop's gate drops it, so it
+    updates nothing and seeds no birth. With 004's printed 5 m ball (``gate_sigmas = 0``) it
+    passed and seeded a birth at the found target, the peak the gate is meant to prevent."""
+    cfg = SearchConfig(planner="lawnmower")
+    found = np.array([[150.0, 0.0, 0.0]])
+    z = cfg.sensor.measurement(np.zeros(3), np.array([[150.0, offset_m, 0.0]]))
+    printed = replace(cfg, found=replace(cfg.found, gate_sigmas=0.0))
+    for config, births in ((cfg, 0), (printed, 1)):
+        state, saved, _ = _filter_step(PHDState.empty(3, 3), found, z, np.zeros(3), config,
+                                       np.random.default_rng(0))
+        assert state.record.seed_positions.shape[0] == births
+        np.testing.assert_array_equal(saved, found)
+    assert cfg.found.gate_sigmas == 4.0
