@@ -197,7 +197,10 @@ class FilterSpec:
         tracker born where a live tracker has lost its target (no fix for 1 s, half its mass
         within ``2·gate_m`` road distance of the birth) replaces that tracker's distribution,
         which keeps its ``track_id``, instead of becoming a second tracker (see
-        :mod:`searchtrack.estimate.handover`; off by default; ``belief = "lrt"`` only).
+        :mod:`searchtrack.estimate.handover`; ``belief = "lrt"`` only). On by default:
+        in experiment 2 (10 seeds × 4 altitudes × 2 strategies per fleet) it raised PVT from
+        0.82 to 0.88 (3 UAVs / 2 targets) and 0.84 to 0.88 (1 / 4) at an unchanged MOC;
+        ``false`` is the thesis read literally.
     """
 
     alpha: float = 0.447
@@ -214,7 +217,7 @@ class FilterSpec:
     histories: int = 10
     particles: int = 500
     tracker_alpha: float | None = None
-    handover: bool = False
+    handover: bool = True
 
     def __post_init__(self) -> None:
         for name in ("alpha", "decay_c", "phi_max", "gate_m"):

@@ -185,7 +185,7 @@ def _filter(t: Table) -> FilterSpec:
         histories=t.integer("histories", 10, minimum=1),
         particles=t.integer("particles", 500, minimum=1),
         tracker_alpha=t.optional_number("tracker_alpha"),
-        handover=t.boolean("handover", False),
+        handover=t.boolean("handover", True),
     )
     t.done()
     return spec

@@ -74,11 +74,11 @@ def test_rbpf_size_is_capped() -> None:
                     filter=FilterSpec(histories=1, particles=huge)).filter.belief == "lrt"
 
 
-def test_options_of_this_library_are_off_by_default_and_validated() -> None:
-    """``tracker_alpha`` (None: the LRT's α), ``handover`` (False) and ``coverage_weight`` (0)
-    default to the thesis; bad values are refused naming the field."""
+def test_options_of_this_library_defaults_and_validation() -> None:
+    """``tracker_alpha`` (None: the LRT's α) and ``coverage_weight`` (0) default to the thesis,
+    ``handover`` to on; bad values are refused naming the field."""
     f, g = FilterSpec(), GuidanceSpec()
-    assert (f.tracker_alpha, f.handover, g.coverage_weight) == (None, False, 0.0)
+    assert (f.tracker_alpha, f.handover, g.coverage_weight) == (None, True, 0.0)
     assert FilterSpec(tracker_alpha=0.894, handover=True).tracker_alpha == 0.894
     assert GuidanceSpec(coverage_weight=2.0).coverage_weight == 2.0
     bad: list[tuple[type, dict[str, object], str]] = [

@@ -325,7 +325,7 @@ _EXPERIMENTS = (
         Param("strategy", str, "search_and_loiter",
               ("search", "loiter", "search_and_loiter", "search_and_reacquire")),
         Param("altitude_m", float, 457.2), Param("duration_s", float, 60.0),
-        Param("tracker_alpha", float, 0.0, minimum=0.0), Param("handover", bool, False),
+        Param("tracker_alpha", float, 0.0, minimum=0.0), Param("handover", bool, True),
         Param("coverage_weight", float, 0.0, minimum=0.0)),
         {"detected": int, "time_to_detect_all_s": float, "moc_mean": float,
          "moc_after_detection": float, "pvt": float, "pva": float}, road_missions.mission_run,

@@ -175,9 +175,10 @@ def mission_run(params: Mapping[str, bool | int | float | str],
     experiment 1, track mode as experiment 2's cell (altitude-model sensor, guidance
     ``strategy``), on ``map`` with the given fleet.
 
-    This library's options, off at their defaults: ``tracker_alpha`` (0: the trackers diffuse
-    at the LRT's ``α``, else :attr:`FilterSpec.tracker_alpha`), ``handover``
-    (:attr:`FilterSpec.handover`) and ``coverage_weight`` (:attr:`GuidanceSpec.coverage_weight`).
+    This library's options: ``tracker_alpha`` (0, the default: the trackers diffuse at the
+    LRT's ``α``, else :attr:`FilterSpec.tracker_alpha`), ``handover``
+    (:attr:`FilterSpec.handover`, on by default) and ``coverage_weight``
+    (:attr:`GuidanceSpec.coverage_weight`, 0 by default).
     The metrics are the :class:`~searchtrack.sim.metrics.MissionScore`'s ``detected``,
     ``time_to_detect_all_s``, ``moc_mean``, ``moc_after_detection``, ``pvt`` and ``pva``.
     """

@@ -207,14 +207,14 @@ def test_road_tracking_episode_matches_the_direct_call() -> None:
     assert out["error_m"] == pytest.approx(float(log.error_m.mean()))
 
 
-def test_mission_options_default_off_and_are_checked(tmp_path: Path) -> None:
-    """``tracker_alpha``, ``handover`` and ``coverage_weight`` default to off (0, false, 0);
+def test_mission_options_defaults_and_checks(tmp_path: Path) -> None:
+    """``tracker_alpha`` and ``coverage_weight`` default to off (0), ``handover`` to on;
     a negative value is refused naming the parameter, in Python and in a campaign file (the
     file and the dotted key)."""
     mission = get("mission")
     resolved = mission.resolve({})
     assert (resolved["tracker_alpha"], resolved["handover"], resolved["coverage_weight"]) == (
-        0.0, False, 0.0)
+        0.0, True, 0.0)
     assert "moc_after_detection" in mission.metrics
     for name, bad in [("tracker_alpha", -0.5), ("coverage_weight", -1.0),
                       ("tracker_alpha", float("inf")), ("handover", 1)]:
