@@ -54,7 +54,7 @@ bench: $(STAMP)
 # Every benchmark table in turn (about two hours on 2 cores; run on an idle machine). The Monte
 # Carlo experiments are campaigns: resumable, their rows in out/campaigns/*.duckdb, reports and
 # figures beside them; the scripts left are timing and solver-quality tables.
-CAMPAIGNS := thesis_exp1 thesis_exp2 phd_standard p003_tracking p004_search p004_search_mi \
+CAMPAIGNS := thesis_exp1 thesis_exp2 phd_standard p003_tracking p004_search p004_search_mi p004_search_fov \
 	p004_horizon p000_planners p000_osm
 
 bench-all: bench campaigns

@@ -207,7 +207,9 @@ def _search(params: Params, seed: int) -> Metrics:
     ``PHDConfig(adaptive_birth=True, birth_mass=1)`` with the found-target mass ``T_m = 1``
     derived for that birth (see :mod:`searchtrack.sim.experiments.phd_search`);
     ``found_gate_sigmas`` is ``FoundConfig.gate_sigmas`` (4, the loop's innovation gate, by
-    default; 0: 004's printed ball of ``T_z = 5`` m)."""
+    default; 0: 004's printed ball of ``T_z = 5`` m); ``fov = "squared"`` gives the sensor the
+    Gaussian field of view ``exp(−‖ζ‖²/2)`` instead of 004's printed ``exp(−‖ζ‖/2)``
+    (:class:`~searchtrack.models.range_sensor.RangeBearingElevationSensor`)."""
     cap = int(params["max_steps"])
     if cap == 0:
         cap = len(lawnmower_3d(SearchConfig().bounds, 48.0, 48.0, 12.0))
@@ -217,10 +219,11 @@ def _search(params: Params, seed: int) -> Metrics:
     if params["adaptive_birth"]:
         phd = replace(phd, adaptive_birth=True, birth_mass=1.0)
         found = replace(found, mass=1.0)
+    sensor = replace(base.sensor, squared=params["fov"] == "squared")
     config = SearchConfig(planner=str(params["planner"]),  # type: ignore[arg-type]
                           horizon=int(params["horizon"]), max_steps=cap,
                           alpha=float(params["alpha"]), refinement=refinement, phd=phd,
-                          found=found)
+                          found=found, sensor=sensor)
     ep = run_search_episode(config, seed)
     counts = ep.found_per_step
     return {"steps_to_find_all": ep.steps_to_find_all if ep.finished else None,
@@ -345,7 +348,8 @@ _EXPERIMENTS = (
         Param("planner", str, "proposed", PLANNERS), Param("horizon", int, 1, (1, 2, 3, 4, 5)),
         Param("refinement", str, "centre", SEARCH_REFINEMENTS), Param("alpha", float, 1.0),
         Param("max_steps", int, 0), Param("adaptive_birth", bool, False),
-        Param("found_gate_sigmas", float, 4.0, minimum=0.0)),
+        Param("found_gate_sigmas", float, 4.0, minimum=0.0),
+        Param("fov", str, "printed", ("printed", "squared"))),
         {"steps_to_find_all": int, "steps_capped": int, "targets_found": int,
          "found_by_step_250": int, "false_found": int, "rmse_m": float, "planner_ms": float,
          "filter_ms": float}, _search,

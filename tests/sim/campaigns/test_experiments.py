@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from searchtrack.core.errors import InvalidInputError, ParseError
@@ -108,7 +109,7 @@ def test_search_episode_defaults_are_the_benchmark_defaults() -> None:
     exp = get("phd_search_episode")
     assert exp.resolve({}) == {"planner": "proposed", "horizon": 1, "refinement": "centre",
                                "alpha": 1.0, "max_steps": 0, "adaptive_birth": False,
-                               "found_gate_sigmas": 4.0}
+                               "found_gate_sigmas": 4.0, "fov": "printed"}
     with pytest.raises(InvalidInputError, match="horizon=6"):
         exp.resolve({"horizon": 6})
 
@@ -119,7 +120,7 @@ def test_search_birth_and_gate_options_are_checked(tmp_path: Path) -> None:
     exp = get("phd_search_episode")
     for name, bad in [("adaptive_birth", 1), ("adaptive_birth", "yes"),
                       ("found_gate_sigmas", -1.0), ("found_gate_sigmas", float("nan")),
-                      ("found_gate_sigmas", True)]:
+                      ("found_gate_sigmas", True), ("fov", "gaussian"), ("fov", 1)]:
         with pytest.raises(InvalidInputError) as info:
             exp.resolve({name: bad})
         assert info.value.field == name
@@ -139,7 +140,8 @@ def test_search_birth_and_gate_options_are_checked(tmp_path: Path) -> None:
 
 def test_search_birth_and_gate_options_reach_the_loop(monkeypatch: pytest.MonkeyPatch) -> None:
     """``adaptive_birth`` switches the filter to adaptive birth of mass 1 with ``T_m = 1``;
-    ``found_gate_sigmas`` is the found-target gate; the defaults are the loop's defaults."""
+    ``found_gate_sigmas`` is the found-target gate; ``fov = "squared"`` the Gaussian field of
+    view; the defaults are the loop's defaults."""
     from dataclasses import replace
 
     from searchtrack.sim.campaigns import experiments
@@ -155,10 +157,15 @@ def test_search_birth_and_gate_options_reach_the_loop(monkeypatch: pytest.Monkey
     monkeypatch.setattr(experiments, "run_search_episode", spy)
     common: dict[str, object] = {"planner": "lawnmower", "max_steps": 2}
     _run("phd_search_episode", common)
-    _run("phd_search_episode", {**common, "adaptive_birth": True, "found_gate_sigmas": 0})
+    _run("phd_search_episode", {**common, "adaptive_birth": True, "found_gate_sigmas": 0,
+                                "fov": "squared"})
     default, switched = seen
     loop = SearchConfig()
     assert (default.phd, default.found) == (loop.phd, loop.found)
+    assert not default.sensor.squared and switched.sensor.squared
+    for sensor in (default.sensor, switched.sensor):  # only the norm changes
+        np.testing.assert_array_equal(sensor.fov_m, loop.sensor.fov_m)
+        assert sensor.gain == loop.sensor.gain
     assert switched.phd == replace(loop.phd, adaptive_birth=True, birth_mass=1.0)
     assert switched.found == replace(loop.found, mass=1.0, gate_sigmas=0.0)
 

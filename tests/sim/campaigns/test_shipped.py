@@ -23,6 +23,7 @@ EXPECTED = {
     "p004_search.toml": ("phd_search_episode", 3 * 10),
     "p004_horizon.toml": ("phd_search_episode", 3 * 10),
     "p004_search_mi.toml": ("phd_search_episode", 2 * 10),
+    "p004_search_fov.toml": ("phd_search_episode", 2 * 10),
     "p000_planners.toml": ("road_tracking_episode", 4 * 1000),
     "p000_osm.toml": ("road_tracking_episode", 4 * 100),
     "p002_exp2.toml": ("radio_tracking_episode", 9 * 2 * 3 * 20),
