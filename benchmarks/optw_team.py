@@ -63,7 +63,6 @@ def _num(x: object) -> str:
 def _solve(inst, backend: str, limit: float, seed: int):  # type: ignore[no-untyped-def]
     """``solve`` by backend name; ``cpsat1`` is CP-SAT on one worker thread (bp's core count)."""
     if backend == "cpsat1":
-        warm_up("cpsat")
         return checked(inst, solve_cpsat(inst, time_limit_s=limit, seed=seed, workers=1))
     return solve(inst, backend=backend, time_limit_s=limit, seed=seed)
 
@@ -173,8 +172,6 @@ def main() -> None:
     args = p.parse_args()
     started = time.perf_counter()
     with threadpool_limits(1):
-        from searchtrack.plan.optw.solve import warm_up
-
         for backend in args.backends:
             warm_up(backend)
         rows = run(args)

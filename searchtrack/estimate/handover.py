@@ -94,10 +94,10 @@ class TrackHandover:
     def near_mass(self, bank: TrackerBank, node: int) -> FloatArray:
         """``(len(bank),)`` probability of each tracker within ``reach_m`` road distance of
         ``node``."""
-        reach = self.network.shortest_paths(node, limit_m=self.reach_m)[0]
-        near = np.flatnonzero(reach <= self.reach_m)
         if not len(bank):
             return np.zeros(0)
+        reach = self.network.shortest_paths(node, limit_m=self.reach_m)[0]
+        near = np.flatnonzero(reach <= self.reach_m)
         return np.asarray(bank.probabilities()[:, near].sum(axis=1), dtype=np.float64)
 
     def hand_over(self, bank: TrackerBank, first_new_id: int,

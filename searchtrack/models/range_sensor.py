@@ -137,11 +137,12 @@ class RangeBearingElevationSensor:
         unit = np.column_stack([ce * np.cos(theta), ce * np.sin(theta), np.sin(elev)])
         return np.asarray(_pose(pose) + d[:, None] * unit)
 
-    def _residuals(self, pose: FloatArray, measurements: FloatArray,
-                   positions: FloatArray) -> FloatArray:
-        """``(k, N, 3)`` residuals ``z_i − h(x_j)``, bearing wrapped to ``[−π, π)``."""
+    @staticmethod
+    def _residuals(measurements: FloatArray, predicted: FloatArray) -> FloatArray:
+        """``(k, N, 3)`` residuals ``z_i − h(x_j)`` against the ``(N, 3)`` ``predicted``
+        ``h(x_j)``, bearing wrapped to ``[−π, π)``."""
         z = np.asarray(measurements, dtype=np.float64).reshape(-1, 3)
-        res = z[:, None, :] - self.measurement(pose, positions)[None, :, :]
+        res = z[:, None, :] - predicted[None, :, :]
         res[:, :, 1] = wrap_angle(res[:, :, 1])
         return res
 
@@ -149,7 +150,8 @@ class RangeBearingElevationSensor:
                    positions: FloatArray) -> FloatArray:
         """``(k, N)`` densities ``N(z_i; h(x_j), R)``, eq. (3), bearing residual wrapped."""
         s = self._sigma
-        res = self._residuals(pose, measurements, positions) / s
+        res = self._residuals(measurements, self.measurement(pose, positions))
+        res /= s
         norm = 1.0 / ((2.0 * math.pi) ** 1.5 * float(np.prod(s)))
         return np.asarray(norm * np.exp(-0.5 * np.sum(res * res, axis=2)))
 
@@ -171,7 +173,7 @@ class RangeBearingElevationSensor:
         cos_e = np.maximum(np.cos(h[:, 2]), 1e-9)
         var = np.column_stack([np.ones_like(d), 1.0 / (d * cos_e) ** 2, 1.0 / d ** 2]) * s2
         var += self._sigma ** 2
-        res = self._residuals(pose, measurements, positions)
+        res = self._residuals(measurements, h)
         return np.asarray(np.sqrt(np.sum(res * res / var[None, :, :], axis=2)))
 
     def clutter_intensity(self, pose: FloatArray, measurements: FloatArray) -> FloatArray:

@@ -106,7 +106,7 @@ def moc_after_detection(steps: list[StepScore], targets: int) -> float | None:
     flags = np.zeros((len(steps), targets), dtype=bool)
     for k, s in enumerate(steps):
         flags[k, list(s.tracked)] = True
-    known = np.logical_or.accumulate(flags, axis=0) if steps else flags
+    known = np.logical_or.accumulate(flags, axis=0)
     exposure = int(known.sum())
     return ratio(int(flags.sum()), exposure)
 

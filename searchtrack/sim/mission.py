@@ -24,12 +24,11 @@ Association and guidance are chosen by name from their registries
 integer drawn from the mission's generator, and the search-and-reacquire routes pass from one
 step's answer to the next step's problem.
 
-Three rules of this library, each off by default, change the thesis's loop:
-``filter.tracker_alpha`` (the trackers diffuse at their own rate, see :class:`World`),
-``filter.handover`` (a birth where a live tracker lost its target goes to that tracker, which
-keeps its identity: :mod:`searchtrack.estimate.handover`) and ``guidance.coverage_weight``
-(free searching UAVs are pushed away from road covered recently:
-:mod:`searchtrack.sim.coverage`).
+Three rules of this library change the thesis's loop: ``filter.handover`` (on by default: a
+birth where a live tracker lost its target goes to that tracker, which keeps its identity:
+:mod:`searchtrack.estimate.handover`), and, off by default, ``filter.tracker_alpha`` (the
+trackers diffuse at their own rate, see :class:`World`) and ``guidance.coverage_weight`` (free
+searching UAVs are pushed away from road covered recently: :mod:`searchtrack.sim.coverage`).
 """
 
 from __future__ import annotations
@@ -122,11 +121,10 @@ class World:
         """Build (or reuse ``network``) and prepare the diffusion operators."""
         net = network if network is not None else scenario.map.build()
         f = scenario.filter
-        tracker_alpha = f.alpha if f.tracker_alpha is None else f.tracker_alpha
         world = cls(
             net,
             GraphDiffusion.on_network(net, f.alpha, scenario.dt_s, decay_c=f.decay_c),
-            GraphDiffusion.on_network(net, tracker_alpha, scenario.dt_s),
+            GraphDiffusion.on_network(net, f.tracker_diffusivity, scenario.dt_s),
         )
         _ = world.lrt_diffusion.operator, world.tracker_diffusion.operator  # build them now
         return world
@@ -135,10 +133,9 @@ class World:
         """Why this world's operators are not those ``scenario`` builds (``None``: they are):
         a different LRT or tracker diffusivity, decay or time step."""
         f = scenario.filter
-        tracker_alpha = f.alpha if f.tracker_alpha is None else f.tracker_alpha
         lrt, trk = self.lrt_diffusion, self.tracker_diffusion
         wanted = {"filter.alpha": (lrt.alpha, f.alpha), "filter.decay_c": (lrt.decay_c, f.decay_c),
-                  "filter.tracker_alpha": (trk.alpha, tracker_alpha),
+                  "filter.tracker_alpha": (trk.alpha, f.tracker_diffusivity),
                   "dt_s": (trk.dt_s, scenario.dt_s)}
         off = [f"{k}: world {have:g}, scenario {want:g}" for k, (have, want) in wanted.items()
                if have != float(want)]

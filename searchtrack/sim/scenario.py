@@ -245,6 +245,11 @@ class FilterSpec:
             raise InvalidInputError("birth_weighting", self.birth_weighting,
                                     "must be 'llr' or 'likelihood_ratio'")
 
+    @property
+    def tracker_diffusivity(self) -> float:
+        """The trackers' diffusivity: ``tracker_alpha`` when set, else ``alpha``."""
+        return self.alpha if self.tracker_alpha is None else self.tracker_alpha
+
 
 @dataclass(frozen=True)
 class GuidanceSpec:

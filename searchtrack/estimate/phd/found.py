@@ -109,8 +109,6 @@ def _remove_closest(distances: FloatArray, limit: float) -> NDArray[np.bool_]:
     """``(k,)`` keep-mask: for each row of the ``(m, k)`` ``distances`` in order, the closest
     measurement not yet removed, if within ``limit``, is removed."""
     keep = np.ones(distances.shape[1], dtype=bool)
-    if distances.shape[1] == 0:
-        return keep
     for row in distances:
         dist = np.where(keep, row, np.inf)
         i = int(np.argmin(dist))
@@ -152,4 +150,4 @@ def gate_found(found: FloatArray, sensor: DetectionSensor, pose: FloatArray,
         raise InvalidInputError("sensor", type(sensor).__name__,
                                 "must have innovation_distance when gate_sigmas > 0")
     dist = sensor.innovation_distance(pose, z, found, config.gate_m / config.gate_sigmas)
-    return _remove_closest(np.asarray(dist, dtype=np.float64).T, config.gate_sigmas)
+    return _remove_closest(dist.T, config.gate_sigmas)

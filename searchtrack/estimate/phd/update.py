@@ -214,10 +214,10 @@ def update(state: PHDState, scans: Sequence[SensorScan], config: PHDConfig) -> P
     coast = (tags == NO_TAG) & (member >= 0)
     tags[coast] = acc.offset + member[coast]
     unexplained = np.clip(1.0 - rho, 0.0, None)
-    total = unexplained.sum()
     if config.adaptive_birth:
         seed_mass = config.birth_mass * unexplained
     else:
+        total = unexplained.sum()
         seed_mass = config.birth_mass * unexplained / total if total > 0.0 else unexplained * 0.0
     record = UpdateRecord(
         np.vstack(acc.means) if acc.means else np.empty((0, d)), kept_rho, missed_states,

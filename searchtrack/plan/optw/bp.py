@@ -41,7 +41,7 @@ from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw.bp_master import LPSolution, Master, Path, Restrictions, pool_ip
 from searchtrack.plan.optw.bp_pricing import Pricer, droppable
 from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes
-from searchtrack.plan.optw.labelling import _BIG, _CAP_MAX, Core, build_cores
+from searchtrack.plan.optw.labelling import _BIG, _CAP_MAX, Core, _route, build_cores
 from searchtrack.plan.optw.routes import idle_routes, initial_plan
 
 log = logging.getLogger("searchtrack.plan.optw.bp")
@@ -170,10 +170,10 @@ class _Tree:
                     node.bound = min(node.bound, lag)
                     if lag < centre_bound:
                         centre_bound, centre = lag, (pi.copy(), upper)
-                rc = [self.path_profit(p) - float(lp.pi[list(p[1:-1])].sum()) - lp.mu
-                      for p in paths]
-                good = [p for p, r in zip(paths, rc, strict=True) if r > _EPS]
-                added = m.add(good, [self.path_profit(p) for p in good])
+                gain = [self.path_profit(p) for p in paths]
+                good = [(p, c) for p, c in zip(paths, gain, strict=True)
+                        if c - float(lp.pi[list(p[1:-1])].sum()) - lp.mu > _EPS]
+                added = m.add([p for p, _ in good], [c for _, c in good])
                 proven = upper is not None and pi is lp.pi and exact
                 if added:
                     break
@@ -370,11 +370,9 @@ def _result(tree: _Tree, nodes: int, open_bounds: list[float], empty_ok: bool) -
              "nodes": float(nodes), "columns": float(m.size), "lp_failures": float(m.failures),
              "pricing_calls": calls, "pricing_per_s": calls / pricing_s if pricing_s else 0.0}
     open_bounds = [b for b in open_bounds if not tree.pruned(b)]
-    tail = () if inst.end is None else (inst.end,)
     plan: Routes | None = None
     if tree.best or tree.value > -math.inf:
-        routes = [(inst.start, *(int(tree.orig[v]) for v in p[1:-1]), *tail) for p in tree.best]
-        routes = [r for r in routes if len(r) > 1 + len(tail)]
+        routes = [_route(inst, tree.orig, list(p)) for p in tree.best if len(p) > 2]
         plan = tuple(routes) + idle_routes(inst)[len(routes):] if empty_ok else tuple(routes)
     elapsed = deadline.elapsed()
     if not open_bounds:

@@ -107,7 +107,7 @@ class Master:
     profits: list[float] = field(default_factory=list)
     _known: dict[Path, int] = field(default_factory=dict)
     failures: int = field(default=0, init=False)
-    """Solves GLOP reported numerically troubled (each re-solved from scratch)."""
+    """Solves GLOP reported numerically troubled (each repeated in a fresh solver)."""
 
     def __post_init__(self) -> None:
         s = pywraplp.Solver.CreateSolver("GLOP")

@@ -43,19 +43,20 @@ from searchtrack.plan.optw.bp_master import Path, Restrictions
 from searchtrack.plan.optw.instance import OPTWInstance
 from searchtrack.plan.optw.labelling import (
     _BIG,
+    _FULL_MEMORY,
     _MAX_BUCKETS,
     _MAX_QUEUE_LOG2,
+    _NG_SIZE,
     _PATHS_PER_PASS,
     _SCAN,
     Core,
     _finish,
+    _forbid_cycles,
     _path,
     base_ng,
     initial_ng,
 )
 from searchtrack.plan.optw.labelling_primitives import shortest_paths
-
-_FULL_MEMORY = 16
 
 log = logging.getLogger("searchtrack.plan.optw.bp_pricing")
 
@@ -100,7 +101,6 @@ class Priced:
     paths: list[Path]  # core paths src … snk
     values: list[float]  # Σ (p_i − π_i) of each path
     upper: float | None  # proven bound on the pricing optimum, None if the call was cut short
-    code: int  # the last kernel stop code
 
 
 @dataclass
@@ -109,7 +109,7 @@ class Pricer:
 
     fwd: Core
     drop_ok: NDArray[np.bool_]
-    ng_size: int = 8
+    ng_size: int = _NG_SIZE
     table_ng: int | None = 4  # ng-size of the table pass that starts exact pricing (None: off)
     guide: bool = False  # keep forward tables for :meth:`guided`
     memory: NDArray[np.bool_] = field(init=False)
@@ -127,7 +127,7 @@ class Pricer:
         shifted to the new profits. The duals have moved since, so the table is no bound and
         the pass may miss columns, but it is fast; the paths it returns are exact columns."""
         if self._guide is None:
-            return Priced([], [], None, K.DONE)
+            return Priced([], [], None)
         self.stats["pricing_calls"] += 1
         keep = np.ones(self.fwd.n, dtype=bool)
         keep[list(forbidden)] = False
@@ -141,7 +141,7 @@ class Pricer:
         lv, lp, par, found, n_found = out[5], out[6], out[7], out[12], out[13]
         paths = [tuple(int(idx[v]) for v in _path(lv, par, s)[::-1])
                  for s in found[:n_found].tolist()]
-        return Priced(paths, [float(lp[s]) for s in found[:n_found].tolist()], None, int(out[0]))
+        return Priced(paths, [float(lp[s]) for s in found[:n_found].tolist()], None)
 
     def _pass(self, core: Core, ng: NDArray[np.uint64], tab: NDArray[np.float64] | None,
               floor: float, gap: float, cap: int, collect: int, bprof: NDArray[np.float64],
@@ -243,11 +243,11 @@ class Pricer:
                 paths.append(tuple(int(idx[v]) for v in path))
                 values.append(float(lp[s]))
             if code != K.DONE:
-                return Priced(paths, values, None, int(code))
+                return Priced(paths, values, None)
             tops = np.concatenate([lp[found[:n_found]], lp[sinks[:n_sinks]]])
             upper = min(upper, max(floor + gap, float(tops.max(initial=-math.inf))))
             if n_found or not n_sinks:
-                return Priced(paths, values, upper, int(code))
+                return Priced(paths, values, upper)
             better = np.asarray(sinks[:n_sinks])
             for s in better[np.argsort(-lp[better], kind="stable")[:_PATHS_PER_PASS]]:
                 cyc = _path(lv, par, int(s))
@@ -273,11 +273,7 @@ class Pricer:
     def _forbid(self, ng: NDArray[np.uint64], idx: NDArray[np.intp], path: list[int]) -> None:
         """Forbid each cycle ``i … i`` of ``path`` (sub-graph vertices) in ``ng`` and in the
         learned memory (Martinelli, Pecin & Poggi 2014)."""
-        last: dict[int, int] = {}
-        for pos, v in enumerate(path):
-            if v in last:
-                word, bit = v >> 6, np.uint64(1) << np.uint64(v & 63)
-                for u in path[last[v] + 1: pos]:
-                    ng[u, word] |= bit
-                    self.memory[idx[u], idx[v]] = True
-            last[v] = pos
+        pairs: list[tuple[int, int]] = []
+        _forbid_cycles(ng, path, pairs)
+        for u, v in pairs:
+            self.memory[idx[u], idx[v]] = True

@@ -198,14 +198,18 @@ def _path(lv: NDArray[np.int64], par: NDArray[np.int64], leaf: int) -> list[int]
     return out[::-1]
 
 
-def _forbid_cycles(ng: NDArray[np.uint64], path: list[int]) -> int:
-    """Grow ng-sets so that each cycle ``i … i`` of ``path`` is forbidden; return bits added."""
+def _forbid_cycles(ng: NDArray[np.uint64], path: list[int],
+                   pairs: list[tuple[int, int]] | None = None) -> int:
+    """Grow ng-sets so that each cycle ``i … i`` of ``path`` is forbidden; return bits added.
+    Every pair ``(u, i)`` of a cycle (``u`` inside it) is also appended to ``pairs``."""
     added = 0
     last: dict[int, int] = {}
     for pos, v in enumerate(path):
         if v in last:
             word, bit = v >> 6, np.uint64(1) << np.uint64(v & 63)
             for u in path[last[v] + 1 : pos]:
+                if pairs is not None:
+                    pairs.append((u, v))
                 if not ng[u, word] & bit:
                     ng[u, word] |= bit
                     added += 1

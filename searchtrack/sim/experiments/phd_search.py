@@ -65,6 +65,7 @@ from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.phd import (
+    Clusters,
     FoundConfig,
     PHDConfig,
     PHDState,
@@ -290,19 +291,24 @@ def _filter_step(state: PHDState, found: FloatArray, z: FloatArray, position: Fl
         if np.unique(members, axis=0).shape[0] < config.min_distinct:
             masses[i] = 0.0
     solid = replace(clusters, masses=masses)
+    updated = state
     state, found = mark_found(state, solid, config.found, found)
-    return resample(state, config.phd, rng), found, _refinement_centres(state, k, config)
+    kept = clusters if state is updated else None  # nothing found: the same PHD, same k-means
+    return resample(state, config.phd, rng), found, _refinement_centres(state, k, config, kept)
 
 
-def _refinement_centres(state: PHDState, k: int, config: SearchConfig) -> FloatArray:
+def _refinement_centres(state: PHDState, k: int, config: SearchConfig,
+                        clusters: Clusters | None = None) -> FloatArray:
     """``(c, 3)`` centres of k-means clusters (``k`` or more) covering every particle group of
-    at least ``cover_mass``: eq. (11)'s ``x̂_i``, on the PHD left after the found-target test."""
+    at least ``cover_mass``: eq. (11)'s ``x̂_i``, on the PHD left after the found-target test
+    (``clusters``: its ``k``-means when already known)."""
     while True:
-        clusters = kmeans_clusters(state, k, config.phd)
+        if clusters is None:
+            clusters = kmeans_clusters(state, k, config.phd)
         outside = clusters.members < 0
         if k >= state.n_particles or state.weights[outside].sum() < config.cover_mass:
             return clusters.centres[clusters.masses > 0.0, :3]
-        k += 1
+        k, clusters = k + 1, None
 
 
 def run_search_episode(config: SearchConfig, seed: int) -> SearchEpisode:
