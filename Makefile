@@ -44,8 +44,11 @@ browser:
 docs: $(STAMP)
 	$(BIN)/mkdocs build --strict --site-dir out/site
 
+# The suite runs on TEST_WORKERS processes (pytest-xdist): about 4 minutes on 2 cores.
+TEST_WORKERS ?= 2
+
 test: lint typecheck browser
-	$(BIN)/pytest -q
+	$(BIN)/pytest -q -n $(TEST_WORKERS)
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,bench]'

@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from tables import table  # noqa: E402
 
 from searchtrack.cli import main  # noqa: E402
-from tests.cli.probes import PROBES  # noqa: E402
+from tests.cli.test_bad_input import ALL_PROBES  # noqa: E402
 from tests.cli.test_interrupt import OPTW, _interrupt, _wide_instance  # noqa: E402
 
 
@@ -31,7 +31,7 @@ def probes() -> None:
     """One row per probe: the input, the exit status (and whether it is the expected one), the
     first line of the message."""
     rows = []
-    for name, build, status, _ in PROBES:
+    for name, build, status, _ in ALL_PROBES:
         with tempfile.TemporaryDirectory() as folder:
             argv = build(Path(folder))
             err, out = io.StringIO(), io.StringIO()

@@ -25,9 +25,20 @@ from searchtrack.cli.common import int_at_least, int_in, positive_float
 from searchtrack.cli.output import output_file
 from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.files import write_text_atomic
-from searchtrack.core.interrupt import stop_requested
-from searchtrack.plan.fleet import BoundConfig, BoundMap, FleetSizing, fleet_size, subdivisions
-from searchtrack.plan.fleet.entropy_bound import BINNINGS
+from searchtrack.core.interrupt import StopRequested, stop_requested, stops_raise
+from searchtrack.models.roads import RoadNetwork
+from searchtrack.plan.fleet import (
+    BoundConfig,
+    BoundMap,
+    ChainGraph,
+    FleetSizing,
+    chain_graph,
+    fleet_size,
+    s_node,
+    subdivisions,
+)
+from searchtrack.plan.fleet.entropy_bound import BINNINGS, WINDOW_SIGMAS
+from searchtrack.plan.fleet.mode_split import profile_refusal
 from searchtrack.sim.scenario import BUNDLED_MAPS, MapSpec, bundled_map
 
 #: Most Dijkstra sources for ``S_node`` on a large map (a seeded sample beyond this).
@@ -35,6 +46,9 @@ S_NODE_SOURCES = 2000
 
 #: Largest fleet the command will size.
 MAX_FLEET = 1000
+
+#: Most step × bin terms of the entropy sums for one fleet size (about ten seconds of work).
+MAX_ENTROPY_CELLS = 1_000_000_000
 
 _GRID = re.compile(r"grid:(\d+)x(\d+)(?::([0-9.eE+-]+))?")
 
@@ -75,15 +89,19 @@ def _finite(x: float) -> float | None:
     return x if math.isfinite(x) else None
 
 
+def _config_record(config: BoundConfig) -> dict[str, object]:
+    return {"targets": config.targets, "uav_speed_mps": config.uav_speed_mps,
+            "target_speed_mps": config.target_speed_mps, "sigma_v_mps": config.sigma_v_mps,
+            "meas_var_m2": config.meas_var_m2, "dt_s": config.dt_s, "bin_m": config.bin_m,
+            "binning": config.binning}
+
+
 def sizing_record(spec: MapSpec, bound_map: BoundMap, config: BoundConfig,
                   sizing: FleetSizing) -> dict[str, object]:
     """The JSON document ``--json`` writes."""
     return {
         "map": spec.describe(),
-        "config": {"targets": config.targets, "uav_speed_mps": config.uav_speed_mps,
-                   "target_speed_mps": config.target_speed_mps,
-                   "sigma_v_mps": config.sigma_v_mps, "meas_var_m2": config.meas_var_m2,
-                   "dt_s": config.dt_s, "bin_m": config.bin_m, "binning": config.binning},
+        "config": _config_record(config),
         "s_node_m": bound_map.s_node_m,
         "length_m": bound_map.length_m,
         "round_trip_s": bound_map.round_trip_s(config),
@@ -97,24 +115,71 @@ def sizing_record(spec: MapSpec, bound_map: BoundMap, config: BoundConfig,
     }
 
 
+def _refuse_work(spec: MapSpec, chains: ChainGraph, config: BoundConfig, steps: float,
+                 length_m: float) -> None:
+    """Refuse, naming ``--map``, a map whose bound would not fit in memory or minutes:
+    :func:`profile_refusal` for ``steps`` (the steps of one round trip), then the entropy sums
+    of one UAV, ``steps`` variances × the bins within ±12 σ of the last one (or the map)."""
+    reason = profile_refusal(chains, config.target_speed_mps, config.dt_s, steps)
+    spread = config.sigma_v_mps * config.dt_s
+    sigma = math.sqrt(config.meas_var_m2 + spread * spread * steps)
+    cells = steps * min(length_m, 2.0 * WINDOW_SIGMAS * sigma) / config.bin_m
+    if reason is None and cells > MAX_ENTROPY_CELLS:
+        reason = (f"{steps:.3g} steps × {cells / max(steps, 1.0):.3g} bins are {cells:.3g} "
+                  f"entropy terms per fleet size, above the {MAX_ENTROPY_CELLS:.3g} evaluated")
+    if reason is not None:
+        raise SearchtrackError(f"--map {spec.describe()}: {reason}; give a smaller map or a "
+                               "larger --dt (or other speeds and noise)")
+
+
+def _measure(spec: MapSpec, network: RoadNetwork, config: BoundConfig) -> BoundMap:
+    """The map's terms, each step refused before it starts if it would not fit."""
+    chains = chain_graph(network)
+    _refuse_work(spec, chains, config, 0.0, network.total_length_m)
+    sources = S_NODE_SOURCES if network.n_nodes > S_NODE_SOURCES else None
+    bound_map = BoundMap(s_node(network, include_diagonal=config.include_diagonal,
+                                sources=sources), network.total_length_m, chains)
+    _refuse_work(spec, chains, config, bound_map.round_trip_s(config) / config.dt_s,
+                 network.total_length_m)
+    return bound_map
+
+
 def fleet_size_command(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack fleet-size``: 0 when some fleet meets the requirement, 1 if none
-    up to ``--max-uavs`` does (bad input raises, which the caller reports with status 2)."""
+    up to ``--max-uavs`` does, 130 on Ctrl-C (bad input raises, which the caller reports with
+    status 2)."""
     out = None if args.json is None else output_file("--json", args.json)
     config = BoundConfig(targets=args.targets, uav_speed_mps=args.uav_speed,
                          target_speed_mps=args.target_speed, sigma_v_mps=args.sigma_v,
                          meas_var_m2=args.R, dt_s=args.dt, binning=args.binning)
+    spread = args.sigma_v * args.dt
+    if not 0.0 < spread * spread < math.inf:  # the variance a target gains per step (Eq. 32)
+        raise SearchtrackError(f"--sigma-v {args.sigma_v:g} with --dt {args.dt:g}: σ_v·δ_t "
+                               "must square to a positive finite variance (m²)")
     spec: MapSpec = args.map
-    with console.status(f"measuring {spec.describe()}"):
-        network = spec.build()
-        sources = S_NODE_SOURCES if network.n_nodes > S_NODE_SOURCES else None
-        bound_map = BoundMap.from_network(network, config, sources=sources)
-        sizing = fleet_size(bound_map, config, max_variance_m2=args.max_variance,
-                            max_uavs=args.max_uavs)
-    groups = len(subdivisions(bound_map.chains))
+    try:
+        with stops_raise(), console.status(f"measuring {spec.describe()}"):
+            network = spec.build()
+            bound_map = _measure(spec, network, config)
+            sizing = fleet_size(bound_map, config, max_variance_m2=args.max_variance,
+                                max_uavs=args.max_uavs)
+    except StopRequested:
+        console.print(f"stopped after 0 fleet sizes, while measuring {escape(spec.describe())}")
+        if out is not None:  # what was done: nothing
+            nothing: dict[str, object] = {"map": spec.describe(), "rows": [], "uavs": None,
+                                          "config": _config_record(config), "interrupted": True}
+            written = write_text_atomic(out, json.dumps(nothing, indent=1) + "\n")
+            console.print(f"wrote {written}")
+        return 130
+    try:
+        with stops_raise():
+            groups = ("" if stop_requested() else
+                      f" in {len(subdivisions(bound_map.chains))} subdivisions")
+    except StopRequested:
+        groups = ""
     console.print(f"{escape(spec.describe())}: {network.n_nodes} nodes, "
                   f"{bound_map.length_m:.0f} m of road, {bound_map.chains.n_chains} directed "
-                  f"chains in {groups} subdivisions, S_node {bound_map.s_node_m:.2f} m, round "
+                  f"chains{groups}, S_node {bound_map.s_node_m:.2f} m, round "
                   f"trip T {bound_map.round_trip_s(config):.2f} s for {config.targets} targets")
     console.print(sizing_table(sizing, f"entropy bound (Theorem 1), σ² ≤ {args.max_variance:g} "
                                f"m² ⇔ B_L ≤ {sizing.required_entropy:.4f} nats"))
@@ -125,10 +190,11 @@ def fleet_size_command(args: argparse.Namespace, console: Console) -> int:
         console.print(f"no fleet of up to {args.max_uavs} UAVs meets σ² ≤ {args.max_variance:g} "
                       "m²")
     else:
-        console.print(f"[bold]{sizing.uavs} UAV{'s' if sizing.uavs > 1 else ''}[/] meet "
+        many = sizing.uavs > 1
+        console.print(f"[bold]{sizing.uavs} UAV{'s' if many else ''}[/] meet{'' if many else 's'} "
                       f"σ² ≤ {args.max_variance:g} m²")
     if out is not None:
-        record = sizing_record(spec, bound_map, config, sizing)
+        record = {**sizing_record(spec, bound_map, config, sizing), "interrupted": stopped}
         written = write_text_atomic(out, json.dumps(record, indent=1) + "\n")
         console.print(f"wrote {written}")
     if stopped:

@@ -93,6 +93,8 @@ def result_record(instance: str, result: Result[Any]) -> dict[str, Any]:
         "gap": result.gap,
         "runtime_s": round(result.runtime_s, 4),
         "message": result.message,
+        **({"stats": {k: json_number(v) for k, v in sorted(result.stats.items())}}
+           if result.stats else {}),
     }
 
 
@@ -107,6 +109,9 @@ def result_table(title: str, record: dict[str, Any]) -> Table:
         table.add_row(key, "-" if value is None else str(value))
     if record.get("message"):
         table.add_row("message", str(record["message"]))
+    error = record.get("stats", {}).get("objective_error")
+    if error is not None:
+        table.add_row("objective ±", f"{error:.2g}")
     return table
 
 

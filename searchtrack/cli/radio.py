@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -19,12 +20,39 @@ from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-from searchtrack.cli.common import int_at_least, positive_float, seed_arg
+from searchtrack.cli.common import int_at_least, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_dir, output_file
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.models.radio.signal import MAX_NOISE_VAR_V2
 
 if TYPE_CHECKING:
     from searchtrack.models.radio import RadioScenario
+
+#: Largest ``--noise`` (V): the root of the largest noise variance a signal takes.
+MAX_NOISE_SIGMA_V = math.sqrt(MAX_NOISE_VAR_V2)
+
+
+def _noise_sigma(text: str) -> float:
+    """``--noise``: a number in ``(0, MAX_NOISE_SIGMA_V]``, else an argparse error."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not 0.0 < value <= MAX_NOISE_SIGMA_V:
+        raise argparse.ArgumentTypeError(f"must be in (0, {MAX_NOISE_SIGMA_V:g}] V: {text!r}")
+    return value
+
+
+def _particles(args: argparse.Namespace) -> int:
+    """``--particles``, or :class:`InvalidInputError` naming it above the filter's limit."""
+    from searchtrack.estimate.radio.filter import MAX_PARTICLES_PER_LABEL
+
+    n: int = args.particles
+    if n > MAX_PARTICLES_PER_LABEL:
+        raise InvalidInputError("--particles", n,
+                                f"must be an integer in [10, {MAX_PARTICLES_PER_LABEL}]")
+    return n
 
 
 def _scenario(args: argparse.Namespace) -> RadioScenario:
@@ -45,12 +73,17 @@ def _bar(console: Console, what: str) -> Progress:
 
 def simulate(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack radio simulate``."""
-    from searchtrack.sim.radio_run import simulate_run, write_run, write_truth
+    from searchtrack.core.interrupt import stop_requested
+    from searchtrack.sim.radio_run import check_run_size, simulate_run, write_run, write_truth
 
     out = output_file("--out", args.out)
     truth_out = output_file("--truth", args.truth) if args.truth else None
     scenario = _scenario(args)
+    check_run_size(scenario, source=str(args.scenario))
     run, truth = simulate_run(scenario, args.seed, measurement=args.measurement)
+    if stop_requested() and not run.n_steps:
+        console.print("no interval simulated before the interrupt: nothing written")
+        return 0
     write_run(run, out)
     shown = f"{run.n_steps} intervals of {scenario.signal.frames}×{scenario.signal.fft_size} " \
             f"frames, {scenario.signal.n_labels} tags → {out}"
@@ -66,13 +99,14 @@ def track(args: argparse.Namespace, console: Console) -> int:
     from searchtrack.sim.radio_run import read_run
     from searchtrack.sim.radio_track_job import run_radio_track, write_radio_estimates
 
+    particles = _particles(args)
     out = output_file("--out", args.out)
     run = read_run(args.run_file)
     seed = run.seed if args.seed is None else args.seed
     ready_kernels(console, ("radio",))
     with _bar(console, f"{args.filter} filter") as bar:
         task = bar.add_task("filter", total=run.n_steps)
-        result = run_radio_track(run, args.filter, args.particles, seed,
+        result = run_radio_track(run, args.filter, particles, seed,
                                  lambda done, _n: bar.update(task, completed=done))
     write_radio_estimates(result, out)
     final = (f", {len(result.estimates[-1])} objects at the end (mean cardinality "
@@ -90,12 +124,13 @@ def mission(args: argparse.Namespace, console: Console) -> int:
     from searchtrack.sim.radio_figures import plot_radio_map, plot_radio_ospa
     from searchtrack.sim.radio_mission import RadioMissionConfig, run_radio_mission
 
+    particles = _particles(args)
     folder = output_dir("--out", args.out)
     scenario = _scenario(args)
     plan = RadioPlanSettings(horizon=args.horizon, plan_particles=args.plan_particles,
                              r_min_m=args.r_min, p_void_min=args.p_void)
     config = RadioMissionConfig(filter=args.filter, planner=args.planner, backend=args.backend,
-                                particles_per_label=args.particles, plan=plan,
+                                particles_per_label=particles, plan=plan,
                                 measurement=args.measurement, keep_out=args.keep_out)
     ready_kernels(console, ("radio",))
     with _bar(console, f"{args.filter} + {args.planner}") as bar:
@@ -117,9 +152,9 @@ def mission(args: argparse.Namespace, console: Console) -> int:
 
 
 def _common(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--noise", type=positive_float, default=None, metavar="SIGMA_V",
-                   help="receiver noise standard deviation σ_η in volts (Σ_η = σ_η²; "
-                        "default: the scenario's)")
+    p.add_argument("--noise", type=_noise_sigma, default=None, metavar="SIGMA_V",
+                   help="receiver noise standard deviation σ_η in volts (Σ_η = σ_η²; at most "
+                        f"{MAX_NOISE_SIGMA_V:g}; default: the scenario's)")
     p.add_argument("--measurement", choices=("stft", "time"), default="stft",
                    help="simulate the spectrogram directly (stft, default) or from "
                         "time-domain windows (time)")

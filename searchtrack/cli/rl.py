@@ -9,6 +9,8 @@ against the random planner on a few episodes and prints their mean combined entr
 from __future__ import annotations
 
 import argparse
+import dataclasses
+from typing import TYPE_CHECKING
 
 import numpy as np
 from rich.console import Console
@@ -17,19 +19,30 @@ from rich.table import Table
 
 from searchtrack.cli.common import int_at_least, positive_float, seed_arg
 from searchtrack.cli.output import output_file
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.interrupt import stop_requested
+
+if TYPE_CHECKING:
+    from searchtrack.sim.road_tracking import RoadTrackingConfig
+
+
+def _episode(base: RoadTrackingConfig, duration_s: float) -> RoadTrackingConfig:
+    """``base`` with episodes of ``duration_s``; a duration the episode cannot take (over its
+    step cap) is refused naming ``--duration``."""
+    try:
+        return dataclasses.replace(base, duration_s=duration_s)
+    except InvalidInputError as exc:
+        raise InvalidInputError("--duration", duration_s, exc.reason) from None
 
 
 def train(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack rl train``."""
-    import dataclasses
-
     from searchtrack.sim.rl_training import TrainingConfig, train_policy
     from searchtrack.sim.road_search_env import TRAINING_CONFIG
 
     out = output_file("--out", args.out)
     training = TrainingConfig(timesteps=args.timesteps)
-    config = dataclasses.replace(TRAINING_CONFIG, duration_s=args.duration)
+    config = _episode(TRAINING_CONFIG, args.duration)
     with Progress(TextColumn("PPO"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
                   TimeRemainingColumn(), console=console, transient=True) as bar:
         task = bar.add_task("train", total=args.timesteps)
@@ -45,9 +58,13 @@ def train(args: argparse.Namespace, console: Console) -> int:
 def evaluate(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack rl evaluate``."""
     from searchtrack.models.road_particles import DirectedRoads
+    from searchtrack.sim.road_planners import flyable_policy
     from searchtrack.sim.road_tracking import PAPER_GRID, RoadTrackingConfig, run_road_tracking
 
+    base = _episode(RoadTrackingConfig(policy=args.policy or ""), args.duration)
     roads = DirectedRoads(PAPER_GRID.build())
+    if args.policy:
+        flyable_policy(args.policy, roads)  # a bad file: one line before any episode
     table = Table(title=f"mean combined entropy over {args.episodes} episodes of "
                         f"{args.duration:g} s (paper 000, 3 × 3 grid)")
     for col in ("planner", "mean entropy", "last third", "decision ms"):
@@ -57,8 +74,7 @@ def evaluate(args: argparse.Namespace, console: Console) -> int:
         for seed in range(args.seed, args.seed + args.episodes):
             if stop_requested():
                 break
-            config = RoadTrackingConfig(planner=planner, duration_s=args.duration,
-                                        policy=args.policy or "")
+            config = dataclasses.replace(base, planner=planner)
             logs.append(run_road_tracking(config, seed, roads))
         if not logs:
             break

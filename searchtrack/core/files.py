@@ -8,6 +8,9 @@ larger than a limit, and decompresses bzip2 by its magic bytes while counting wh
 corrupt compressed data, unreadable files and size overruns all raise
 :class:`~searchtrack.core.errors.ParseError` naming the file.
 
+:func:`read_npz` reads a NumPy ``.npz`` archive, checking every array's header against the
+bytes the archive holds before allocating it, so a short file cannot claim a huge array.
+
 Outputs: :func:`atomic_path` and :func:`write_text_atomic` write beside the target and rename,
 so a file is either whole or absent, whatever interrupts the write.
 """
@@ -18,11 +21,19 @@ import bz2
 import contextlib
 import io
 import json
+import math
 import os
+import struct
 import tempfile
+import tokenize
+import zipfile
+import zlib
 from collections.abc import Iterator
 from pathlib import Path
 from typing import IO, Any
+
+import numpy as np
+from numpy.typing import NDArray
 
 from searchtrack.core.errors import ParseError
 
@@ -157,3 +168,100 @@ def write_text_atomic(path: str | Path, text: str) -> Path:
     with atomic_path(path) as temp:
         temp.write_text(text, encoding="utf-8")
     return Path(path)
+
+
+#: Most arrays :func:`read_npz` reads from one archive.
+MAX_NPZ_ARRAYS = 64
+
+_NPZ_ERRORS = (zipfile.BadZipFile, zlib.error, EOFError, OSError, ValueError, struct.error,
+               NotImplementedError, RuntimeError)
+"""What a corrupt archive raises inside :mod:`zipfile` and :mod:`numpy.lib.format` (a bad
+magic or header, a short member, a failed CRC, an unknown compression or an encrypted member)."""
+
+_NPY_HEADER_ERRORS = (*_NPZ_ERRORS, tokenize.TokenError, SyntaxError, RecursionError, TypeError,
+                      LookupError, AttributeError)
+"""What NumPy's parser of the Python-literal ``.npy`` header also raises on crafted text."""
+
+
+def _npy_header(fp: IO[bytes]) -> tuple[tuple[int, ...], np.dtype[Any]]:
+    """The shape and dtype an ``.npy`` stream declares (read, not allocated)."""
+    version = np.lib.format.read_magic(fp)
+    if version == (1, 0):
+        shape, _, dtype = np.lib.format.read_array_header_1_0(fp)
+    elif version == (2, 0):
+        shape, _, dtype = np.lib.format.read_array_header_2_0(fp)
+    else:
+        raise ValueError(f".npy format version {version[0]}.{version[1]} is not supported")
+    return tuple(shape), dtype
+
+
+def _npz_member(path: Path, archive: zipfile.ZipFile, info: zipfile.ZipInfo) -> tuple[str, int]:
+    """The array's name and the bytes it declares, checked against what the member holds."""
+    if not info.filename.endswith(".npy"):
+        raise ParseError(path, None, info.filename, "not a .npy array (an .npz holds only those)")
+    name = info.filename[:-4]
+    try:
+        with archive.open(info) as fp:
+            shape, dtype = _npy_header(fp)
+            held = info.file_size - fp.tell()
+    except _NPY_HEADER_ERRORS as exc:
+        raise ParseError(path, None, name, f"not a readable .npy array header ({exc})") from None
+    if dtype.hasobject:
+        raise ParseError(path, None, name, "holds Python objects (pickles), which are not read")
+    if any(n < 0 for n in shape):
+        raise ParseError(path, None, name, f"declares a negative dimension {shape}")
+    declared = math.prod(shape) * max(dtype.itemsize, 1)
+    if declared > held:
+        raise ParseError(path, None, name, f"declares shape {shape} of {dtype} ({declared} bytes) "
+                         f"but the archive holds {max(held, 0)} bytes for it")
+    return name, declared
+
+
+def read_npz(path: str | Path, *, max_bytes: int = MAX_INPUT_BYTES,
+             max_arrays: int = MAX_NPZ_ARRAYS) -> dict[str, NDArray[Any]]:
+    """The arrays of NumPy ``.npz`` archive ``path`` by name (``NAME.npy`` members, no pickles).
+
+    Nothing is allocated before every member's ``.npy`` header has been read and checked: the
+    bytes an array declares (its shape times its item size) must fit in what its member holds
+    uncompressed, and all arrays together in ``max_bytes``; the file itself must be a regular
+    file of at most ``max_bytes`` holding at most ``max_arrays`` members.
+
+    Raises
+    ------
+    ParseError
+        Naming the file, and the array (``field``) when one member is at fault: no such file,
+        not a regular file, too large, not a zip archive, a member that is not ``.npy``, holds
+        objects, declares more than it holds, or is corrupt (bad header, short data, failed CRC).
+    """
+    p = Path(path)
+    if not p.exists():
+        raise ParseError(p, None, None, "no such file")
+    if not p.is_file():
+        raise ParseError(p, None, None, "not a regular file")
+    name: str | None = None
+    try:
+        if (size := p.stat().st_size) > max_bytes:
+            raise ParseError(p, None, None, f"is {_mib(size)}, larger than the "
+                             f"{_mib(max_bytes)} an input may hold")
+        with zipfile.ZipFile(p) as archive:
+            members = archive.infolist()
+            if len(members) > max_arrays:
+                raise ParseError(p, None, None, f"holds {len(members)} members, more than the "
+                                 f"{max_arrays} arrays an .npz input may hold")
+            total = 0
+            for info in members:
+                name, declared = _npz_member(p, archive, info)
+                total += declared
+                if total > max_bytes:
+                    raise ParseError(p, None, name, f"the arrays declare more than the "
+                                     f"{_mib(max_bytes)} an input may hold")
+            arrays: dict[str, NDArray[Any]] = {}
+            for info in members:
+                name = info.filename[:-4]
+                with archive.open(info) as fp:
+                    arrays[name] = np.lib.format.read_array(fp, allow_pickle=False)
+            return arrays
+    except ParseError:
+        raise
+    except _NPZ_ERRORS as exc:
+        raise ParseError(p, None, name, f"not a readable .npz archive ({exc})") from None

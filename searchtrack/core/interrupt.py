@@ -7,12 +7,18 @@ cut short this way returns ``Status.INTERRUPTED`` with the best plan and bound s
 
 Library code never installs a signal handler: the command line does, with :func:`sigint_stops`
 (first Ctrl-C: stop cleanly; second: abort at once).
+
+Work that has nothing to keep when cut short (measuring a map before any answer exists) calls
+:func:`check_stop` in its loops: inside :func:`stops_raise` a stop request raises
+:class:`StopRequested` there, which the caller that opened the block catches; elsewhere the call
+does nothing, so such work runs to its end for callers that never expect the exception.
 """
 
 from __future__ import annotations
 
 import _thread
 import contextlib
+import contextvars
 import math
 import signal
 import socket
@@ -22,6 +28,8 @@ from collections.abc import Callable, Iterator
 from types import FrameType
 
 _STOP = threading.Event()
+_RAISES: contextvars.ContextVar[bool] = contextvars.ContextVar("searchtrack_stop_raises",
+                                                               default=False)
 
 
 def request_stop() -> None:
@@ -43,6 +51,28 @@ def stop_clock() -> float:
     """``time.perf_counter()``, or ``+inf`` once a stop is requested: compiled kernels that
     compare the clock with a deadline read this and so stop on request too."""
     return math.inf if _STOP.is_set() else time.perf_counter()
+
+
+class StopRequested(Exception):
+    """Raised by :func:`check_stop` inside :func:`stops_raise` once a stop is requested."""
+
+
+@contextlib.contextmanager
+def stops_raise() -> Iterator[None]:
+    """Inside the block (in this thread or task), :func:`check_stop` raises
+    :class:`StopRequested` once a stop is requested."""
+    token = _RAISES.set(True)
+    try:
+        yield
+    finally:
+        _RAISES.reset(token)
+
+
+def check_stop() -> None:
+    """Raise :class:`StopRequested` if a stop is requested inside :func:`stops_raise`; else
+    nothing (cheap enough for every iteration of a loop)."""
+    if _STOP.is_set() and _RAISES.get():
+        raise StopRequested
 
 
 @contextlib.contextmanager

@@ -20,7 +20,9 @@ def grid_network(
     """A ``rows × cols`` grid of intersections ``block_m`` apart, roads resampled every
     ``spacing_m``.
 
-    Intersection ``(r, c)`` is at ``(c·block_m, r·block_m)``. With ``k = ⌈block_m/spacing_m⌉``
+    Intersection ``(r, c)`` is at ``(c·block_m, r·block_m)`` and is node ``c·rows + r``
+    (:func:`grid_node`; the intersections come first, column by column, then the nodes between
+    them). With ``k = ⌈block_m/spacing_m⌉``
     pieces per block there are ``rows·cols + (k−1)·b`` nodes and ``k·b`` edges of length
     ``block_m/k``, where ``b = rows·(cols−1) + cols·(rows−1)`` blocks; the nodes of degree ≥ 3
     are the ``rows·cols − 4`` non-corner intersections when ``rows, cols ≥ 3``.
@@ -41,6 +43,15 @@ def grid_network(
     return network_from_polylines(
         polylines, spacing_m, source=f"grid {r}x{c}, block {block:g} m"
     )
+
+
+def grid_node(rows: int, cols: int, r: int, c: int) -> int:
+    """Index of intersection ``(r, c)`` (row ``r`` at ``y = r·block_m``, column ``c`` at
+    ``x = c·block_m``) in :func:`grid_network` of ``rows × cols``: ``c·rows + r``, the one
+    numbering of every grid-based file format."""
+    if not (0 <= r < rows and 0 <= c < cols):
+        raise InvalidInputError("(r, c)", (r, c), f"outside a {rows} x {cols} grid")
+    return c * rows + r
 
 
 def random_network(

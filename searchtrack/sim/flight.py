@@ -4,7 +4,9 @@ Every ``dt_s`` the controller is asked for a plan from the measured state (exact
 error) with the wind it assumes; the first input (clipped to the actuator box) is applied to the
 true model, which integrates with the true wind and additive Gaussian process noise
 ``σ √dt`` per state. The log records tracking error, inputs, obstacle clearance, solve times and
-the controller that answered each step (so fallbacks can be counted).
+the controller that answered each step (so fallbacks can be counted). A stop request
+(:mod:`searchtrack.core.interrupt`) ends the flight before the next step; the log then holds the
+steps flown and says it was interrupted.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from numpy.typing import ArrayLike
 
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.types import FloatArray
 from searchtrack.models.vehicles import VehicleModel
 from searchtrack.plan.trajectory import (
@@ -95,7 +98,8 @@ class FlightLog:
     obstacle surface, ``solve_s`` ``(T,)`` and ``controllers`` the backend that answered each step
     (``"none"`` when a single backend found no plan and the next input of its last plan was
     applied). A flight that
-    enters an obstacle stops there: ``collisions`` is then 1.
+    enters an obstacle stops there: ``collisions`` is then 1. ``interrupted``: a stop request
+    ended the flight before its duration.
     """
 
     model: VehicleModel
@@ -107,6 +111,7 @@ class FlightLog:
     solve_s: FloatArray
     controllers: tuple[str, ...]
     fallbacks: int
+    interrupted: bool = False
 
     @property
     def tracking_error_m(self) -> FloatArray:
@@ -190,6 +195,10 @@ def fly(
             log.warning("flight %s via %s crashed into an obstacle at t = %.1f s", model.name,
                         cfg.backend, t)
             break
+        if stop_requested():
+            log.info("flight %s via %s stopped on request at t = %.1f s", model.name,
+                     cfg.backend, t)
+            break
         problem = TrackingProblem(
             model, np.clip(x, lo, hi), reference, time_s=t, obstacles=obs, horizon=cfg.horizon,
             dt_s=cfg.dt_s, previous_input=u_prev,
@@ -219,7 +228,8 @@ def fly(
                       inputs=np.asarray(inputs).reshape(-1, model.nu),
                       reference_m=reference.positions(times),
                       clearance_m=obs.clearance_m(traj[:, list(model.position_indices)]),
-                      solve_s=np.asarray(solve_s), controllers=tuple(who), fallbacks=fallbacks)
+                      solve_s=np.asarray(solve_s), controllers=tuple(who), fallbacks=fallbacks,
+                      interrupted=len(who) < steps and stop_requested())
     log.info("flight %s via %s: rms %.2f m, min clearance %.2f m, %d fallbacks", model.name,
              cfg.backend, flown.rms_error_m, flown.min_clearance_m, fallbacks)
     return flown

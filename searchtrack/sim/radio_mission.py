@@ -32,6 +32,7 @@ from searchtrack.core.result import Status
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.metrics import ospa_components
 from searchtrack.estimate.radio import LabelledFilter
+from searchtrack.estimate.radio.filter import MAX_PARTICLES_PER_LABEL
 from searchtrack.models.radio import (
     RadioScenario,
     RadioTruth,
@@ -40,6 +41,7 @@ from searchtrack.models.radio import (
     straight_sweep_heading,
 )
 from searchtrack.plan.radio import RadioPlanProblem, RadioPlanSettings, solve
+from searchtrack.plan.radio.problem import check_lookahead_size
 from searchtrack.sim.radio_keep_out import KeepOut, fly_with_keep_out
 from searchtrack.sim.radio_run import SIMULATORS, spectrogram
 from searchtrack.sim.radio_track_job import FILTERS as FILTER_TABLE
@@ -72,7 +74,8 @@ class RadioMissionConfig:
         The planning backend for ``renyi``/``cs`` (``exhaustive``, ``beam``, ``greedy``,
         ``auto``).
     particles_per_label
-        Particles of each label's Bernoulli component (the paper: 50 000).
+        Particles of each label's Bernoulli component (the paper: 50 000; at most
+        :data:`~searchtrack.estimate.radio.filter.MAX_PARTICLES_PER_LABEL`).
     plan
         Planner settings; its ``reward`` is set from ``planner``.
     plan_time_limit_s
@@ -100,7 +103,10 @@ class RadioMissionConfig:
         checks.choice("filter", self.filter, FILTERS)
         checks.choice("planner", self.planner, PLANNERS)
         checks.choice("measurement", self.measurement, MEASUREMENTS)
-        checks.count("particles_per_label", self.particles_per_label, least=1)
+        if checks.count("particles_per_label", self.particles_per_label,
+                        least=1) > MAX_PARTICLES_PER_LABEL:
+            raise InvalidInputError("particles_per_label", self.particles_per_label,
+                                    f"must be an integer in [1, {MAX_PARTICLES_PER_LABEL}]")
         checks.positive("plan_time_limit_s", self.plan_time_limit_s)
         checks.positive("ospa_c_m", self.ospa_c_m)
         checks.positive("ospa_p", self.ospa_p)
@@ -243,6 +249,8 @@ def run_radio_mission(scenario: RadioScenario, config: RadioMissionConfig, seed:
     """Fly one closed-loop run of ``scenario`` (deterministic for ``seed``). Honours a stop
     request between steps: the log then holds the steps done and says ``interrupted``."""
     seed = check_seed(seed)
+    if config.planner != "straight":
+        check_lookahead_size(scenario, config.plan)
     streams = np.random.SeedSequence(seed).spawn(3)
     truth = simulate_truth(scenario, np.random.default_rng(streams[0]))
     meas_rng = np.random.default_rng(streams[1])

@@ -13,15 +13,17 @@ RUN.npz (NumPy ``savez``, no pickles) holds::
     seed            the simulation seed
 
 The truth (each tag's states, modes and offsets over time) is written apart, as JSON, so a
-filter never reads it. Every field is checked on reading: shapes, finite non-negative frames, a
-tag set equal to the scenario's frequencies and frames of the scenario's M × L.
+filter never reads it. Every field is checked on reading: its header before it is loaded (no
+array may claim more bytes than the file holds, nor the file more than :data:`MAX_RUN_BYTES`),
+then numeric types, shapes, finite non-negative frames, a tag set equal to the scenario's
+frequencies and frames of the scenario's M × L. A run holds at most :data:`MAX_RUN_CELLS`
+spectrogram cells (K · M · L).
 """
 
 from __future__ import annotations
 
 import dataclasses
 import json
-import zipfile
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -31,7 +33,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from searchtrack.core.errors import InvalidInputError, ParseError
-from searchtrack.core.files import atomic_path, write_text_atomic
+from searchtrack.core.files import atomic_path, read_npz, write_text_atomic
+from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.registry import check_seed
 from searchtrack.core.types import FloatArray
 from searchtrack.models.radio import (
@@ -52,6 +55,31 @@ model) or from time-domain samples of the windows (physical, correlated neighbou
 
 FIELDS = ("frames", "uav_poses", "times_s", "labels", "frequencies_hz", "scenario", "seed")
 """The arrays of a RUN.npz, all required."""
+
+MAX_RUN_CELLS = 2**27
+"""Most spectrogram cells K · M · L a run may hold (512 MiB as float32; the paper's 400 s run
+holds 11.4 million)."""
+
+MAX_RUN_BYTES = 2**30
+"""Largest RUN.npz read, and most bytes its arrays may declare together."""
+
+_KINDS = {"frames": "fiu", "uav_poses": "fiu", "times_s": "fiu", "labels": "iu",
+          "frequencies_hz": "fiu", "scenario": "U", "seed": "iu"}
+"""The NumPy dtype kinds each field may have: numbers (float or integer), integers, text."""
+
+_KIND_NAMES = {"fiu": "numbers", "iu": "integers", "U": "text"}
+
+
+def check_run_size(scenario: RadioScenario, source: str | None = None) -> None:
+    """:class:`InvalidInputError` naming ``duration_s`` (and ``source``, the scenario's file)
+    unless a run of ``scenario`` holds at most :data:`MAX_RUN_CELLS` spectrogram cells."""
+    sig = scenario.signal
+    cells = scenario.n_steps * sig.frames * sig.fft_size
+    if cells > MAX_RUN_CELLS:
+        where = f" (in {source})" if source else ""
+        raise InvalidInputError("duration_s", scenario.duration_s, f"a run of {scenario.n_steps} "
+                                f"intervals of {sig.frames}×{sig.fft_size} frames would hold "
+                                f"{cells} cells, above the {MAX_RUN_CELLS} a run may hold{where}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -105,10 +133,15 @@ def _public(scenario: RadioScenario) -> RadioScenario:
 def simulate_run(scenario: RadioScenario, seed: int, *,
                  measurement: str = "stft") -> tuple[RadioRun, RadioTruth]:
     """Fly the straight diagonal sweep of Exp. 2 over ``scenario`` and record every interval's
-    spectrogram (``measurement``: ``"stft"`` direct, ``"time"`` from time-domain windows)."""
+    spectrogram (``measurement``: ``"stft"`` direct, ``"time"`` from time-domain windows).
+
+    The run may hold at most :data:`MAX_RUN_CELLS` cells (:func:`check_run_size`). A stop
+    request (Ctrl-C) ends it between intervals: the run and its truth then hold the intervals
+    done."""
     seed = check_seed(seed)
     if measurement not in SIMULATORS:
         raise InvalidInputError("measurement", measurement, f"must be one of {list(SIMULATORS)}")
+    check_run_size(scenario)
     streams = np.random.SeedSequence(seed).spawn(2)
     truth = simulate_truth(scenario, np.random.default_rng(streams[0]))
     rng = np.random.default_rng(streams[1])
@@ -118,12 +151,20 @@ def simulate_run(scenario: RadioScenario, seed: int, *,
     n = scenario.n_steps
     frames = np.empty((n, sig.frames, sig.fft_size), dtype=np.float32)
     poses = np.empty((n, 3))
-    for k in range(n):
+    done = 0
+    for k in range(min(n, truth.times_s.size)):
+        if stop_requested():
+            break
         heading = straight_sweep_heading(uav, pose, scenario.area_m)
         pose = fly_heading(uav, pose, heading, uav.step_s)[-1]
         frames[k] = spectrogram(sig, truth, k, pose, simulate, rng)
         poses[k] = pose
-    run = RadioRun(_public(scenario), frames, poses, truth.times_s.copy(), seed)
+        done = k + 1
+    run = RadioRun(_public(scenario), frames[:done], poses[:done],
+                   truth.times_s[:done].copy(), seed)
+    if done < truth.times_s.size:
+        truth = RadioTruth(**{f.name: getattr(truth, f.name)[:done]
+                              for f in dataclasses.fields(truth)})
     return run, truth
 
 
@@ -152,21 +193,25 @@ def read_run(path: str | Path) -> RadioRun:
     Raises
     ------
     ParseError
-        Not a readable ``.npz``, a field missing or unknown, or a value that fails its check
-        (the message names the field).
+        Not a readable ``.npz`` (:func:`~searchtrack.core.files.read_npz`: also an array whose
+        header claims more than the file holds), larger than :data:`MAX_RUN_BYTES`, a field
+        missing or unknown, of the wrong type, or a value that fails its check (the message
+        names the field).
     """
     p = Path(path)
-    try:
-        with np.load(p, allow_pickle=False) as data:
-            arrays = {name: data[name] for name in data.files}
-    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
-        raise ParseError(p, None, None, f"not a readable .npz run file ({exc})") from None
+    arrays = read_npz(p, max_bytes=MAX_RUN_BYTES)
     missing = [f for f in FIELDS if f not in arrays]
     unknown = sorted(set(arrays) - set(FIELDS))
     if missing or unknown:
         field = (missing or unknown)[0]
         raise ParseError(p, None, field, f"missing fields {missing}" if missing
                          else f"unknown fields {unknown} (known: {list(FIELDS)})")
+    for name, kinds in _KINDS.items():
+        if arrays[name].dtype.kind not in kinds:
+            raise ParseError(p, None, name,
+                             f"must hold {_KIND_NAMES[kinds]}, not {arrays[name].dtype}")
+    if arrays["scenario"].shape != ():
+        raise ParseError(p, None, "scenario", "must be one JSON text")
     try:
         scenario = RadioScenario.from_dict(json.loads(str(arrays["scenario"])),
                                            source=f"{p} scenario")
@@ -174,6 +219,8 @@ def read_run(path: str | Path) -> RadioRun:
         raise ParseError(p, None, "scenario", f"not JSON ({exc.msg})") from None
     except InvalidInputError as exc:
         raise ParseError(p, None, f"scenario.{exc.field}", exc.reason) from None
+    except (RecursionError, ValueError) as exc:
+        raise ParseError(p, None, "scenario", f"not valid JSON ({exc})") from None
     sig = scenario.signal
     labels, freqs = arrays["labels"], arrays["frequencies_hz"]
     if labels.shape != (sig.n_labels,) or not np.array_equal(labels, np.arange(sig.n_labels)):

@@ -44,6 +44,8 @@ FRAME_MS = 100
 """Milliseconds per frame when playing."""
 PATH_TOLERANCE_M = 2.0
 """Largest distance between a drawn path and the recorded one (m)."""
+RECORD_KEYS = ("scenario", "summary", "time_s")
+"""Fields every mission record has had (a document without one is not a mission record)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -103,6 +105,10 @@ def read_replay(record: Mapping[str, Any], source: str | Path = "mission record"
     ``source`` and the field at fault (and says to re-run a mission recorded without a map)."""
     r = _Reader(source)
     top = r.obj(record, TOP_LEVEL)
+    missing = [key for key in RECORD_KEYS if key not in top]
+    if missing:
+        raise r.fail(missing[0], "missing: not a mission record (`searchtrack mission run` writes "
+                     f"one, with {', '.join(RECORD_KEYS)} among its fields)")
     if "map" not in top:
         raise r.fail("map", "missing: the record predates the replay page; re-run `searchtrack "
                      "mission run` on its scenario to record the map and heat frames it draws")

@@ -29,11 +29,12 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
+from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.core.registry import MAX_SEED
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.belief import RoadParticleBelief
 from searchtrack.models.road_particles import DirectedRoads, RoadMotion
-from searchtrack.plan.road_rl import RoadPolicy, policy_for
+from searchtrack.plan.road_rl import RoadFeatures, RoadPolicy, policy_for
 from searchtrack.plan.road_search import RoadSearchProblem, RoadSearchSettings, solve
 
 if TYPE_CHECKING:
@@ -92,6 +93,23 @@ def _policy(path: str) -> RoadPolicy:
     return RoadPolicy.load(path)
 
 
+def flyable_policy(path: str, roads: DirectedRoads) -> tuple[RoadPolicy, RoadFeatures]:
+    """The policy in file ``path`` and the features it was trained with, rebuilt on ``roads``.
+
+    Raises
+    ------
+    ParseError
+        Naming the file and the part at fault: a bad file, or a signature (``meta.signature``)
+        that does not say the features or does not match ``roads``.
+    """
+    policy = _policy(path)
+    try:
+        return policy, policy_for(roads, policy)
+    except InvalidInputError as exc:
+        raise ParseError(path, None, "meta.signature",
+                         exc.reason if exc.field == "signature" else str(exc)) from None
+
+
 def make_chooser(config: RoadTrackingConfig, episode: Episode) -> Chooser:
     """The chooser of ``config.planner`` in ``episode`` (its belief read at every decision)."""
     roads, belief, rng = episode.roads, episode.belief, episode.plan_rng
@@ -102,8 +120,7 @@ def make_chooser(config: RoadTrackingConfig, episode: Episode) -> Chooser:
     if config.planner == "random":
         return random_edge
     if config.planner == "rl":
-        policy = _policy(str(config.policy or shipped_policy_path()))
-        features = policy_for(roads, policy)
+        policy, features = flyable_policy(str(config.policy or shipped_policy_path()), roads)
 
         def policy_edge(q: int, node: int) -> int:
             return policy.choose(features, belief, episode.uav_points(), node,

@@ -12,7 +12,9 @@ DETECTIONS.json::
      "uav_xy": [[x, y], ...], "detections": [[[x, y], ...], ...]}
 
 A grid has ``rows × cols`` junctions ``spacing_m`` apart (junction ``(r, c)`` at
-``(c·spacing_m, r·spacing_m)``, every road one block); ``osm`` is a bundled map name or an OSM
+``(c·spacing_m, r·spacing_m)``, every road one block); junction ``(r, c)`` is road node
+``c·rows + r`` (:func:`~searchtrack.models.road_synthetic.grid_node`), the node numbering of every
+file format that reads a ``map``; ``osm`` is a bundled map name or an OSM
 file relative to the JSON file, resampled every ``spacing_m`` (default 10 m), in the frame of
 :func:`~searchtrack.models.osm.read_osm`. Step ``k`` (time ``(k + 1)·dt``): the particles move
 ``dt`` (Eq. 9); on a scan step the UAV at ``uav_xy[k]`` reports ``detections[k]`` (empty: a scan

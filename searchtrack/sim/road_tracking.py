@@ -44,7 +44,7 @@ from searchtrack.models.disc_sensor import DiscSensor
 from searchtrack.models.road_particles import DirectedRoads, RoadMotion
 from searchtrack.plan.road_search.weights import NORMALIZATIONS, Normalization
 from searchtrack.sim.road_planners import PLANNERS, Chooser, make_chooser
-from searchtrack.sim.scenario import MapSpec
+from searchtrack.sim.scenario import MAX_STEPS, MapSpec
 
 log = logging.getLogger("searchtrack.sim.road_tracking")
 
@@ -121,6 +121,9 @@ class RoadTrackingConfig:
                                     f"must be ≥ dt_s = {self.dt_s}")
         if self.duration_s < self.dt_s:
             raise InvalidInputError("duration_s", self.duration_s, f"must be ≥ dt_s = {self.dt_s}")
+        if (steps := self.duration_s / self.dt_s) > MAX_STEPS:
+            raise InvalidInputError("duration_s", self.duration_s, f"{steps:.3g} steps of dt_s="
+                                    f"{self.dt_s:g}, above the {MAX_STEPS} an episode may take")
 
     @property
     def n_steps(self) -> int:

@@ -9,14 +9,18 @@ import pytest
 
 from searchtrack.cli import main
 from tests.cli.probes import PROBES, Probe
+from tests.cli.probes_radio import RADIO_PROBES
+from tests.cli.probes_tools import TOOL_PROBES
+
+ALL_PROBES = [*PROBES, *RADIO_PROBES, *TOOL_PROBES]
 
 
 def _outputs(tmp: Path) -> set[Path]:
     return {p for p in tmp.rglob("*")
-            if p.suffix in (".json", ".png") or p.name in ("out", "r.npz")}
+            if p.suffix in (".json", ".png", ".html") or p.name in ("out", "r.npz")}
 
 
-@pytest.mark.parametrize("probe", PROBES, ids=[p[0] for p in PROBES])
+@pytest.mark.parametrize("probe", ALL_PROBES, ids=[p[0] for p in ALL_PROBES])
 def test_probe(probe: Probe, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     """The probe's exit status, its words in the error output, no output written."""
     _, build, status, words = probe
@@ -33,4 +37,5 @@ def test_probe(probe: Probe, tmp_path: Path, capsys: pytest.CaptureFixture[str])
     for word in words:
         assert word in text, f"{word!r} not in: {text}"
     if status == 2:
+        assert len(captured.err.strip().splitlines()) == 1, captured.err
         assert _outputs(tmp_path) == before

@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import json
-import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
@@ -12,7 +11,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from searchtrack.cli import main
+from tests.cli.runs import run_on_file
 
 C101 = Path(__file__).parents[2] / "searchtrack" / "data" / "optw" / "c101.txt"
 
@@ -35,18 +34,7 @@ csv_junk = st.one_of(junk, st.lists(st.sampled_from(
 
 
 def _run(argv: Callable[[Path, Path], list[str]], name: str, data: str | bytes) -> None:
-    with tempfile.TemporaryDirectory() as folder:
-        tmp = Path(folder)
-        path = tmp / name
-        if isinstance(data, bytes):
-            path.write_bytes(data)
-        else:
-            path.write_text(data, encoding="utf-8", errors="surrogatepass")
-        try:
-            code = main(argv(path, tmp))
-        except SystemExit as exc:
-            code = exc.code if isinstance(exc.code, int) else 2
-        assert code in (0, 1, 2)
+    assert run_on_file(argv, name, data) in (0, 1, 2)
 
 
 FAST = settings(max_examples=40, deadline=None,

@@ -77,7 +77,8 @@ def _write(path: Path, text: str) -> Path:
 @pytest.mark.parametrize(("make", "words"), [
     (lambda t, f: t / "missing.json", "no such file"),
     (lambda t, f: _write(t / "mission.json", '{"time_s": [0.3,'), "line 1: not valid JSON"),
-    (lambda t, f: _write(t / "mission.json", '{"time_s": [0.3]}'), "re-run `searchtrack"),
+    (lambda t, f: _write(t / "mission.json", '{"time_s": [0.3]}'),
+     "field 'scenario': missing: not a mission record"),
     (_old_record, "field 'map': missing: the record predates the replay page; re-run"),
 ], ids=["missing", "malformed", "not a record", "before the map"])
 def test_view_rejects_bad_files(flown: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str],

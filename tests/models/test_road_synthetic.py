@@ -9,6 +9,7 @@ import pytest
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.models import grid_network, random_network
+from searchtrack.models.road_synthetic import grid_node
 
 
 def test_grid_counts_by_hand() -> None:
@@ -85,3 +86,19 @@ def test_bad_arguments_are_named(make: object, field: str) -> None:
     with pytest.raises(InvalidInputError) as err:
         make()  # type: ignore[operator]
     assert err.value.field == field
+
+
+@pytest.mark.parametrize(("rows", "cols", "spacing"), [(2, 3, 50.0), (3, 2, 50.0), (1, 4, 30.0),
+                                                       (4, 3, 100.0), (5, 2, 100.0 / 3.0)])
+def test_grid_node_is_the_documented_numbering(rows: int, cols: int, spacing: float) -> None:
+    """Junction ``(r, c)`` at ``(c·s, r·s)`` is node ``c·rows + r`` on grids that are not square,
+    with roads of one block or resampled inside the blocks."""
+    for step in (spacing, spacing / 4.0):
+        net = grid_network(rows, cols, block_m=spacing, spacing_m=step)
+        for r in range(rows):
+            for c in range(cols):
+                node = grid_node(rows, cols, r, c)
+                assert node == c * rows + r
+                assert np.allclose(net.coords[node], [c * spacing, r * spacing])
+    with pytest.raises(InvalidInputError):
+        grid_node(rows, cols, rows, 0)

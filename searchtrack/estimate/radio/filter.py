@@ -46,6 +46,13 @@ BirthProposal = Callable[[FloatArray, FloatArray], FloatArray]
 """``(z (M, L), uav_pose (3,)) -> (Λ, C)`` proposal over the τ cells for this step's birth
 particles (:mod:`~searchtrack.estimate.radio.birth_proposal`); called before the likelihood."""
 
+MAX_PARTICLES_PER_LABEL = 1_000_000
+"""Most particles per label ``N`` (20 times the paper's 50 000)."""
+
+MAX_PARTICLES = 2**23
+"""Most particles ``Λ·N`` of one filter (about 8.4 million: the paper's four labels at two
+million each would exceed it)."""
+
 LogLikelihood = Callable[[FloatArray, FloatArray, LabelledParticles], FloatArray]
 """``(z (M, L), uav_pose (3,), predicted particles) -> (Λ, N)`` finite log-likelihood ratios of
 every predicted particle; given checked inputs, it must not raise nor draw random numbers."""
@@ -58,7 +65,8 @@ class FilterConfig:
     Parameters
     ----------
     particles_per_label
-        ``N``: particles per label after resampling (the paper's ``N_s`` = 50 000).
+        ``N``: particles per label after resampling (the paper's ``N_s`` = 50 000), at most
+        :data:`MAX_PARTICLES_PER_LABEL`.
     birth_fraction
         Birth particles appended per label at each prediction, as a fraction of ``N`` in
         ``(0, 1]`` (at least one particle).
@@ -76,7 +84,10 @@ class FilterConfig:
     data_driven_births: bool = True
 
     def __post_init__(self) -> None:
-        checks.count("particles_per_label", self.particles_per_label, least=1)
+        n = checks.count("particles_per_label", self.particles_per_label, least=1)
+        if n > MAX_PARTICLES_PER_LABEL:
+            raise InvalidInputError("particles_per_label", n,
+                                    f"must be an integer in [1, {MAX_PARTICLES_PER_LABEL}]")
         object.__setattr__(self, "birth_fraction", checks.real(
             "birth_fraction", self.birth_fraction, low=0.0, high=1.0, low_open=True))
         object.__setattr__(self, "existence_threshold", checks.probability(
@@ -129,6 +140,12 @@ class LabelledFilter:
             raise InvalidInputError("config", config, "must be a FilterConfig")
         if not callable(likelihood):
             raise InvalidInputError("likelihood", likelihood, "must be callable")
+        total = scenario.signal.n_labels * config.particles_per_label
+        if total > MAX_PARTICLES:
+            raise InvalidInputError("particles_per_label", config.particles_per_label,
+                                    f"{scenario.signal.n_labels} labels × "
+                                    f"{config.particles_per_label} = {total} particles exceed "
+                                    f"the {MAX_PARTICLES} a filter may hold")
         self.scenario = scenario
         self.config = config
         self._likelihood = likelihood

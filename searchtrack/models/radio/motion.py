@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
+from searchtrack.models.radio.signal import MAX_PERIOD_S
 
 #: Mode index of the wandering model (eq. 46).
 WD = 0
@@ -34,6 +35,9 @@ WD = 0
 CV = 1
 
 ModeArray = NDArray[np.int8]
+
+#: Largest noise parameter (variances, ``σ_CV``, ``σ_τ``): squares and cubes stay finite.
+MAX_NOISE = 1e6
 
 
 def _distribution(name: str, value: object) -> tuple[float, float]:
@@ -74,9 +78,10 @@ class TagMotion:
 
     def __post_init__(self) -> None:
         put = object.__setattr__
-        put(self, "period_s", checks.positive("period_s", self.period_s))
+        put(self, "period_s", checks.real("period_s", self.period_s, low=0.0, low_open=True,
+                                          high=MAX_PERIOD_S))
         for name in ("wd_position_var", "wd_velocity_var", "cv_accel_std", "tau_std"):
-            put(self, name, checks.non_negative(name, getattr(self, name)))
+            put(self, name, checks.real(name, getattr(self, name), low=0.0, high=MAX_NOISE))
         rows = checks.finite_array("mode_transition", self.mode_transition,  # type: ignore[arg-type]
                                    (2, 2))
         put(self, "mode_transition", tuple(_distribution(f"mode_transition[{i}]", rows[i])

@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.core.files import read_text
+from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
 from searchtrack.models.radio.motion import TagMotion, propagate
 from searchtrack.models.radio.signal import RadioSignal
@@ -37,6 +38,8 @@ from searchtrack.models.radio.uav import UavModel
 
 #: Largest scenario file read (bytes).
 MAX_SCENARIO_BYTES = 2**20
+#: Most measurement intervals ``duration_s / T0`` of a scenario (28 h at the paper's T0 = 1 s).
+MAX_STEPS = 100_000
 
 
 def _vector(name: str, value: object, size: int) -> tuple[float, ...]:
@@ -124,9 +127,9 @@ _TABLES: dict[str, type] = {"signal": RadioSignal, "motion": TagMotion, "uav": U
 class RadioScenario:
     """Signal, motion, UAV, tags and birth model of a radio-tag mission (§IV-A defaults).
 
-    ``n_steps = round(duration_s / T0)`` measurement intervals at ``t_k = k T0``. The motion
-    and UAV step must equal the signal period ``T0``; labels must be unique and below the
-    number of frequencies; τ must lie in ``[0, T0)``.
+    ``n_steps = round(duration_s / T0)`` measurement intervals at ``t_k = k T0``, at most
+    :data:`MAX_STEPS`. The motion and UAV step must equal the signal period ``T0``; labels must
+    be unique and below the number of frequencies; τ must lie in ``[0, T0)``.
     """
 
     signal: RadioSignal = field(default_factory=RadioSignal)
@@ -160,6 +163,10 @@ class RadioScenario:
         if not (0.0 <= x0 <= area[0] and 0.0 <= y0 <= area[1]):
             raise InvalidInputError("uav.start_xy", self.uav.start_xy, "must lie in the area")
         put(self, "duration_s", checks.positive("duration_s", self.duration_s))
+        steps = self.duration_s / t0
+        if not steps < MAX_STEPS + 0.5:
+            raise InvalidInputError("duration_s", self.duration_s, f"must span at most "
+                                    f"{MAX_STEPS} measurement intervals of T0 = {t0:g} s")
         if self.n_steps < 1:
             raise InvalidInputError("duration_s", self.duration_s, "must span at least one T0")
         put(self, "tags", self._checked_tags())
@@ -329,7 +336,8 @@ def simulate_truth(scenario: RadioScenario, rng: np.random.Generator) -> RadioTr
     A tag is alive at ``t_k`` when ``birth_s ≤ t_k < death_s``; at its first step it holds its
     ``initial_state`` and ``tau_s``, then each step propagates it by :func:`propagate`
     (kinematics with the previous mode, mode jump, τ step), the mode being overridden by the
-    tag's schedule while that runs.
+    tag's schedule while that runs. A stop request (Ctrl-C) ends the draw early: the truth then
+    holds the steps drawn so far.
     """
     checks.generator("rng", rng)
     n_steps, n_labels = scenario.n_steps, scenario.signal.n_labels
@@ -343,6 +351,9 @@ def simulate_truth(scenario: RadioScenario, rng: np.random.Generator) -> RadioTr
     tau = np.zeros(n_labels)
     was_alive = np.zeros(n_labels, dtype=bool)
     for k, t in enumerate(times):
+        if stop_requested():
+            n_steps = k
+            break
         x, mode, tau = propagate(scenario.motion, x, mode, tau, rng)
         alive = np.zeros(n_labels, dtype=bool)
         for tag in scenario.tags:
@@ -357,7 +368,9 @@ def simulate_truth(scenario: RadioScenario, rng: np.random.Generator) -> RadioTr
                 mode[lam] = forced
         states[k, alive], modes[k, alive], taus[k, alive] = x[alive], mode[alive], tau[alive]
         alive_all[k] = was_alive = alive
-    ro = checks.readonly
-    return RadioTruth(times_s=ro(times, copy=False), states=ro(states, copy=False),
-                      alive=ro(alive_all, copy=False), modes=ro(modes, copy=False),
-                      taus_s=ro(taus, copy=False))
+
+    def ro(a: NDArray[Any]) -> NDArray[Any]:
+        return checks.readonly(a[:n_steps], copy=False)
+
+    return RadioTruth(times_s=ro(times), states=ro(states), alive=ro(alive_all), modes=ro(modes),
+                      taus_s=ro(taus))

@@ -21,6 +21,9 @@ Modelling choices (made where the paper is silent or inconsistent):
   heading and the ground direction UAV → tag.
 * Noise: complex receiver noise of variance ``Σ_η`` (``Σ_η/2`` per component, eq. 48) gives
   cells with ``Σ_z = E_w Σ_η / 2`` per component, ``E_w = Σ w[n]²`` (Lemma 2).
+
+Sizes are bounded so that a signal read from a file can neither exhaust memory nor overflow:
+see the ``MAX_*`` limits below (the paper's design sits far inside every one).
 """
 
 from __future__ import annotations
@@ -45,6 +48,25 @@ BLACKMAN_HARRIS_4 = (0.35875, 0.48829, 0.14128, 0.01168)
 #: Main-lobe width of that window in bins (Table I: 2B for B terms); eq. 19 uses it.
 MAIN_LOBE_BINS = 8
 
+#: Most tags (frequencies) a signal may carry (the paper: 4).
+MAX_LABELS = 32
+#: Largest DFT length ``L`` and window ``N_w`` (the paper: 256).
+MAX_FFT_SIZE = 2**16
+#: Most frames ``M`` per period (the paper: 111).
+MAX_FRAMES = 2**16
+#: Most cells ``M·L`` of one spectrogram (the paper: 28 416).
+MAX_CELLS = 2**20
+#: Largest ``Λ·L·N_w``, the terms of the tones' spectra over all bins (the paper: 262 144).
+MAX_SPECTRUM_TERMS = 2**22
+#: Largest sampling rate (Hz) and period ``T0`` (s).
+MAX_SAMPLE_RATE_HZ, MAX_PERIOD_S = 1e12, 3600.0
+#: Largest receiver noise variance ``Σ_η`` (V²): a noise standard deviation of 1 kV.
+MAX_NOISE_VAR_V2 = 1e6
+#: Largest magnitude of the gains in dB, and of the pulse amplitude (V).
+MAX_GAIN_DB, MAX_AMPLITUDE_V = 200.0, 1e6
+#: Largest path-loss exponent κ.
+MAX_PATH_LOSS_EXPONENT = 10.0
+
 
 def blackman_harris(n: int) -> FloatArray:
     """The periodic 4-term Blackman–Harris window of ``n`` samples (read-only)."""
@@ -63,12 +85,23 @@ def window_dtft(window: FloatArray, offsets: ArrayLike, fft_size: int) -> Comple
     return out
 
 
+def _bounded_count(name: str, value: object, high: int, low: int = 1) -> int:
+    """``value`` as an integer in ``[low, high]``, else :class:`InvalidInputError`."""
+    n = checks.count(name, value, least=low)
+    if n > high:
+        raise InvalidInputError(name, value, f"must be an integer in [{low}, {high}]")
+    return n
+
+
 def _frequencies(value: object, sample_rate_hz: float) -> tuple[float, ...]:
     if isinstance(value, (str, bytes)) or not isinstance(value, Iterable):
         raise InvalidInputError("frequencies_hz", value, "must be a sequence of numbers")
     items = tuple(value)
     if not items:
         raise InvalidInputError("frequencies_hz", value, "must name at least one tag")
+    if len(items) > MAX_LABELS:
+        raise InvalidInputError("frequencies_hz", f"{len(items)} frequencies",
+                                f"at most {MAX_LABELS} tags")
     freqs = tuple(checks.positive("frequencies_hz", f) for f in items)
     if max(freqs) >= sample_rate_hz / 2.0:
         raise InvalidInputError("frequencies_hz", value,
@@ -107,25 +140,49 @@ class RadioSignal:
 
     def __post_init__(self) -> None:
         put = object.__setattr__
-        fs = checks.positive("sample_rate_hz", self.sample_rate_hz)
+        real = checks.real
+        fs = real("sample_rate_hz", self.sample_rate_hz, low=0.0, low_open=True,
+                  high=MAX_SAMPLE_RATE_HZ)
         put(self, "sample_rate_hz", fs)
         put(self, "frequencies_hz", _frequencies(self.frequencies_hz, fs))
-        for name in ("period_s", "pulse_width_s", "amplitude_v", "path_loss_exponent",
-                     "reference_distance_m", "noise_var_v2"):
-            put(self, name, checks.positive(name, getattr(self, name)))
-        put(self, "receiver_gain_db", checks.real("receiver_gain_db", self.receiver_gain_db))
-        put(self, "front_to_back_db", checks.non_negative("front_to_back_db",
-                                                          self.front_to_back_db))
+        for name, high in (("period_s", MAX_PERIOD_S), ("pulse_width_s", MAX_PERIOD_S),
+                           ("amplitude_v", MAX_AMPLITUDE_V),
+                           ("path_loss_exponent", MAX_PATH_LOSS_EXPONENT),
+                           ("reference_distance_m", math.inf),
+                           ("noise_var_v2", MAX_NOISE_VAR_V2)):
+            put(self, name, real(name, getattr(self, name), low=0.0, low_open=True, high=high))
+        put(self, "receiver_gain_db", real("receiver_gain_db", self.receiver_gain_db,
+                                           low=-MAX_GAIN_DB, high=MAX_GAIN_DB))
+        put(self, "front_to_back_db", real("front_to_back_db", self.front_to_back_db, low=0.0,
+                                           high=MAX_GAIN_DB))
         put(self, "height_difference_m", checks.non_negative("height_difference_m",
                                                              self.height_difference_m))
-        put(self, "frames", checks.count("frames", self.frames, least=1))
-        put(self, "window_size", checks.count("window_size", self.window_size, least=1))
-        put(self, "fft_size", checks.count("fft_size", self.fft_size, least=1))
-        put(self, "half_width_bins", checks.count("half_width_bins", self.half_width_bins))
+        for name, high in (("frames", MAX_FRAMES), ("window_size", MAX_FFT_SIZE),
+                           ("fft_size", MAX_FFT_SIZE)):
+            put(self, name, _bounded_count(name, getattr(self, name), high))
+        put(self, "half_width_bins", _bounded_count("half_width_bins", self.half_width_bins,
+                                                    self.fft_size, low=0))
         if self.pulse_width_s > self.period_s:
             raise InvalidInputError("pulse_width_s", self.pulse_width_s,
                                     f"must not exceed the period {self.period_s:g} s")
+        self._check_sizes()
         self._check_design()
+
+    def _check_sizes(self) -> None:
+        """The size limits: spectrogram cells, tone spectra, room for the influence regions."""
+        m, n_fft, nw, n_labels = self.frames, self.fft_size, self.window_size, self.n_labels
+        if m * n_fft > MAX_CELLS:
+            raise InvalidInputError("frames", m, f"M·L = {m}·{n_fft} = {m * n_fft} cells per "
+                                    f"spectrogram exceed the limit {MAX_CELLS}")
+        if n_labels * n_fft * nw > MAX_SPECTRUM_TERMS:
+            raise InvalidInputError("fft_size", n_fft, f"Λ·L·N_w = {n_labels}·{n_fft}·{nw} = "
+                                    f"{n_labels * n_fft * nw} exceeds the limit "
+                                    f"{MAX_SPECTRUM_TERMS} (fewer tags, a shorter DFT or window)")
+        width = 2 * self.half_width_bins + 1
+        if n_labels * width > n_fft:
+            raise InvalidInputError("half_width_bins", self.half_width_bins,
+                                    f"{n_labels} disjoint influence regions of {width} bins "
+                                    f"cannot fit in L = {n_fft} bins")
 
     def _check_design(self) -> None:
         fs, nw, hop = self.sample_rate_hz, self.window_size, self.hop

@@ -25,6 +25,11 @@ from searchtrack.core.angles import wrap_angle
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 
+#: Most action primitives ``N_θ`` (one per degree).
+MAX_HEADINGS = 360
+#: Most poses ``N_p / step_s`` in one primitive.
+MAX_STEPS_PER_PLAN = 1000
+
 
 @dataclass(frozen=True)
 class UavModel:
@@ -62,9 +67,14 @@ class UavModel:
         put(self, "start_xy", (float(xy[0]), float(xy[1])))
         put(self, "start_heading", checks.real("start_heading", self.start_heading))
         put(self, "n_headings", checks.count("n_headings", self.n_headings, least=1))
-        if round(self.plan_interval_s / self.step_s) < 1:
+        if self.n_headings > MAX_HEADINGS:
+            raise InvalidInputError("n_headings", self.n_headings,
+                                    f"must be an integer in [1, {MAX_HEADINGS}]")
+        steps = self.plan_interval_s / self.step_s
+        if not 0.5 <= steps < MAX_STEPS_PER_PLAN + 0.5 or round(steps) < 1:
             raise InvalidInputError("plan_interval_s", self.plan_interval_s,
-                                    f"must span at least one step of {self.step_s:g} s")
+                                    f"must span 1 to {MAX_STEPS_PER_PLAN} steps of "
+                                    f"{self.step_s:g} s")
 
     @property
     def start_pose(self) -> FloatArray:

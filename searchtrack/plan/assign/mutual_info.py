@@ -11,9 +11,8 @@ and the joint pmf follows by inclusion–exclusion over the ones (a superset Mö
 ``H[Y]`` exactly over the ``2^M`` outcomes. ``H[Y | X] = Σ_j E[h_b(π_j)]`` is modular; by the
 Mecke formula ``E[π log π] = e^{−λ_c} G (−λ_c + Σ_i w_i a_i log a_i)`` with
 ``G = exp(−Σ_i w_i p_d(x_i))``, and ``E[(1 − π) log(1 − π)] = −Σ_k (E π^k − E π^{k+1}) / k`` with
-``E π^k = exp(−k λ_c + Σ_i w_i (a_i^k − 1))``: the series is summed until its tail bound
-``(E π^{K+1} − P(π = 1)) / (K + 1)`` is below 1e-9 or ``K`` reaches 2048 terms, and half the bound
-is added (error at most half the bound; slow only for particles with tiny ``p_d``).
+``E π^k = exp(−k λ_c + Σ_i w_i (a_i^k − 1))``, summed with a bounded error however small the
+``p_d`` (:mod:`.binary_entropy`).
 ``I = H[Y] − H[Y | X]`` in nats. Above ``exact_max`` measurements ``H[Y]`` is estimated by Monte
 Carlo over target sets drawn from the Poisson RFS, with the same draws for every call of a seed.
 """
@@ -29,10 +28,11 @@ from scipy.special import logsumexp
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
+from searchtrack.plan.assign.binary_entropy import Bounded, conditional_entropy_bounded
 
-_TAIL_TOL = 1e-9
-_MAX_TERMS = 2048
 _LOG_FLOOR = 1e-12
+#: Round-off allowed per measurement in the exact MI before a negative value is an error.
+ROUND_OFF = 1e-10
 
 
 def _check(pd: FloatArray, weights: FloatArray) -> None:
@@ -85,42 +85,23 @@ def measurement_entropy(pd: FloatArray, weights: FloatArray, clutter_rate: float
 
 def conditional_entropy_one(pd_row: FloatArray, weights: FloatArray,
                             clutter_rate: float = 0.0) -> float:
-    """``E_X[h_b(π(X))]`` for one binary measurement, closed form plus a bounded series."""
-    keep = pd_row > 0.0
-    a = 1.0 - pd_row[keep]
-    w = weights[keep]
-    lam = clutter_rate
-    if a.size == 0 and lam == 0.0:
-        return 0.0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        alog = np.where(a > 0.0, a * np.log(np.where(a > 0.0, a, 1.0)), 0.0)
-    g = math.exp(-float(np.sum(w * (1.0 - a))))
-    e_pi_log_pi = math.exp(-lam) * g * (-lam + float(np.sum(w * alog)))
-    # P(π = 1): no target with p_d > 0 and no clutter.
-    p_one = math.exp(-float(np.sum(w))) if lam == 0.0 else 0.0
-    log_a = np.log(np.maximum(a, 1e-300))
-    total = 0.0
-    k0 = 1
-    block = 64
-    prev_tail = math.inf
-    while k0 <= _MAX_TERMS:
-        ks = np.arange(k0, k0 + block + 1, dtype=np.float64)
-        moments = np.exp(-ks * lam + (np.exp(np.outer(ks, log_a)) - 1.0) @ w)
-        terms = (moments[:-1] - moments[1:]) / ks[:-1]
-        total += float(np.sum(terms))
-        k0 += block
-        prev_tail = max(0.0, float(moments[-1]) - p_one) / k0
-        if prev_tail < _TAIL_TOL:
-            break
-        block *= 2
-    e_1mpi = -(total + 0.5 * prev_tail)
-    return max(0.0, -e_pi_log_pi - e_1mpi)
+    """``E_X[h_b(π(X))]`` for one binary measurement (error at most
+    :data:`~searchtrack.plan.assign.binary_entropy.TOLERANCE` nats or so; see
+    :func:`~searchtrack.plan.assign.binary_entropy.conditional_entropy_bounded`)."""
+    return conditional_entropy_bounded(pd_row, weights, clutter_rate).value
+
+
+def conditional_entropy_with_error(pd: FloatArray, weights: FloatArray,
+                                   clutter_rate: float = 0.0) -> Bounded:
+    """``H[Y | X] = Σ_j E[h_b(π_j)]`` in nats and a bound on its absolute error."""
+    _check(pd, weights)
+    parts = [conditional_entropy_bounded(row, weights, clutter_rate) for row in pd]
+    return Bounded(sum(p.value for p in parts), sum(p.error for p in parts))
 
 
 def conditional_entropy(pd: FloatArray, weights: FloatArray, clutter_rate: float = 0.0) -> float:
     """``H[Y | X] = Σ_j E[h_b(π_j)]`` in nats."""
-    _check(pd, weights)
-    return sum(conditional_entropy_one(row, weights, clutter_rate) for row in pd)
+    return conditional_entropy_with_error(pd, weights, clutter_rate).value
 
 
 def sample_target_sets(weights: FloatArray, samples: int,
@@ -185,11 +166,20 @@ def binary_mi(pd: FloatArray, weights: FloatArray, clutter_rate: float = 0.0, *,
               h_cond: float | None = None) -> float:
     """``I[X; Y]`` (nats) of the ``(M, N)`` detection probabilities: exact for
     ``M ≤ exact_max``, else ``H[Y]`` by Monte Carlo with ``samples`` draws from ``seed``.
-    ``h_cond`` passes a precomputed ``H[Y | X]`` (it is modular, so callers cache it)."""
+    ``h_cond`` passes a precomputed ``H[Y | X]`` (it is modular, so callers cache it).
+
+    The exact value is off by at most the error of ``H[Y | X]``
+    (:func:`conditional_entropy_with_error`) plus round-off; a difference below
+    ``-ROUND_OFF`` cannot come from either and raises :class:`ArithmeticError`, a smaller
+    negative one is round-off of a zero MI and gives 0. The Monte Carlo estimate can fall
+    below zero by sampling noise; it is clipped at 0."""
     _check(pd, weights)
     if h_cond is None:
         h_cond = conditional_entropy(pd, weights, clutter_rate)
-    if pd.shape[0] <= exact_max:
-        return max(0.0, measurement_entropy(pd, weights, clutter_rate) - h_cond)
-    return max(0.0, monte_carlo_entropy(pd, weights, clutter_rate, samples=samples,
-                                        rng=np.random.default_rng(seed)) - h_cond)
+    if pd.shape[0] > exact_max:
+        return max(0.0, monte_carlo_entropy(pd, weights, clutter_rate, samples=samples,
+                                            rng=np.random.default_rng(seed)) - h_cond)
+    mi = measurement_entropy(pd, weights, clutter_rate) - h_cond
+    if mi < -ROUND_OFF * max(1.0, pd.shape[0]):
+        raise ArithmeticError(f"exact binary MI came out negative ({mi:.3g} nats)")
+    return max(0.0, mi)

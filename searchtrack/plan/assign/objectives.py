@@ -19,7 +19,8 @@ from searchtrack.core.checks import non_negative
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 from searchtrack.models.footprint import detection_matrix
-from searchtrack.plan.assign.mutual_info import binary_mi, conditional_entropy
+from searchtrack.plan.assign.binary_entropy import Bounded
+from searchtrack.plan.assign.mutual_info import binary_mi, conditional_entropy_with_error
 
 if TYPE_CHECKING:
     from searchtrack.plan.assign.problem import AssignmentProblem
@@ -62,6 +63,11 @@ class Objective(Protocol):
         """The set function of this objective on ``problem``."""
         ...
 
+    def estimated(self, problem: AssignmentProblem) -> str | None:
+        """Why the values on ``problem`` are estimates (no enumeration of them proves a plan
+        optimal), or ``None`` when they are exact."""
+        ...
+
 
 @dataclass(frozen=True)
 class ExpectedDetections:
@@ -80,6 +86,10 @@ class ExpectedDetections:
     def evaluator(self, problem: AssignmentProblem) -> ExpectedDetectionsFunction:
         """END on ``problem``'s cached hit probabilities."""
         return ExpectedDetectionsFunction(problem)
+
+    def estimated(self, problem: AssignmentProblem) -> str | None:
+        """END is exact."""
+        return None
 
 
 @dataclass(frozen=True)
@@ -127,6 +137,15 @@ class MutualInformation:
         """The binary MI on ``problem``'s cached detection tensor (values cached per call)."""
         return MutualInformationFunction(problem, self)
 
+    def estimated(self, problem: AssignmentProblem) -> str | None:
+        """A full selection has ``R·T`` measurements; above ``exact_max`` its MI is a Monte
+        Carlo estimate."""
+        m = problem.robots * problem.horizon
+        if m <= self.exact_max:
+            return None
+        return (f"MI of {m} measurements is a Monte Carlo estimate (exact up to "
+                f"exact_max={self.exact_max})")
+
 
 class ExpectedDetectionsFunction:
     """END on particles: ``Σ_j w_j (1 − Π_{q∈Q} (1 − p_d(x_j | q)))``.
@@ -170,15 +189,21 @@ class MutualInformationFunction:
         self.problem = problem
         self.spec = spec
         self._cache: dict[tuple[tuple[int, int], ...], float] = {}
-        self._h_cond: dict[tuple[int, int], float] = {}
+        self._h_cond: dict[tuple[int, int], Bounded] = {}
 
-    def _conditional(self, r: int, a: int) -> float:
-        """``H[Y | X]`` of one action's measurements (modular, so cached per action)."""
+    def _conditional(self, r: int, a: int) -> Bounded:
+        """``H[Y | X]`` of one action's measurements and its error bound (modular, so cached
+        per action)."""
         if (r, a) not in self._h_cond:
-            self._h_cond[(r, a)] = conditional_entropy(self.problem.detection[r][a],
-                                                       self.problem.weights,
-                                                       self.spec.clutter_rate)
+            self._h_cond[(r, a)] = conditional_entropy_with_error(
+                self.problem.detection[r][a], self.problem.weights, self.spec.clutter_rate)
         return self._h_cond[(r, a)]
+
+    def error(self, selection: Selection) -> float:
+        """A bound on the absolute error of :meth:`value` from the series behind
+        ``H[Y | X]`` (exact evaluations; the Monte Carlo estimate above ``exact_max`` has its
+        own sampling error on top)."""
+        return sum(self._conditional(int(r), int(a)).error for r, a in selection)
 
     def _pd(self, selection: Selection) -> FloatArray:
         rows = [self.problem.detection[r][a] for r, a in selection]
@@ -193,7 +218,7 @@ class MutualInformationFunction:
             s = self.spec
             self._cache[key] = binary_mi(self._pd(key), self.problem.weights, s.clutter_rate,
                                          exact_max=s.exact_max, samples=s.samples, seed=s.seed,
-                                         h_cond=sum(self._conditional(r, a) for r, a in key))
+                                         h_cond=sum(self._conditional(r, a).value for r, a in key))
         return self._cache[key]
 
     def gains(self, selection: Selection, robot: int) -> FloatArray:

@@ -5,12 +5,14 @@ joint action space is small enough."""
 
 from __future__ import annotations
 
+import dataclasses
+
 from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
 from searchtrack.core.result import Result
 from searchtrack.plan.assign.branch_and_bound import solve_branch_and_bound
 from searchtrack.plan.assign.brute import solve_brute_force, supports_brute_force
 from searchtrack.plan.assign.greedy import solve_greedy, solve_lazy_greedy
-from searchtrack.plan.assign.objectives import coverage_only
+from searchtrack.plan.assign.objectives import MutualInformationFunction, coverage_only
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
 
 
@@ -86,4 +88,11 @@ def solve(problem: AssignmentProblem, *, backend: str = "auto", time_limit_s: fl
     InvalidInputError
         Unknown backend, a backend that cannot take the problem, a bad limit or seed.
     """
-    return BACKENDS.solve(backend, problem, time_limit_s=time_limit_s, seed=seed)
+    result = BACKENDS.solve(backend, problem, time_limit_s=time_limit_s, seed=seed)
+    evaluator = problem.objective.evaluator(problem)
+    if result.plan is None or not isinstance(evaluator, MutualInformationFunction):
+        return result
+    # The MI's series error for the plan's actions: how far the objective may be off.
+    selection = list(enumerate(result.plan.actions))
+    stats = {**result.stats, "objective_error": evaluator.error(selection)}
+    return dataclasses.replace(result, stats=stats)

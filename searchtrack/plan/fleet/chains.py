@@ -24,10 +24,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from searchtrack.core import checks
+from searchtrack.core.interrupt import check_stop
 from searchtrack.models.roads import RoadNetwork
 
 #: Relative tolerance under which two chain lengths count as equal when grouping.
 LENGTH_RTOL = 1e-9
+
+#: Chains traced between two calls of :func:`~searchtrack.core.interrupt.check_stop`.
+STOP_EVERY = 1024
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,6 +96,11 @@ def chain_graph(network: RoadNetwork) -> ChainGraph:
     Returns
     -------
     The chains, their lengths, node paths and children under the no-U-turn rule.
+
+    Raises
+    ------
+    StopRequested
+        On a stop request inside :func:`~searchtrack.core.interrupt.stops_raise`.
     """
     m = network.n_edges
     tail = np.concatenate([network.edges[:, 0], network.edges[:, 1]])  # directed edge d, d + m
@@ -115,13 +124,15 @@ def chain_graph(network: RoadNetwork) -> ChainGraph:
     chain_of_first = np.full(2 * m, -1, dtype=np.int64)
     chain_of_first[first] = np.arange(len(chains))
     children: list[NDArray[np.int64]] = []
-    for d in last:
+    for i, d in enumerate(last):
+        if i % STOP_EVERY == 0:
+            check_stop()
         leaving = order[out_ptr[head[d]]:out_ptr[head[d] + 1]]
         onward = leaving[leaving != reverse[d]]
         children.append(chain_of_first[onward if onward.size else np.array([reverse[d]])])
     sizes = np.array([len(c) for c in chains], dtype=np.int64)
     flat = np.concatenate([np.asarray(c, dtype=np.int64) for c in chains])
-    nodes = np.concatenate([np.append(tail[np.asarray(c)], head[c[-1]]) for c in chains])
+    nodes = np.insert(tail[flat], np.cumsum(sizes), head[last])  # each chain's tails, its head
     return ChainGraph(
         tail=checks.readonly(tail[first]),
         head=checks.readonly(head[last]),
@@ -139,7 +150,9 @@ def _trace_chains(tail: NDArray[np.int64], head: NDArray[np.int64], reverse: NDA
     """Directed-edge lists of the chains that start at a cut node, each followed through
     uncut (pass-through) nodes to the next cut node."""
     chains: list[list[int]] = []
-    for node in np.flatnonzero(cut):
+    for i, node in enumerate(np.flatnonzero(cut)):
+        if i % STOP_EVERY == 0:
+            check_stop()
         for d in order[out_ptr[node]:out_ptr[node + 1]]:
             chain = [int(d)]
             while not cut[head[chain[-1]]]:
@@ -191,6 +204,11 @@ def subdivisions(graph: ChainGraph, *, grouped: bool = True) -> tuple[Subdivisio
     Returns
     -------
     Subdivisions ordered by decreasing share, then length.
+
+    Raises
+    ------
+    StopRequested
+        On a stop request inside :func:`~searchtrack.core.interrupt.stops_raise`.
     """
     n = graph.n_chains
     if not grouped:
@@ -229,6 +247,7 @@ def _refine(graph: ChainGraph, colour: NDArray[np.int64]) -> NDArray[np.int64]:
     parent = np.repeat(np.arange(n), graph.fanout)
     slot = 1 + np.arange(parent.size) - np.repeat(graph.child_ptr[:-1], graph.fanout)
     while True:
+        check_stop()
         kid = colour[graph.child_idx]
         signature = np.full((n, int(graph.fanout.max()) + 1), -1, dtype=np.int64)
         signature[:, 0] = colour

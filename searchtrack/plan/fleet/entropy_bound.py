@@ -25,6 +25,7 @@ from scipy.special import ndtr
 
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.interrupt import check_stop
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.fleet.chains import ChainGraph, chain_graph
 from searchtrack.plan.fleet.mode_split import SplitProfile, split_profile
@@ -41,6 +42,12 @@ BINNINGS: tuple[Binning, ...] = ("density", "mass")
 
 #: Half-width of the bins evaluated around the mean, in standard deviations (the rest are < 1e-30).
 WINDOW_SIGMAS = 12.0
+#: Variances × bins :func:`gaussian_entropy` evaluates at once (bounds its memory).
+ENTROPY_CELLS = 2**20
+#: Most bins :func:`gaussian_entropy` evaluates per variance.
+MAX_ENTROPY_BINS = 2**24
+#: σ (in bins) above which :func:`required_entropy` takes ``½ ln(2πe σ²/bin²)`` (< 1e-8 off).
+CLOSED_FORM_BINS = 1e4
 
 
 @dataclass(frozen=True)
@@ -170,17 +177,25 @@ def gaussian_entropy(variance_m2: ArrayLike, length_m: float, bin_m: float = 1.0
     reach = WINDOW_SIGMAS * math.sqrt(float(var.max()))
     lo = max(0, math.ceil((mean - reach) / width))
     hi = min(math.floor(length / width + 1e-9), math.floor((mean + reach) / width))
+    if hi - lo + 1 > MAX_ENTROPY_BINS:
+        raise InvalidInputError("variance_m2", float(var.max()),
+                                f"spans over {MAX_ENTROPY_BINS} bins of {width:g} m")
     bins = np.arange(lo, hi + 1) * width
     sigma = np.sqrt(var.reshape(-1, 1))
-    z = (bins[None, :] - mean) / sigma
-    if binning == "density":
-        phi = np.exp(-0.5 * z * z) * (width / (math.sqrt(2 * math.pi) * sigma))
-    else:
-        half = 0.5 * width / sigma
-        phi = ndtr(z + half) - ndtr(z - half)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        terms = np.where(phi > 0, -phi * np.log(phi), 0.0)
-    return terms.sum(axis=1).reshape(var.shape), phi.sum(axis=1).reshape(var.shape)
+    entropy, mass = np.empty(var.size), np.empty(var.size)
+    rows = max(1, ENTROPY_CELLS // max(1, bins.size))
+    for start in range(0, var.size, rows):
+        check_stop()
+        part = slice(start, start + rows)
+        z = (bins[None, :] - mean) / sigma[part]
+        if binning == "density":
+            phi = np.exp(-0.5 * z * z) * (width / (math.sqrt(2 * math.pi) * sigma[part]))
+        else:
+            phi = ndtr(z + 0.5 * width / sigma[part]) - ndtr(z - 0.5 * width / sigma[part])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            terms = np.where(phi > 0, -phi * np.log(phi), 0.0)
+        entropy[part], mass[part] = terms.sum(axis=1), phi.sum(axis=1)
+    return entropy.reshape(var.shape), mass.reshape(var.shape)
 
 
 def expected_entropy(variance_m2: ArrayLike, profile: SplitProfile, length_m: float,
@@ -329,10 +344,18 @@ def entropy_bound(bound_map: BoundMap, config: BoundConfig, uavs: int,
 def required_entropy(variance_m2: float, length_m: float, config: BoundConfig,
                      degree: float = 1.0) -> float:
     """Entropy (nats) of modes of ``degree`` each with ``variance_m2``: the right side of
-    Eq. 47 with ``P_d = 1`` (Corollary 1), ``H(φ) + ln(1/d) Σ_h φ``."""
+    Eq. 47 with ``P_d = 1`` (Corollary 1), ``H(φ) + ln(1/d) Σ_h φ``.
+
+    Above ``(L_map/8)²``, where the map would cut the tails (and a wider Gaussian have *less*
+    entropy on it), the Gaussian is not cut, so the entropy keeps rising with any finite
+    variance (in closed form beyond :data:`CLOSED_FORM_BINS` bins)."""
     d = checks.real("degree", degree, low=0.0, high=1.0, low_open=True)
-    h, mass = gaussian_entropy(checks.positive("variance_m2", variance_m2), length_m,
-                               config.bin_m, config.binning)
+    var, length = checks.positive("variance_m2", variance_m2), checks.positive("length_m", length_m)
+    if var > (length / 8.0) ** 2:
+        if (sigma_bins := math.sqrt(var) / config.bin_m) > CLOSED_FORM_BINS:
+            return 0.5 * math.log(2.0 * math.pi * math.e) + math.log(sigma_bins / d)
+        length = 2.0 * (WINDOW_SIGMAS * math.sqrt(var) + config.bin_m)  # a map cutting nothing
+    h, mass = gaussian_entropy(var, length, config.bin_m, config.binning)
     return float(h + math.log(1.0 / d) * mass)
 
 

@@ -35,6 +35,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.interrupt import check_stop
 from searchtrack.plan.fleet.chains import ChainGraph, subdivisions
 
 #: Most modes :func:`mode_probabilities` enumerates before it refuses (use :func:`split_profile`).
@@ -42,6 +43,16 @@ MAX_MODES = 2_000_000
 
 #: Modes × times evaluated at once by :func:`mode_probabilities` (bounds its memory).
 EVAL_CELLS = 4_000_000
+
+#: Most steps :func:`split_profile` propagates (a round trip of almost 14 hours at 0.1 s).
+MAX_PROFILE_STEPS = 500_000
+
+#: Most numbers :func:`split_profile`'s ring of births may hold (chains × steps of the slowest
+#: chain; 512 MB).
+MAX_RING_CELLS = 2**26
+
+#: Most chain-steps (chains × steps) :func:`split_profile` propagates, about a minute of work.
+MAX_PROFILE_WORK = 5_000_000_000
 
 
 @dataclass(frozen=True)
@@ -189,6 +200,31 @@ def mode_probabilities(graph: ChainGraph, target_speed_mps: float, times_s: Arra
     return ModeProbabilities(checks.readonly(t), degrees, checks.readonly(prob, copy=False))
 
 
+def profile_refusal(graph: ChainGraph, target_speed_mps: float, dt_s: float,
+                    n_steps: float) -> str | None:
+    """Why :func:`split_profile` refuses ``n_steps`` steps on ``graph`` (its ring of births, its
+    step count or its chain-steps over :data:`MAX_RING_CELLS`, :data:`MAX_PROFILE_STEPS` or
+    :data:`MAX_PROFILE_WORK`), or ``None`` when it runs; a caller can ask before the work that
+    precedes it."""
+    speed = checks.positive("target_speed_mps", target_speed_mps)
+    dt = checks.positive("dt_s", dt_s)
+    longest = float(graph.length_m.max())
+    slowest = longest / speed / dt
+    cells = (math.floor(slowest) + 2.0) * graph.n_chains
+    if cells > MAX_RING_CELLS:
+        return (f"its longest chain ({longest:.4g} m) takes {slowest:.3g} steps of {dt:g} s at "
+                f"{speed:g} m/s, so the split profile would hold {cells:.3g} numbers, above the "
+                f"{MAX_RING_CELLS} it may")
+    if n_steps > MAX_PROFILE_STEPS:
+        return (f"a round trip takes {n_steps:.3g} steps of {dt:g} s, above the "
+                f"{MAX_PROFILE_STEPS} the bound evaluates")
+    if n_steps * graph.n_chains > MAX_PROFILE_WORK:
+        return (f"{graph.n_chains} chains over {n_steps:.3g} steps are "
+                f"{n_steps * graph.n_chains:.3g} chain-steps, above the {MAX_PROFILE_WORK:.3g} "
+                "the bound evaluates")
+    return None
+
+
 def split_profile(graph: ChainGraph, target_speed_mps: float, dt_s: float,
                   n_steps: int) -> SplitProfile:
     """``Σ_D P_{D,k}`` and ``Σ_D P_{D,k} ln(1/D)`` for ``k = 0…n_steps`` (Lemma 5 on the step grid).
@@ -210,10 +246,20 @@ def split_profile(graph: ChainGraph, target_speed_mps: float, dt_s: float,
         Time step ``δ_t`` (s).
     n_steps
         Last step ``K`` (``T_Q`` in Eq. 27), ≥ 0.
+
+    Raises
+    ------
+    InvalidInputError
+        On a bad value, or sizes :func:`profile_refusal` refuses.
+    StopRequested
+        On a stop request inside :func:`~searchtrack.core.interrupt.stops_raise`.
     """
     speed = checks.positive("target_speed_mps", target_speed_mps)
     dt = checks.positive("dt_s", dt_s)
     steps_total = checks.count("n_steps", n_steps, 0)
+    refusal = profile_refusal(graph, speed, dt, steps_total)
+    if refusal is not None:
+        raise InvalidInputError("n_steps", n_steps, refusal)
     trip = graph.length_m / speed
     steps = trip / dt
     near = np.round(steps)
@@ -237,6 +283,7 @@ def split_profile(graph: ChainGraph, target_speed_mps: float, dt_s: float,
     first_left, alive, split_sum = 1.0, 0.0, 0.0
     now = offset % size
     for k in range(1, steps_total + 1):
+        check_stop()
         now += n
         now[now >= size] -= size
         leave = np.take(born, now)

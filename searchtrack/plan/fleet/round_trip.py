@@ -17,10 +17,16 @@ from scipy.sparse import csgraph
 
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.interrupt import check_stop
 from searchtrack.models.roads import RoadNetwork
 
-#: Dijkstra sources per block in :func:`s_node` (bounds the memory to ``block × N`` distances).
+#: Most Dijkstra sources per block in :func:`s_node` (bounds the memory to ``block × N``
+#: distances).
 SOURCE_BLOCK = 256
+
+#: Most distances one block of :func:`s_node` computes (fewer sources per block on a large map,
+#: so that a stop request is seen between blocks within a fraction of a second).
+BLOCK_DISTANCES = 2**21
 
 
 def _connected(network: RoadNetwork) -> None:
@@ -57,6 +63,9 @@ def s_node(network: RoadNetwork, *, include_diagonal: bool = True,
     ------
     InvalidInputError
         If the network is not connected or ``sources`` is not a positive integer.
+    StopRequested
+        On a stop request inside :func:`~searchtrack.core.interrupt.stops_raise` (seen between
+        blocks).
     """
     _connected(network)
     n = network.n_nodes
@@ -65,8 +74,10 @@ def s_node(network: RoadNetwork, *, include_diagonal: bool = True,
     else:
         src = np.sort(np.random.default_rng(seed).choice(n, size=sources, replace=False))
     total = 0.0
-    for start in range(0, src.size, SOURCE_BLOCK):
-        block = src[start:start + SOURCE_BLOCK]
+    size = max(1, min(SOURCE_BLOCK, BLOCK_DISTANCES // n))
+    for start in range(0, src.size, size):
+        check_stop()
+        block = src[start:start + size]
         dist = csgraph.dijkstra(network.adjacency, directed=False, indices=block)
         total += float(np.sum(dist))
     pairs = src.size * n if include_diagonal else src.size * (n - 1)

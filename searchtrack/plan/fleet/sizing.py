@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.core.interrupt import stop_requested
+from searchtrack.core.interrupt import StopRequested, stop_requested
 from searchtrack.plan.fleet.entropy_bound import (
     BoundConfig,
     BoundMap,
@@ -66,9 +66,20 @@ class FleetSizing:
     uavs: int | None
 
 
+def _variance(entropy: float, length_m: float, config: BoundConfig) -> float:
+    """Corollary 1's variance for ``entropy``, ``nan`` outside its invertible range."""
+    try:
+        return variance_bound(entropy, length_m, config)
+    except InvalidInputError:
+        return math.nan
+
+
 def fleet_size(bound_map: BoundMap, config: BoundConfig, *, max_variance_m2: float | None = None,
                max_entropy: float | None = None, max_uavs: int = 10) -> FleetSizing:
     """The smallest ``Q ≤ max_uavs`` with ``B_L(Q) ≤ B_req`` (Eq. 27 solved for ``Q``, §5.4).
+
+    A stop request (:mod:`searchtrack.core.interrupt`) ends the loop over fleet sizes: the
+    answer holds the sizes done so far.
 
     Parameters
     ----------
@@ -87,6 +98,9 @@ def fleet_size(bound_map: BoundMap, config: BoundConfig, *, max_variance_m2: flo
     ------
     InvalidInputError
         Unless exactly one requirement is given, or on a bad value.
+    StopRequested
+        On a stop request inside :func:`~searchtrack.core.interrupt.stops_raise` before the
+        first fleet size (while the split profile is computed).
     """
     if (max_variance_m2 is None) == (max_entropy is None):
         raise InvalidInputError("max_variance_m2", max_variance_m2,
@@ -109,11 +123,11 @@ def fleet_size(bound_map: BoundMap, config: BoundConfig, *, max_variance_m2: flo
             break                                 # Ctrl-C: the fleet sizes done so far
         if math.floor(bound_map.round_trip_s(config) / (q * config.dt_s)) < 1:
             break                                 # revisits faster than a step: no bound
-        bound = entropy_bound(bound_map, config, q, profile)
         try:
-            var = variance_bound(bound.bound, bound_map.length_m, config)
-        except InvalidInputError:
-            var = math.nan
+            bound = entropy_bound(bound_map, config, q, profile)
+            var = _variance(bound.bound, bound_map.length_m, config)
+        except StopRequested:
+            break                                 # Ctrl-C inside this fleet size
         options.append(FleetOption(bound, var, bound.bound <= required))
     if not options and not stop_requested():
         raise InvalidInputError("dt_s", config.dt_s, "the round trip is shorter than one step; "

@@ -120,7 +120,8 @@ def candidate_nodes(
     """The most probable nodes, in decreasing probability, until ``support_mass`` is covered.
 
     At most ``max_nodes`` are kept (the thesis uses every node of the tracker, which on a city
-    map is thousands: too many for a real-time solve); zero-probability nodes never are.
+    map is thousands: too many for a real-time solve); zero-probability nodes never are. Among
+    equally probable nodes the lower index comes first, also where ``max_nodes`` cuts.
     """
     p = np.asarray(probability, dtype=np.float64)
     if p.ndim != 1 or not np.all(np.isfinite(p)) or np.any(p < 0.0):
@@ -132,8 +133,9 @@ def candidate_nodes(
     k = min(max_nodes, int(np.count_nonzero(p)))
     if k == 0:
         return np.empty(0, dtype=np.int64)
-    top = np.argpartition(-p, k - 1)[:k] if k < p.size else np.arange(p.size)
-    top = top[np.lexsort((top, -p[top]))]  # decreasing probability, lower index first on ties
+    nonzero = np.flatnonzero(p > 0.0)
+    # decreasing probability, lower index first on ties (also at the max_nodes cut)
+    top = nonzero[np.lexsort((nonzero, -p[nonzero]))[:k]]
     cum = np.cumsum(p[top]) / p.sum()
     keep = int(np.searchsorted(cum, support_mass * (1.0 - 1e-12))) + 1
     return np.asarray(top[:keep], dtype=np.int64)

@@ -24,6 +24,11 @@ from searchtrack.models.radio import RadioScenario
 #: Reward names: the Rényi divergence (eq. 41) and the Cauchy–Schwarz divergence (eq. 42).
 REWARDS = ("renyi", "cs")
 
+#: Longest horizon ``H`` and most look-ahead particles per label.
+MAX_HORIZON, MAX_PLAN_PARTICLES = 10, 100_000
+#: Most look-ahead points ``H · N_p/step_s · Λ · plan_particles`` (the paper: 60 000).
+MAX_LOOKAHEAD_POINTS = 2**23
+
 
 @dataclass(frozen=True)
 class RadioPlanSettings:
@@ -32,7 +37,7 @@ class RadioPlanSettings:
     Parameters
     ----------
     horizon
-        ``H``, planning intervals looked ahead (≥ 1; 3 in the paper).
+        ``H``, planning intervals looked ahead (1 to :data:`MAX_HORIZON`; 3 in the paper).
     reward
         ``"renyi"`` (eq. 41) or ``"cs"`` (Cauchy–Schwarz, eqs. 42–43).
     alpha
@@ -46,7 +51,8 @@ class RadioPlanSettings:
     p_void_min
         ``P_vmin ∈ [0, 1)``: the void probability must exceed it at every pose.
     plan_particles
-        Particles per label drawn from the belief for the look-ahead (≥ 1).
+        Particles per label drawn from the belief for the look-ahead (1 to
+        :data:`MAX_PLAN_PARTICLES`).
     """
 
     horizon: int = 3
@@ -59,14 +65,30 @@ class RadioPlanSettings:
     plan_particles: int = 1000
 
     def __post_init__(self) -> None:
-        checks.count("horizon", self.horizon, 1)
+        if checks.count("horizon", self.horizon, 1) > MAX_HORIZON:
+            raise InvalidInputError("horizon", self.horizon,
+                                    f"must be an integer in [1, {MAX_HORIZON}]")
         checks.choice("reward", self.reward, REWARDS)
         checks.positive("alpha", self.alpha)
         checks.positive("cs_k", self.cs_k)
         checks.real("discount", self.discount, low=0.0, high=1.0, low_open=True)
         checks.non_negative("r_min_m", self.r_min_m)
         checks.real("p_void_min", self.p_void_min, low=0.0, high=1.0, high_open=True)
-        checks.count("plan_particles", self.plan_particles, 1)
+        if checks.count("plan_particles", self.plan_particles, 1) > MAX_PLAN_PARTICLES:
+            raise InvalidInputError("plan_particles", self.plan_particles,
+                                    f"must be an integer in [1, {MAX_PLAN_PARTICLES}]")
+
+
+def check_lookahead_size(scenario: RadioScenario, settings: RadioPlanSettings) -> None:
+    """:class:`InvalidInputError` naming ``plan_particles`` unless the look-ahead of
+    ``settings`` over ``scenario`` holds at most :data:`MAX_LOOKAHEAD_POINTS` points."""
+    poses = settings.horizon * scenario.uav.steps_per_plan
+    points = poses * scenario.signal.n_labels * settings.plan_particles
+    if points > MAX_LOOKAHEAD_POINTS:
+        raise InvalidInputError("plan_particles", settings.plan_particles,
+                                f"{poses} look-ahead poses × {scenario.signal.n_labels} labels × "
+                                f"{settings.plan_particles} = {points} points exceed the "
+                                f"{MAX_LOOKAHEAD_POINTS} a plan may hold")
 
 
 def _belief(value: object, n_labels: int, period_s: float) -> LabelledParticles:
@@ -120,7 +142,8 @@ class RadioPlanProblem:
     ------
     InvalidInputError
         Naming the field: a belief of the wrong shape, non-finite, with weights that do not
-        sum to 1 or ``r`` outside ``[0, 1]``; a pose that is not finite or outside the area.
+        sum to 1 or ``r`` outside ``[0, 1]``; a pose that is not finite or outside the area; a
+        look-ahead larger than :func:`check_lookahead_size` allows.
     """
 
     belief: LabelledParticles
@@ -134,6 +157,7 @@ class RadioPlanProblem:
         if not isinstance(self.settings, RadioPlanSettings):
             raise InvalidInputError("settings", self.settings, "must be RadioPlanSettings")
         sc = self.scenario  # its UAV step equals the motion period: one propagation per pose
+        check_lookahead_size(sc, self.settings)
         put = object.__setattr__
         put(self, "belief", _belief(self.belief, sc.signal.n_labels, sc.signal.period_s))
         pose = checks.finite_array("uav_pose", self.uav_pose, (3,))

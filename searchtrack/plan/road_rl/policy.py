@@ -9,14 +9,20 @@ road to take among those leaving the UAV's node (``k`` modulo its degree, so eve
 valid); in flight the policy acts greedily (the most probable action).
 
 The file also stores the feature signature the policy was trained with (map size, targets, bins,
-...); loading it against other features is refused with the differing entries named.
+...); loading it against other features is refused with the differing entries named. Reading a
+file checks every part of it (its ``meta`` JSON field by field, then each layer's arrays) and
+names the file and the part at fault.
 """
 
 from __future__ import annotations
 
 import json
+import math
+import zipfile
+import zlib
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -33,6 +39,23 @@ FEATURE_KEYS = ("n_targets", "n_uavs", "bins_per_edge", "gain", "include_map", "
 """The :class:`RoadFeatures` settings a policy's signature records."""
 
 MAX_POLICY_BYTES = 64 * 2**20
+"""Largest policy file read (bytes)."""
+
+MAX_UNPACKED_BYTES = 256 * 2**20
+"""Most bytes a policy file's arrays may unpack to."""
+
+MAX_LAYERS = 64
+"""Most layers a policy file may declare."""
+
+META_KEYS = ("activation", "layers", "signature")
+"""The fields of a policy file's ``meta`` JSON object."""
+
+SIGNATURE_TYPES: dict[str, str] = {
+    "n_nodes": "count", "n_edges": "count", "size": "count", "n_targets": "positive",
+    "n_uavs": "positive", "bins_per_edge": "positive", "total_length_m": "number",
+    "gain": "number", "include_map": "bool", "road_values": "bool"}
+"""Each signature entry a policy file may record, and its kind: an integer ≥ 0 (``count``) or
+≥ 1 (``positive``), a finite number ≥ 0, or a boolean."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -128,12 +151,14 @@ class RoadPolicy:
 
     @classmethod
     def load(cls, path: str | Path) -> RoadPolicy:
-        """Read a policy written by :meth:`save`.
+        """Read a policy written by :meth:`save`, checking every part of the file.
 
         Raises
         ------
         ParseError
-            Not a policy file (missing, too big, corrupt or missing arrays).
+            Naming the file and, where one is at fault, the ``meta`` field (``meta.layers``,
+            ``meta.signature.n_targets``, ...) or array (``w1``): missing, too big, not an
+            ``.npz`` archive, corrupt, or a part missing, unknown or ill-typed.
         """
         p = Path(path)
         if not p.is_file():
@@ -141,23 +166,115 @@ class RoadPolicy:
         if p.stat().st_size > MAX_POLICY_BYTES:
             raise ParseError(p, None, None, f"larger than {MAX_POLICY_BYTES // 2**20} MiB")
         try:
+            with zipfile.ZipFile(p) as archive:
+                unpacked = sum(info.file_size for info in archive.infolist())
+            if unpacked > MAX_UNPACKED_BYTES:
+                raise ParseError(p, None, None, f"not a policy file (its arrays unpack to more "
+                                 f"than {MAX_UNPACKED_BYTES // 2**20} MiB)")
             with np.load(p, allow_pickle=False) as data:
-                meta = json.loads(str(data["meta"]))
-                n = int(meta["layers"])
-                weights = tuple(np.asarray(data[f"w{i}"], dtype=np.float64) for i in range(n))
-                biases = tuple(np.asarray(data[f"b{i}"], dtype=np.float64) for i in range(n))
-        except (OSError, ValueError, KeyError, TypeError) as exc:
+                names = {str(k) for k in data.files}
+                meta = _meta(p, data["meta"] if "meta" in names else None)
+                n = meta["layers"]
+                wanted = {"meta"} | {f"{x}{i}" for x in "wb" for i in range(n)}
+                odd = sorted(wanted - names) + sorted(names - wanted)
+                if odd:
+                    raise ParseError(p, None, odd[0], f"not a policy file: "
+                                     f"{'missing' if odd[0] in wanted else 'unknown'} array (a "
+                                     f"policy of {n} layers has w0..w{n - 1} and b0..b{n - 1})")
+                weights = tuple(_layer(p, data, f"w{i}", 2) for i in range(n))
+                biases = tuple(_layer(p, data, f"b{i}", 1) for i in range(n))
+        except ParseError:
+            raise
+        except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile,
+                zlib.error, NotImplementedError, RuntimeError) as exc:
             raise ParseError(p, None, None, f"not a policy file ({exc})") from None
         try:
-            return cls(weights, biases, str(meta.get("activation", "tanh")),
-                       meta.get("signature"))
+            return cls(weights, biases, meta["activation"], meta["signature"])
         except InvalidInputError as exc:
-            raise ParseError(p, None, None, str(exc)) from None
+            raise ParseError(p, None, exc.field, exc.reason) from None
+
+
+def _meta(path: Path, raw: Any) -> dict[str, Any]:
+    """The checked ``meta`` object of a policy file: ``layers`` (1…MAX_LAYERS), ``activation``
+    (default ``"tanh"``) and ``signature`` (``None`` or entries of :data:`SIGNATURE_TYPES`)."""
+    if raw is None:
+        raise ParseError(path, None, "meta", "missing array: a policy file has a meta JSON text")
+    if raw.ndim != 0 or raw.dtype.kind not in "US" or raw.nbytes > 2**20:
+        raise ParseError(path, None, "meta", "must be one JSON text of at most 1 MiB")
+    try:
+        meta = json.loads(str(raw.item() if raw.dtype.kind == "U" else raw.item().decode()))
+    except (ValueError, UnicodeDecodeError, RecursionError):
+        raise ParseError(path, None, "meta", "is not valid JSON") from None
+    if not isinstance(meta, dict):
+        raise ParseError(path, None, "meta", f"must be a JSON object, got {type(meta).__name__}")
+    unknown = sorted(set(meta) - set(META_KEYS))
+    if unknown:
+        raise ParseError(path, None, f"meta.{unknown[0]}",
+                         f"unknown field; expected {list(META_KEYS)}")
+    layers = meta.get("layers")
+    if (isinstance(layers, bool) or not isinstance(layers, int)
+            or not 1 <= layers <= MAX_LAYERS):
+        raise ParseError(path, None, "meta.layers", f"must be an integer in [1, {MAX_LAYERS}], "
+                         f"got {layers!r:.40}")
+    activation = meta.get("activation", "tanh")
+    if activation not in ACTIVATIONS:
+        raise ParseError(path, None, "meta.activation", f"must be one of {list(ACTIVATIONS)}, "
+                         f"got {activation!r:.40}")
+    return {"layers": layers, "activation": activation,
+            "signature": _signature(path, meta.get("signature"))}
+
+
+def _signature(path: Path, raw: Any) -> dict[str, int | float | bool] | None:
+    """A policy file's checked signature (``None`` when it records none)."""
+    if raw is None:
+        return None
+    if not isinstance(raw, dict):
+        raise ParseError(path, None, "meta.signature", "must be a JSON object or null, got "
+                         f"{type(raw).__name__}")
+    out: dict[str, int | float | bool] = {}
+    for key, value in raw.items():
+        kind = SIGNATURE_TYPES.get(key)
+        field = f"meta.signature.{key}"
+        if kind is None:
+            raise ParseError(path, None, field, f"unknown entry; expected {list(SIGNATURE_TYPES)}")
+        if kind == "bool":
+            ok = isinstance(value, bool)
+        elif kind == "number":
+            ok = (isinstance(value, (int, float)) and not isinstance(value, bool)
+                  and math.isfinite(value) and value >= 0)
+        else:
+            ok = (isinstance(value, int) and not isinstance(value, bool)
+                  and value >= (1 if kind == "positive" else 0))
+        if not ok:
+            wanted = {"bool": "true or false", "number": "a finite number ≥ 0",
+                      "count": "an integer ≥ 0", "positive": "an integer ≥ 1"}[kind]
+            raise ParseError(path, None, field, f"must be {wanted}, got {value!r:.40}")
+        out[key] = value
+    return out
+
+
+def _layer(path: Path, data: Any, name: str, ndim: int) -> FloatArray:
+    """Array ``name`` of a policy file as float64: real numbers, ``ndim`` dimensions."""
+    arr = data[name]
+    if arr.dtype.kind not in "fiu" or arr.ndim != ndim or arr.size == 0:
+        raise ParseError(path, None, name, f"must be a non-empty {ndim}-D array of real numbers, "
+                         f"got {arr.dtype} of shape {arr.shape}")
+    return np.asarray(arr, dtype=np.float64)
 
 
 def policy_for(roads: DirectedRoads, policy: RoadPolicy) -> RoadFeatures:
-    """The features ``policy`` was trained with, on ``roads`` (checked)."""
+    """The features ``policy`` was trained with, on ``roads`` (checked).
+
+    Raises
+    ------
+    InvalidInputError
+        If the policy's signature does not record ``n_targets`` (field ``signature``: the
+        features cannot be rebuilt without it), or the features do not match the policy.
+    """
     sig = policy.signature or {}
+    if "n_targets" not in sig:
+        raise InvalidInputError("signature", policy.signature, "records no n_targets: the "
+                                "features the policy was trained with are unknown")
     given = {k: sig[k] for k in FEATURE_KEYS if k in sig}  # the rest: RoadFeatures' defaults
     features = RoadFeatures(roads, **given)  # type: ignore[arg-type]
     policy.check_features(features)

@@ -119,7 +119,10 @@ def search(scenario: Scenario, uav: int, base: FloatArray, deadline: Deadline, *
           scenario.value_of(start))
     if not best:
         return PathSearch(None, -np.inf, None, False, flags["pruned"])
-    value, arcs, cov = best[0]
+    _, arcs, cov = best[0]
+    # The value of the path found, evaluated on its own row: the same number however the levels
+    # were chunked (a matrix product's rounding depends on its row count).
+    value = float(scenario.value_of(cov[None, :])[0])
     return PathSearch(arcs, value, cov, flags["complete"], flags["pruned"])
 
 

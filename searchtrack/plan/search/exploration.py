@@ -11,7 +11,6 @@ MI between the targets and the event "every measurement along the horizon is emp
 from __future__ import annotations
 
 import copy
-import math
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -20,6 +19,7 @@ from scipy.interpolate import RegularGridInterpolator
 
 from searchtrack.core.checks import positive
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.intervals import interval_count
 from searchtrack.core.types import FloatArray
 from searchtrack.models.footprint import detection_matrix
 from searchtrack.models.particle_models import DetectionSensor
@@ -36,7 +36,11 @@ class ExplorationBonus:
     bounds
         ``(d, 2)`` box ``[[x0, x1], [y0, y1](, [z0, z1])]`` in metres.
     resolution_m
-        Grid spacing (004 does not give one; 10 m in this library's experiments).
+        Largest grid spacing (004 does not give one; 10 m in this library's experiments).
+        Each axis ``[lo, hi]`` is cut into ``n = ⌈(hi − lo) / resolution_m⌉`` equal cells
+        (at least one; :func:`searchtrack.core.intervals.interval_count`, so floating-point
+        round-off in the division never adds a cell): ``n + 1`` points, spacing
+        ``(hi − lo) / n ≤ resolution_m``.
     """
 
     bounds: FloatArray
@@ -51,7 +55,7 @@ class ExplorationBonus:
             raise InvalidInputError("bounds", self.bounds, "must be (2|3, 2) with lo < hi")
         positive("resolution_m", self.resolution_m)
         b.setflags(write=False)
-        axes = tuple(np.linspace(lo, hi, max(2, math.ceil((hi - lo) / self.resolution_m) + 1))
+        axes = tuple(np.linspace(lo, hi, interval_count(hi - lo, self.resolution_m) + 1)
                      for lo, hi in b)
         values = np.ones(tuple(a.size for a in axes))
         values.setflags(write=False)

@@ -17,6 +17,7 @@ import numpy as np
 from searchtrack.core.checks import positive
 from searchtrack.core.deadline import Deadline
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.intervals import interval_count
 from searchtrack.core.result import Result, Status
 from searchtrack.core.types import FloatArray
 from searchtrack.plan.search.problem import SearchPlan, SearchProblem
@@ -31,7 +32,7 @@ def _box(bounds: FloatArray, dims: int) -> FloatArray:
 
 def _levels(lo: float, hi: float, spacing: float) -> FloatArray:
     """Track positions ``spacing`` apart, half a spacing in from each edge, covering [lo, hi]."""
-    n = max(1, math.ceil((hi - lo) / spacing))
+    n = interval_count(hi - lo, spacing)
     return lo + (np.arange(n) + 0.5) * (hi - lo) / n
 
 
@@ -40,7 +41,7 @@ def _sample(corners: FloatArray, step_m: float) -> FloatArray:
     out = [corners[:1]]
     for a, b in itertools.pairwise(corners):
         length = float(np.linalg.norm(b - a))
-        n = max(1, math.ceil(length / step_m - 1e-9))
+        n = interval_count(length, step_m)
         t = np.arange(1, n + 1)[:, None] / n
         out.append(a + t * (b - a))
     return np.concatenate(out)

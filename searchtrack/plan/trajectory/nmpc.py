@@ -5,7 +5,9 @@ through its bounds. Constraints: ``x_{k+1} = F_RK4(x_k, u_k, wind)``, state and 
 ``|u_k − u_{k−1}| ≤ u̇_max Δt`` (``u_{−1}`` the applied input) and, for every stage ``k ≥ 1`` and
 obstacle ``j``, ``‖p_k − c_j‖² ≥ (r_j + margin)²`` (the ``z`` term dropped for cylinders). The
 cost is the one of :class:`~searchtrack.plan.trajectory.problem.TrackingWeights`. Ipopt's
-``max_wall_time`` is the time budget. The solver is built once
+``max_wall_time`` is the time budget, and an iteration callback ends the solve at the next
+iteration once a stop is requested (:mod:`searchtrack.core.interrupt`): the answer is then
+``INTERRUPTED``, with the iterate as its plan if it is feasible. The solver is built once
 per problem shape and options (:func:`build`, cached) with the state, previous input, reference,
 wind and obstacles as parameters, and warm-started from the shifted previous plan.
 """
@@ -19,6 +21,7 @@ import math
 import tempfile
 import time
 from collections import OrderedDict
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -27,6 +30,7 @@ import numpy as np
 
 from searchtrack.core.deadline import check_time_limit
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.result import Result, Sense, Status
 from searchtrack.core.types import FloatArray
 from searchtrack.models.vehicles import VehicleModel
@@ -46,9 +50,38 @@ _FEAS_TOL = 1e-5
 _OK = {"Solve_Succeeded": "locally optimal", "Solved_To_Acceptable_Level": "acceptable"}
 
 
+class StopCallback(ca.Callback):
+    """The NLP solver's iteration callback: returns 1, which ends the solve
+    (``User_Requested_Stop``), once a stop is requested."""
+
+    def __init__(self, n_x: int, n_g: int, n_p: int) -> None:
+        ca.Callback.__init__(self)
+        self._sizes = {"x": n_x, "lam_x": n_x, "g": n_g, "lam_g": n_g, "lam_p": n_p, "f": 1}
+        self.construct("searchtrack_stop", {})
+
+    def get_n_in(self) -> int:
+        return int(ca.nlpsol_n_out())
+
+    def get_n_out(self) -> int:
+        return 1
+
+    def get_name_in(self, i: int) -> str:
+        return str(ca.nlpsol_out(i))
+
+    def get_name_out(self, i: int) -> str:
+        return "ret"
+
+    def get_sparsity_in(self, i: int) -> ca.Sparsity:
+        return ca.Sparsity.dense(self._sizes[ca.nlpsol_out(i)], 1)
+
+    def eval(self, arg: Sequence[ca.DM]) -> list[float]:
+        return [1.0 if stop_requested() else 0.0]
+
+
 @dataclass(frozen=True)
 class NmpcSolver:
-    """A built NLP and the layout needed to fill its parameters and read its solution."""
+    """A built NLP and the layout needed to fill its parameters and read its solution
+    (``callback`` is kept alive with the solver that calls it)."""
 
     solver: ca.Function
     model: VehicleModel
@@ -56,11 +89,13 @@ class NmpcSolver:
     n_obstacles: int
     n_g: int
     options: NmpcOptions
+    callback: StopCallback
 
 
-def _nlp_options(options: NmpcOptions, budget_s: float) -> dict[str, Any]:
+def _nlp_options(options: NmpcOptions, budget_s: float,
+                 callback: StopCallback) -> dict[str, Any]:
     opts: dict[str, Any] = {"expand": options.expand, "print_time": False,
-                            "error_on_fail": False}
+                            "error_on_fail": False, "iteration_callback": callback}
     if options.jit:
         opts.update({"jit": True, "compiler": "shell",
                      "jit_options": {"flags": ["-O1"], "verbose": False}})
@@ -171,11 +206,12 @@ def build(model: VehicleModel, horizon: int, n_obstacles: int, dt_s: float,
     par = ca.MX.sym("P", model.nu + dim * horizon + dim + 5 * n_obstacles)
     cost, g = _cost_and_constraints(model, horizon, n_obstacles, weights, dt_s, w_x, w_u, par)
     nlp = {"x": ca.vertcat(ca.vec(w_x), ca.vec(w_u)), "f": cost, "g": g, "p": par}
+    callback = StopCallback(int(nlp["x"].shape[0]), int(g.shape[0]), int(par.shape[0]))
     # CasADi's JIT writes its C source and objects to the working directory: build in the
     # system temp directory instead (the loaded solver does not need them afterwards)
     with contextlib.chdir(tempfile.gettempdir()) if options.jit else contextlib.nullcontext():
-        solver = ca.nlpsol("nmpc", options.solver, nlp, _nlp_options(options, budget))
-    built = NmpcSolver(solver, model, horizon, n_obstacles, int(g.shape[0]), options)
+        solver = ca.nlpsol("nmpc", options.solver, nlp, _nlp_options(options, budget, callback))
+    built = NmpcSolver(solver, model, horizon, n_obstacles, int(g.shape[0]), options, callback)
     _CACHE[key] = built
     while len(_CACHE) > _CACHE_SIZE:
         _CACHE.popitem(last=False)
@@ -245,7 +281,6 @@ def solve_nmpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
     call of a shape is not counted."""
     budget = check_time_limit(time_limit_s)
     opts = options or problem.nmpc_options or NmpcOptions()
-    m, n = problem.model, problem.horizon
     nlp = prepare(problem, budget, opts)
     started = time.perf_counter()
     x_guess, u_guess = initial_guess(problem)
@@ -265,6 +300,8 @@ def solve_nmpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
     info = {"iterations": float(stats.get("iter_count", -1)), "violation": violation,
             "solver_s": runtime}
     ok = bool(stats.get("success", False)) or native in _OK
+    if native == "User_Requested_Stop" or (stop_requested() and not ok):
+        return _interrupted(problem, w, sol, violation, runtime, opts, info)
     if not ok or violation > _FEAS_TOL or runtime > budget:
         reason = (f"over budget ({runtime * 1e3:.1f} ms > {budget * 1e3:.1f} ms)"
                   if runtime > budget else f"{native}, violation {violation:.1e}")
@@ -272,11 +309,30 @@ def solve_nmpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
         return Result(Status.ERROR if bad else Status.NO_SOLUTION,
                       None, None, runtime, "nmpc", None, Sense.MINIMIZE,
                       f"nmpc ({opts.solver}): {reason}", info)
-    nx = m.nx
-    states = w[:nx * (n + 1)].reshape(n + 1, nx)
-    inputs = project_inputs(problem, w[nx * (n + 1):].reshape(n, m.nu))  # Ipopt relaxes ~1e-8
-    lam = (np.asarray(sol["lam_x"]).ravel(), np.asarray(sol["lam_g"]).ravel())
-    plan = ControlPlan(inputs=inputs, states=states, dt_s=problem.dt_s, controller="nmpc",
-                       multipliers=lam)
+    plan = _plan(problem, w, sol)
     return Result(Status.FEASIBLE, float(sol["f"]), None, runtime, "nmpc", plan, Sense.MINIMIZE,
                   f"nmpc ({opts.solver}): {_OK.get(native, native)}", info)
+
+
+def _plan(problem: TrackingProblem, w: FloatArray, sol: dict[str, Any]) -> ControlPlan:
+    """The plan of the NLP variables ``w`` (inputs moved into their boxes: Ipopt relaxes them
+    by about 1e-8), with the multipliers for a warm start."""
+    m, n = problem.model, problem.horizon
+    states = w[:m.nx * (n + 1)].reshape(n + 1, m.nx)
+    inputs = project_inputs(problem, w[m.nx * (n + 1):].reshape(n, m.nu))
+    lam = (np.asarray(sol["lam_x"]).ravel(), np.asarray(sol["lam_g"]).ravel())
+    return ControlPlan(inputs=inputs, states=states, dt_s=problem.dt_s, controller="nmpc",
+                       multipliers=lam)
+
+
+def _interrupted(problem: TrackingProblem, w: FloatArray, sol: dict[str, Any], violation: float,
+                 runtime: float, opts: NmpcOptions, info: dict[str, float]
+                 ) -> Result[ControlPlan]:
+    """The answer of a solve a stop request ended: ``INTERRUPTED``, with the last iterate as
+    its plan when it is feasible and finite (else without a plan)."""
+    usable = violation <= _FEAS_TOL and bool(np.all(np.isfinite(w)))
+    plan = _plan(problem, w, sol) if usable else None
+    note = "feasible iterate kept" if usable else f"no feasible iterate (violation {violation:.1e})"
+    return Result(Status.INTERRUPTED, float(sol["f"]) if usable else None, None, runtime, "nmpc",
+                  plan, Sense.MINIMIZE, f"nmpc ({opts.solver}): stopped on request, {note}",
+                  info)

@@ -9,17 +9,17 @@ PROBLEM.json::
      "detections": [[x, y], ...],
      "noise_sd_m": 10, "gate_m": 300, "support_mass": 0.999}
 
-``map`` is read as by ``searchtrack track-roads`` (:mod:`searchtrack.sim.road_track_job`): a grid
-of ``rows × cols`` junctions ``spacing_m`` apart (junction ``(r, c)`` at ``(c·spacing_m,
-r·spacing_m)``, node index ``r·cols + c``), or a bundled map name or an OSM file relative to the
-JSON file, resampled every ``spacing_m`` (default 10 m). Each of the ``k ≥ 1`` trackers is a
-location distribution over the road nodes: ``nodes`` maps node indices to non-negative masses
-(rescaled to sum to 1), ``peak`` a Gaussian of s.d. ``sd_m`` (optional, default 20 m) in the
-Euclidean distance from ``[x, y]`` to each node. Each of the ``q ≥ 1`` ``detections`` is a
-position fix ``[x, y]`` (m, within the roads' bounding box enlarged by ``gate_m``), turned into
-the measurement density ``Û`` of §4.3 with noise s.d. ``noise_sd_m``. Optional: ``noise_sd_m``
-(10 m), ``gate_m`` (the gate ``𝓔``, 300 m: only pairs with EMD below it associate) and
-``support_mass`` (signature truncation in ``(0, 1]``, 0.999).
+``map`` is read as by ``searchtrack track-roads`` (:mod:`searchtrack.sim.road_track_job`): a grid of
+``rows × cols`` junctions ``spacing_m`` apart (junction ``(r, c)`` at ``(c·spacing_m,
+r·spacing_m)``, node index ``c·rows + r``: :func:`~searchtrack.models.road_synthetic.grid_node`), or
+a bundled map name or an OSM file relative to the JSON file, resampled every ``spacing_m`` (default
+10 m). Each of the ``k ≥ 1`` trackers is a location distribution over the road nodes: ``nodes`` maps
+node indices to non-negative masses (rescaled to sum to 1), ``peak`` a Gaussian of s.d. ``sd_m``
+(optional, default 20 m) in the Euclidean distance from ``[x, y]`` to each node. Each of the ``q ≥
+1`` ``detections`` is a position fix ``[x, y]`` (m, within the roads' bounding box enlarged by
+``gate_m``), turned into the measurement density ``Û`` of §4.3 with noise s.d. ``noise_sd_m``.
+Optional: ``noise_sd_m`` (10 m), ``gate_m`` (the gate ``𝓔``, 300 m: only pairs with EMD below it
+associate) and ``support_mass`` (signature truncation in ``(0, 1]``, 0.999).
 
 The objective is the gated saving ``Σ (gate − EMD)`` over the pairs (maximised). The ``"plan"``
 object of PLAN.json: ``{"gate_m", "assignment": [tracker index or null per detection], "pairs":

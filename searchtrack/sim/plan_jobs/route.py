@@ -14,7 +14,8 @@ PROBLEM.json::
 
 ``map`` is read as ``searchtrack track-roads`` reads it (:mod:`searchtrack.sim.road_track_job`):
 a ``rows × cols`` grid of junctions ``spacing_m`` apart (node ``c·rows + r`` at
-``(c·spacing_m, r·spacing_m)``) or a bundled / OSM map resampled every ``spacing_m``. The UAV
+``(c·spacing_m, r·spacing_m)``: :func:`~searchtrack.models.road_synthetic.grid_node`) or a
+bundled / OSM map resampled every ``spacing_m``. The UAV
 starts at road node ``uav.start_node`` and flies ``uav.speed_mps`` in straight lines for at most
 ``horizon_s`` seconds (the reacquisition time ``T_r``). Each tracker is a probability over road
 nodes, given either as ``nodes`` with their ``masses`` (normalised to 1) or as a ``peak_node``

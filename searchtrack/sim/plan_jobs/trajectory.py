@@ -31,8 +31,9 @@ PROBLEM.json::
 :func:`solve` flies the course with :func:`searchtrack.sim.flight.fly`. ``time_limit_s`` is the
 whole flight's controller budget, split evenly over the control steps (the one-off NMPC build of
 a new problem shape is not counted). Status: ``FEASIBLE`` when the flight stays clear of every
-obstacle and ends within ``goal_tolerance_m`` of the last waypoint, else ``NO_SOLUTION``
-carrying the flight as a fallback. Objective (minimised): the RMS tracking error (m) against the
+obstacle and ends within ``goal_tolerance_m`` of the last waypoint, ``INTERRUPTED`` with the
+flight so far when a stop request ends it early, else ``NO_SOLUTION`` carrying the flight as a
+fallback. Objective (minimised): the RMS tracking error (m) against the
 timed reference; no bound. ``stats`` counts the steps each controller answered (``steps_<name>``)
 and the fallbacks fired.
 """
@@ -52,6 +53,7 @@ import numpy as np
 from searchtrack.core.deadline import check_time_limit
 from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.core.files import read_json
+from searchtrack.core.intervals import interval_count
 from searchtrack.core.registry import check_seed
 from searchtrack.core.result import Result, Sense, Status
 from searchtrack.core.types import FloatArray
@@ -96,7 +98,7 @@ class TrajectoryProblem:
     @property
     def steps(self) -> int:
         """Number of control steps of the flight."""
-        return max(1, math.ceil(self.duration_s / self.dt_s - 1e-9))
+        return interval_count(self.duration_s, self.dt_s)
 
 
 def backends() -> list[str]:
@@ -268,6 +270,9 @@ def solve(problem: TrajectoryProblem, *, backend: str, time_limit_s: float,
             f"ended {final:.1f} m from the last waypoint")
     if flight.collisions:
         status, note = Status.NO_SOLUTION, f"crashed into an obstacle; {note}"
+    elif flight.interrupted:
+        status = Status.INTERRUPTED
+        note = f"interrupted after {len(flight.controllers)} of {problem.steps} steps; {note}"
     elif final > problem.goal_tolerance_m:
         status = Status.NO_SOLUTION
         note = f"missed the last waypoint (tolerance {problem.goal_tolerance_m:g} m); {note}"

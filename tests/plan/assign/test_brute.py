@@ -3,12 +3,14 @@ pruning, and the time limit."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
 from searchtrack.core.result import Status
 from searchtrack.estimate.particle_belief import WeightedParticles
-from searchtrack.plan.assign import AssignmentProblem
+from searchtrack.plan.assign import AssignmentProblem, MutualInformation
 from searchtrack.plan.assign.brute import (
     MAX_JOINT,
     joint_size,
@@ -74,3 +76,16 @@ def test_time_limit_before_any_plan() -> None:
     res = solve_brute_force(random_problem(np.random.default_rng(1)), time_limit_s=1e-9)
     assert res.status is Status.NO_SOLUTION and res.plan is None and res.bound is None
     assert "time limit" in res.message
+
+
+def test_monte_carlo_mi_is_never_claimed_optimal() -> None:
+    """Above ``exact_max`` measurements the MI values are estimates: the enumeration's best is
+    FEASIBLE without a bound, and says why."""
+    rng = np.random.default_rng(5)
+    base = random_problem(rng, robots=2, actions=3, steps=2)
+    problem = dataclasses.replace(base, objective=MutualInformation(exact_max=3, samples=200))
+    result = solve_brute_force(problem)
+    assert result.status is Status.FEASIBLE and result.bound is None
+    assert "Monte Carlo" in result.message
+    exact = solve_brute_force(dataclasses.replace(base, objective=MutualInformation()))
+    assert exact.status is Status.OPTIMAL

@@ -70,3 +70,17 @@ def assert_refuses_broken_json(read: Callable[[Path], Any], tmp_path: Path, firs
         read(path)
     with pytest.raises(ParseError, match="JSON object"):
         read(write_problem(tmp_path, [1, 2]))
+
+
+def plan_cli(tmp_path: Path, family: str, doc: dict[str, Any], *options: str
+             ) -> tuple[int, dict[str, Any]]:
+    """``searchtrack plan FAMILY`` on ``doc`` with ``options``: the exit status and PLAN.json
+    (empty when none was written)."""
+    from searchtrack.cli import main
+
+    problem = tmp_path / "problem.json"
+    out = tmp_path / "plan.json"
+    out.unlink(missing_ok=True)
+    problem.write_text(json.dumps(doc), encoding="utf-8")
+    code = main(["plan", family, str(problem), "--out", str(out), *options])
+    return code, json.loads(out.read_text(encoding="utf-8")) if out.exists() else {}
