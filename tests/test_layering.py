@@ -58,6 +58,16 @@ def _imports(path: Path) -> list[tuple[int, str]]:
 
 SOURCES = sorted(PACKAGE.rglob("*.py"))
 
+#: What ``searchtrack.plan.*`` may import from ``searchtrack.estimate.*``: the belief seam only,
+#: the protocols and the plain beliefs with their pure steps (planners read beliefs through them,
+#: never through a filter's internals).
+PLAN_MAY_IMPORT_FROM_ESTIMATE = frozenset({
+    "searchtrack.estimate.belief",              # NodeBelief ... RoadParticleBelief,
+                                                # LabelledParticleBelief
+    "searchtrack.estimate.particle_belief",     # ParticleBelief, WeightedParticles
+    "searchtrack.estimate.labelled_particles",  # LabelledParticles, update, resample
+})
+
 
 def test_every_module_belongs_to_a_layer() -> None:
     """Every module of the package sits in one of the six layers (or is the package root)."""
@@ -92,6 +102,42 @@ def test_importing_a_layer_loads_no_later_layer(layer: str) -> None:
     modules = sorted({_module_name(p) for p in (PACKAGE / layer).rglob("*.py")})
     code = (f"import importlib, sys\nfor m in {modules!r}:\n    importlib.import_module(m)\n"
             f"bad = sorted(m for m in sys.modules if m.startswith({later!r}))\n"
+            "assert not bad, bad")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+
+
+def test_planners_import_only_the_belief_seam_from_estimate() -> None:
+    """No planner module imports an estimate module outside the allow-list (even the
+    ``searchtrack.estimate`` package face, which reaches every filter)."""
+    estimate = LAYERS.index("estimate")
+    reach = [f"{path.relative_to(PACKAGE)}:{line} imports {module}"
+             for path in (PACKAGE / "plan").rglob("*.py") for line, module in _imports(path)
+             if _layer(module) == estimate and module not in PLAN_MAY_IMPORT_FROM_ESTIMATE]
+    assert not reach, "\n".join(reach)
+
+
+def test_the_belief_seam_imports_no_other_estimate_module() -> None:
+    """The allow-listed seam modules import, from the estimate layer, only one another: reading
+    a belief never pulls in a filter."""
+    estimate = LAYERS.index("estimate")
+    reach = []
+    for name in sorted(PLAN_MAY_IMPORT_FROM_ESTIMATE):
+        path = PACKAGE.parent.joinpath(*name.split(".")).with_suffix(".py")
+        reach += [f"{name}:{line} imports {module}" for line, module in _imports(path)
+                  if _layer(module) == estimate and module not in PLAN_MAY_IMPORT_FROM_ESTIMATE]
+    assert not reach, "\n".join(reach)
+
+
+def test_importing_the_planners_loads_only_the_belief_seam() -> None:
+    """In a fresh interpreter, importing every plan module loads no estimate module but the
+    seam's (and the ``searchtrack.estimate`` package itself, their parent)."""
+    modules = sorted({_module_name(p) for p in (PACKAGE / "plan").rglob("*.py")})
+    allowed = sorted(PLAN_MAY_IMPORT_FROM_ESTIMATE | {"searchtrack.estimate"})
+    code = (f"import importlib, sys\nfor m in {modules!r}:\n    importlib.import_module(m)\n"
+            f"bad = sorted(m for m in sys.modules if m.startswith('searchtrack.estimate')\n"
+            f"             and m not in {allowed!r})\n"
             "assert not bad, bad")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=300)

@@ -15,7 +15,7 @@ from rich.table import Table
 from searchtrack.cli.common import int_at_least
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import OutputError, output_dir, output_file
-from searchtrack.sim.kernels import KERNEL_SETS
+from searchtrack.sim.kernels import warm_up_sets
 
 if TYPE_CHECKING:
     from searchtrack.sim.campaigns.runner import Tally
@@ -42,7 +42,7 @@ def run(args: argparse.Namespace, console: Console) -> int:
     spec = read_spec(args.file)
     db = output_file("--db", args.db if args.db is not None
                      else Path(args.file).with_suffix(".duckdb"))
-    ready_kernels(console, KERNEL_SETS)  # once, before the workers start
+    ready_kernels(console, warm_up_sets())  # once, before the workers start
     with Progress(TextColumn("{task.description}"), BarColumn(),
                   TextColumn("{task.completed}/{task.total} done · {task.fields[failed]} failed"
                              " · {task.fields[running]} running"), TimeRemainingColumn(),

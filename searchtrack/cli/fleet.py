@@ -221,7 +221,7 @@ def configure(parser: argparse.ArgumentParser) -> None:
                         help="measurement variance along the road (m², default 5)")
     parser.add_argument("--dt", type=positive_float, default=0.1, metavar="S",
                         help="time step δ_t (s, default 0.1)")
-    parser.add_argument("--binning", choices=BINNINGS, default="density",
+    parser.add_argument("--binning", choices=BINNINGS, default=BoundConfig.binning,
                         help="Gaussian on 1 m bins: density at bin points as in Eq. 47 (default; "
                         "needs variances ≥ 0.25 m²) or bin probabilities")
     parser.add_argument("--max-uavs", type=int_in(1, MAX_FLEET), default=10, metavar="Q",

@@ -10,7 +10,7 @@ from collections.abc import Iterable
 from rich.console import Console
 from rich.table import Table
 
-from searchtrack.sim.kernels import KERNEL_SETS, cold_sets, is_cold, warm
+from searchtrack.sim.kernels import KERNEL_SETS, cold_sets, is_cold, warm, warm_up_sets
 
 NOTICE = "compiling solver kernels, once per install"
 """What a command says before it compiles kernels that numba has not cached yet."""
@@ -30,7 +30,7 @@ def ready_kernels(console: Console, names: Iterable[str]) -> dict[str, float]:
 
 def warm_up_command(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack warm-up``."""
-    names = args.only or list(KERNEL_SETS)
+    names = args.only or list(warm_up_sets())
     unknown = [n for n in names if n not in KERNEL_SETS]
     if unknown:
         raise ValueError(f"--only {unknown[0]!r}: unknown kernel set; choose from "

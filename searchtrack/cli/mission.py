@@ -19,7 +19,7 @@ from searchtrack.cli.output import OutputError, output_dir, output_file
 from searchtrack.core.files import write_text_atomic
 from searchtrack.core.interrupt import stop_requested
 from searchtrack.sim.figures import plot_map, plot_moc
-from searchtrack.sim.kernels import ROAD_MISSION_KERNELS
+from searchtrack.sim.kernels import road_mission_kernels
 from searchtrack.sim.mission import Mission
 from searchtrack.sim.record import PHASES, MissionLog
 from searchtrack.sim.scenario_file import load_scenario
@@ -68,7 +68,7 @@ def run_mission(args: argparse.Namespace, console: Console) -> int:
     if args.duration is not None:
         scenario = dataclasses.replace(scenario, duration_s=args.duration)
     out = output_dir("--out", args.out)
-    ready_kernels(console, ROAD_MISSION_KERNELS)
+    ready_kernels(console, road_mission_kernels())
     with console.status(f"building {scenario.map.describe()}"):
         mission = Mission(scenario)
     started = time.perf_counter()

@@ -26,7 +26,7 @@ from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
 from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.files import write_text_atomic
-from searchtrack.core.registry import MAX_SEED
+from searchtrack.core.registry import MAX_SEED, Registry
 from searchtrack.core.result import Result, Status
 
 #: Family name → module implementing the interface of :mod:`searchtrack.sim.plan_jobs`.
@@ -38,27 +38,6 @@ FAMILIES: dict[str, str] = {
     "trajectory": "searchtrack.sim.plan_jobs.trajectory",
 }
 
-#: One-line help of each family (the module's ``DESCRIPTION``, kept here so that ``--help``
-#: imports nothing).
-HELP: dict[str, str] = {
-    "assign": "one candidate action per UAV on a particle belief (paper 003)",
-    "associate": "pair trackers with detections on a road map by gated EMD (thesis 001)",
-    "route": "one UAV's OPTW route over tracker beliefs on roads, as reacquisition (thesis 001)",
-    "search": "one exploration + refinement receding-horizon search step (paper 004)",
-    "trajectory": "fly a waypoint course past obstacles in closed loop (NMPC / LTV-MPC / "
-                  "closed form)",
-}
-
-#: Backend names of each family as ``--help`` lists them (checked against the modules' own
-#: ``backends()`` by the tests, so the two cannot drift apart).
-BACKEND_NAMES: dict[str, tuple[str, ...]] = {
-    "assign": ("auto", "greedy", "lazy_greedy", "exact", "exact_cpsat", "exact_bnb",
-               "brute_force", "nlp"),
-    "associate": ("auto", "greedy", "optimal"),
-    "route": ("auto", "ils", "labelling", "cpsat", "bp", "mip"),
-    "search": ("auto", "receding", "lawnmower"),
-    "trajectory": ("auto", "nmpc", "ltv_mpc", "closed_form"),
-}
 
 #: The rows of the result table, as ``optw solve`` prints them.
 SUMMARY_KEYS = ("backend", "status", "objective", "bound", "gap", "runtime_s")
@@ -73,6 +52,25 @@ def available_families() -> list[str]:
 def family_module(name: str) -> ModuleType:
     """The module of family ``name``, imported now."""
     return importlib.import_module(FAMILIES[name])
+
+
+#: One-line help of each installed family: its module's ``DESCRIPTION``.
+HELP: dict[str, str] = {name: family_module(name).DESCRIPTION for name in available_families()}
+
+#: Backend names of each installed family as ``--help`` lists them: its module's ``backends()``
+#: (the names of the family's registry, ``"auto"`` first).
+BACKEND_NAMES: dict[str, tuple[str, ...]] = {
+    name: tuple(family_module(name).backends()) for name in available_families()}
+
+
+def backend_help(name: str) -> str:
+    """The ``--backend`` help of family ``name``: its backend names, then what each registered
+    backend does (its registry's ``description``)."""
+    registry: Registry[Any, Any] = family_module(name).BACKENDS
+    described = "; ".join(f"{b}: {registry.get(b).description}" for b in BACKEND_NAMES[name]
+                          if b in registry.names())
+    text = "backend: " + ", ".join(BACKEND_NAMES[name]) + " (default auto)"
+    return (text + (f". {described}" if described else "")).replace("%", "%%")
 
 
 def json_number(x: float | None) -> float | int | None:
@@ -162,10 +160,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
         p.add_argument("problem", metavar="PROBLEM.json",
                        help=f"the problem (example: examples/problems/{name}.json)")
         p.add_argument("--out", required=True, metavar="PLAN.json", help="where to write the plan")
-        names = BACKEND_NAMES.get(name)
-        p.add_argument("--backend", default="auto",
-                       help="backend: " + ", ".join(names) + " (default auto)" if names
-                       else "backend name (default auto; a wrong name lists the choices)")
+        p.add_argument("--backend", default="auto", help=backend_help(name))
         p.add_argument("--time-limit", type=positive_float, default=10.0, metavar="S",
                        help="seconds (default 10)")
         p.add_argument("--seed", type=seed_arg, default=0,

@@ -25,12 +25,25 @@ from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_dir, output_file
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.radio.signal import MAX_NOISE_VAR_V2
+from searchtrack.plan.radio import RadioPlanSettings
+from searchtrack.sim.kernels import RADIO_KERNELS
+from searchtrack.sim.radio_config import (
+    FILTERS,
+    MEASUREMENTS,
+    PLAN_BACKENDS,
+    PLANNERS,
+    RadioMissionConfig,
+)
 
 if TYPE_CHECKING:
     from searchtrack.models.radio import RadioScenario
 
 #: Largest ``--noise`` (V): the root of the largest noise variance a signal takes.
 MAX_NOISE_SIGMA_V = math.sqrt(MAX_NOISE_VAR_V2)
+
+#: The defaults of the options: a mission's and its planner's settings (the dataclasses' field
+#: defaults, read from the classes so that no filter module is loaded).
+MISSION, PLAN = RadioMissionConfig, RadioPlanSettings
 
 
 def _noise_sigma(text: str) -> float:
@@ -103,7 +116,7 @@ def track(args: argparse.Namespace, console: Console) -> int:
     out = output_file("--out", args.out)
     run = read_run(args.run_file)
     seed = run.seed if args.seed is None else args.seed
-    ready_kernels(console, ("radio",))
+    ready_kernels(console, (RADIO_KERNELS,))
     with _bar(console, f"{args.filter} filter") as bar:
         task = bar.add_task("filter", total=run.n_steps)
         result = run_radio_track(run, args.filter, particles, seed,
@@ -120,9 +133,8 @@ def track(args: argparse.Namespace, console: Console) -> int:
 def mission(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack radio mission``."""
     from searchtrack.core.files import write_text_atomic
-    from searchtrack.plan.radio import RadioPlanSettings
     from searchtrack.sim.radio_figures import plot_radio_map, plot_radio_ospa
-    from searchtrack.sim.radio_mission import RadioMissionConfig, run_radio_mission
+    from searchtrack.sim.radio_mission import run_radio_mission
 
     particles = _particles(args)
     folder = output_dir("--out", args.out)
@@ -132,7 +144,7 @@ def mission(args: argparse.Namespace, console: Console) -> int:
     config = RadioMissionConfig(filter=args.filter, planner=args.planner, backend=args.backend,
                                 particles_per_label=particles, plan=plan,
                                 measurement=args.measurement, keep_out=args.keep_out)
-    ready_kernels(console, ("radio",))
+    ready_kernels(console, (RADIO_KERNELS,))
     with _bar(console, f"{args.filter} + {args.planner}") as bar:
         task = bar.add_task("mission", total=scenario.n_steps)
         log = run_radio_mission(scenario, config, args.seed,
@@ -155,9 +167,10 @@ def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--noise", type=_noise_sigma, default=None, metavar="SIGMA_V",
                    help="receiver noise standard deviation σ_η in volts (Σ_η = σ_η²; at most "
                         f"{MAX_NOISE_SIGMA_V:g}; default: the scenario's)")
-    p.add_argument("--measurement", choices=("stft", "time"), default="stft",
-                   help="simulate the spectrogram directly (stft, default) or from "
-                        "time-domain windows (time)")
+    direct, windows = (f"{m}, default" if m == MISSION.measurement else m for m in MEASUREMENTS)
+    p.add_argument("--measurement", choices=MEASUREMENTS, default=MISSION.measurement,
+                   help=f"simulate the spectrogram directly ({direct}) or from time-domain "
+                        f"windows ({windows})")
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -179,37 +192,42 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p_track = rsub.add_parser("track", help="filter a recorded run")
     p_track.add_argument("run_file", metavar="RUN.npz",
                          help="a run written by radio simulate")
-    p_track.add_argument("--filter", choices=("tbd", "dtt"), default="tbd",
-                         help="tbd: track before detect on the raw STFT; dtt: detect, then "
-                         "track (default tbd)")
+    tbd, dtt = FILTERS
+    p_track.add_argument("--filter", choices=FILTERS, default=MISSION.filter,
+                         help=f"{tbd}: track before detect on the raw STFT; {dtt}: detect, then "
+                         f"track (default {MISSION.filter})")
     p_track.add_argument("--out", required=True, metavar="EST.json",
                          help="where to write the estimates")
-    p_track.add_argument("--particles", type=int_at_least(10), default=50_000, metavar="N",
-                         help="particles per label (default 50000, the paper's)")
+    p_track.add_argument("--particles", type=int_at_least(10),
+                         default=MISSION.particles_per_label, metavar="N",
+                         help=f"particles per label (default {MISSION.particles_per_label}, "
+                         "the paper's)")
     p_track.add_argument("--seed", type=seed_arg, default=None,
                          help="filter seed (default: the run's)")
     p_track.set_defaults(run=track)
     p_mis = rsub.add_parser("mission", help="fly the closed loop: filter + planner")
     p_mis.add_argument("scenario", metavar="SCENARIO.toml",
                        help="radio scenario (e.g. searchtrack/data/scenarios/radio_paper.toml)")
-    p_mis.add_argument("--filter", choices=("tbd", "dtt"), default="tbd",
-                       help="tbd or dtt, as in radio track (default tbd)")
-    p_mis.add_argument("--planner", choices=("renyi", "cs", "straight"), default="renyi",
+    p_mis.add_argument("--filter", choices=FILTERS, default=MISSION.filter,
+                       help=f"{tbd} or {dtt}, as in radio track (default {MISSION.filter})")
+    p_mis.add_argument("--planner", choices=PLANNERS, default=MISSION.planner,
                        help="reward: Rényi or Cauchy–Schwarz divergence, or a straight sweep "
-                       "(default renyi)")
-    p_mis.add_argument("--backend", default="exhaustive",
-                       choices=("exhaustive", "beam", "greedy", "auto"),
-                       help="planning backend (default exhaustive)")
-    p_mis.add_argument("--particles", type=int_at_least(10), default=50_000, metavar="N",
-                       help="filter particles per label (default 50000)")
-    p_mis.add_argument("--plan-particles", type=int_at_least(10), default=1000, metavar="N",
-                       help="particles per label the planner draws (default 1000)")
-    p_mis.add_argument("--horizon", type=int_at_least(1), default=3, metavar="H",
-                       help="look-ahead planning intervals (default 3)")
-    p_mis.add_argument("--r-min", type=float, default=50.0, metavar="M",
-                       help="keep-out radius r_min of the void constraint (default 50 m)")
-    p_mis.add_argument("--p-void", type=float, default=0.9, metavar="P",
-                       help="least void probability P_vmin (default 0.9)")
+                       f"(default {MISSION.planner})")
+    p_mis.add_argument("--backend", default=MISSION.backend, choices=PLAN_BACKENDS,
+                       help=f"planning backend (default {MISSION.backend})")
+    p_mis.add_argument("--particles", type=int_at_least(10),
+                       default=MISSION.particles_per_label, metavar="N",
+                       help=f"filter particles per label (default {MISSION.particles_per_label})")
+    p_mis.add_argument("--plan-particles", type=int_at_least(10), default=PLAN.plan_particles,
+                       metavar="N", help="particles per label the planner draws (default "
+                       f"{PLAN.plan_particles})")
+    p_mis.add_argument("--horizon", type=int_at_least(1), default=PLAN.horizon, metavar="H",
+                       help=f"look-ahead planning intervals (default {PLAN.horizon})")
+    p_mis.add_argument("--r-min", type=float, default=PLAN.r_min_m, metavar="M",
+                       help=f"keep-out radius r_min of the void constraint (default "
+                       f"{PLAN.r_min_m:g} m)")
+    p_mis.add_argument("--p-void", type=float, default=PLAN.p_void_min, metavar="P",
+                       help=f"least void probability P_vmin (default {PLAN.p_void_min:g})")
     p_mis.add_argument("--keep-out", action="store_true",
                        help="also keep r_min from every estimate in the flown trajectory")
     p_mis.add_argument("--seed", type=seed_arg, default=0, help="random seed (default 0)")

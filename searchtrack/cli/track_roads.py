@@ -15,6 +15,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from searchtrack.cli.common import seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
+from searchtrack.sim.kernels import ROAD_FILTER_KERNELS
 from searchtrack.sim.road_track_job import (
     read_road_job,
     run_road_track_job,
@@ -27,7 +28,7 @@ def track_roads_command(args: argparse.Namespace, console: Console) -> int:
     out = output_file("--out", args.out)
     job = read_road_job(args.detections)
     seed = job.seed if args.seed is None else args.seed
-    ready_kernels(console, ("road-filter",))
+    ready_kernels(console, (ROAD_FILTER_KERNELS,))
     with Progress(TextColumn("{task.description}"), BarColumn(),
                   TextColumn("{task.completed}/{task.total} steps"), TimeElapsedColumn(),
                   console=console, transient=True) as bar:

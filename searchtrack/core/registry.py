@@ -13,7 +13,7 @@ from typing import Any, Generic, Protocol, TypeVar
 
 from searchtrack.core.deadline import Deadline, check_time_limit
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.core.result import Result, Status, interrupted, merge_answers
+from searchtrack.core.result import Result, Status, interrupted, merge_answers, rejected
 
 ProblemT = TypeVar("ProblemT", contravariant=True)
 PlanT = TypeVar("PlanT")
@@ -59,6 +59,8 @@ class Backend(Generic[P, Q]):
         One line for ``--help`` texts.
     supports
         Returns ``None`` when the backend can take ``problem``, else the reason it cannot.
+    kernels
+        The numba kernel sets (``searchtrack warm-up`` names) the backend compiles on first use.
     """
 
     name: str
@@ -66,13 +68,29 @@ class Backend(Generic[P, Q]):
     exact: bool
     description: str
     supports: Callable[[P], str | None] = lambda _problem: None
+    kernels: tuple[str, ...] = ()
+
+
+#: ``validator(problem, result)``: what an independent check finds wrong with the answer (its
+#: plan, objective and bound); empty when the answer holds.
+Validator = Callable[[P, Result[Q]], Sequence[str]]
 
 
 class Registry(Generic[P, Q]):
-    """A name → backend table for one problem type."""
+    """A name → backend table for one problem type.
 
-    def __init__(self, problem: str) -> None:
+    Parameters
+    ----------
+    problem
+        The problem's name in messages.
+    validator
+        The family's independent checker, sharing no logic with the backends: :meth:`solve`
+        turns an answer it rejects into ``ERROR`` (no plan), naming what it found.
+    """
+
+    def __init__(self, problem: str, validator: Validator[P, Q] | None = None) -> None:
         self.problem = problem
+        self.validator = validator
         self._backends: dict[str, Backend[P, Q]] = {}
 
     def register(self, backend: Backend[P, Q]) -> Backend[P, Q]:
@@ -109,7 +127,7 @@ class Registry(Generic[P, Q]):
     def solve(self, name: str, problem: P, *, time_limit_s: float, seed: int) -> Result[Q]:
         """What a family's ``solve()`` does: :meth:`checked`, then the backend's answer, marked
         ``INTERRUPTED`` if a stop request cut it short (:func:`~searchtrack.core.result.
-        interrupted`), logged at debug level.
+        interrupted`), logged at debug level, and checked by :meth:`validated`.
 
         Raises
         ------
@@ -120,7 +138,18 @@ class Registry(Generic[P, Q]):
         result = interrupted(chosen.solve(problem, time_limit_s=time_limit_s, seed=seed))
         log.debug("%s via %s: %s %s in %.3f s", self.problem, name, result.status.name,
                   result.objective, result.runtime_s)
-        return result
+        return self.validated(problem, result)
+
+    def validated(self, problem: P, result: Result[Q]) -> Result[Q]:
+        """``result`` if the family's validator accepts its answer (or there is no validator or
+        no plan), else an ``ERROR`` result naming what the validator found."""
+        if self.validator is None or result.plan is None:
+            return result
+        problems = list(self.validator(problem, result))
+        if problems:
+            log.error("%s: %s returned an invalid answer: %s", self.problem, result.backend,
+                      problems)
+        return rejected(result, problems)
 
 
 def relabel(result: Result[Q], deadline: Deadline, message: str,

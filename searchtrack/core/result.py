@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import enum
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Generic, TypeVar
 
@@ -133,3 +134,13 @@ def interrupted(result: Result[PlanT]) -> Result[PlanT]:
     if result.fallback is not None:  # keep the fallback: it is not a solution to report
         return dataclasses.replace(result, message=note)
     return dataclasses.replace(result, status=Status.INTERRUPTED, message=note)
+
+
+def rejected(result: Result[PlanT], problems: Sequence[str]) -> Result[PlanT]:
+    """``result`` as an ``ERROR`` without plan, objective or bound when an independent check
+    found ``problems`` in its answer; ``result`` itself when there are none."""
+    if not problems:
+        return result
+    return dataclasses.replace(result, status=Status.ERROR, objective=None, bound=None,
+                               plan=None, message="validator rejected the plan: "
+                               + "; ".join(problems))

@@ -1,9 +1,11 @@
 """searchtrack.estimate: belief states, and the seam planners read them through.
 
-- The seam (:mod:`.belief`, :mod:`.particle_belief`): :class:`NodeBelief` (mass on road nodes),
-  :class:`TrackBelief` and :class:`BeliefBank` (trackers), :class:`SearchField` (the search
-  score per node), :class:`NodePredictor` (the prediction step), :class:`ParticleBelief`
-  (weighted particles in open space). Planners accept any object that fits.
+- The seam (:mod:`.belief`, :mod:`.particle_belief`, :mod:`.labelled_particles`):
+  :class:`NodeBelief` (mass on road nodes), :class:`TrackBelief` and :class:`BeliefBank`
+  (trackers), :class:`SearchField` (the search score per node), :class:`NodePredictor` (the
+  prediction step), :class:`ParticleBelief` (weighted particles in open space),
+  :class:`LabelledParticleBelief` (per-label particles and existences, stored plainly as
+  :class:`LabelledParticles`). Planners accept any object that fits.
 - Road search and track (thesis 001): the likelihood-ratio field (Ch. 3), node trackers
   (Ch. 4), their diffusion, scan update, births, identity hand-over (:mod:`.handover`) and
   deletion; EMD data association (§4.3) as a solver family (:mod:`.association`,
@@ -55,6 +57,7 @@ if TYPE_CHECKING:
         solve_emd_matrix,
     )
     from searchtrack.estimate.handover import TrackHandover
+    from searchtrack.estimate.labelled_particles import LabelledParticles
     from searchtrack.estimate.lrt import (
         LikelihoodField,
         LRTInitiator,
@@ -78,7 +81,6 @@ if TYPE_CHECKING:
     from searchtrack.estimate.radio import (
         DttConfig,
         DttLmbFilter,
-        LabelledParticles,
         TbdLmbFilter,
         detect_peaks,
         label_log_likelihoods,
@@ -119,7 +121,7 @@ _HOME: dict[str, tuple[str, str]] = {
     "BeliefBank": ("belief", "BeliefBank"),
     "EMDAssociator": ("emd_association", "EMDAssociator"),
     "LabelledParticleBelief": ("belief", "LabelledParticleBelief"),
-    "LabelledParticles": ("radio.particles", "LabelledParticles"),
+    "LabelledParticles": ("labelled_particles", "LabelledParticles"),
     "RadioFilterConfig": ("radio.tbd", "FilterConfig"),
     "TbdLmbFilter": ("radio.tbd", "TbdLmbFilter"),
     "DttLmbFilter": ("radio.dtt", "DttLmbFilter"),

@@ -204,8 +204,42 @@ def solve_auto(problem: AssociationProblem, *, time_limit_s: float,
                                 seed=seed, heuristic_limit_s=time_limit_s)
 
 
+def answer_problems(problem: AssociationProblem, result: Result[Association]) -> list[str]:
+    """The independent check of an association: every pair names an existing tracker and
+    measurement, each once, with a cost under the gate; the objective is the pairs' gated
+    saving ``Σ (gate − c_ij)`` summed here from the cost matrix, and never above a claimed
+    bound."""
+    assert result.plan is not None
+    k, q = problem.shape
+    problems: list[str] = []
+    seen_t: set[int] = set()
+    seen_q: set[int] = set()
+    saving = 0.0
+    for t, j in result.plan.pairs:
+        if not (0 <= t < k and 0 <= j < q):
+            problems.append(f"pair ({t}, {j}) outside {k} trackers x {q} measurements")
+            continue
+        if t in seen_t or j in seen_q:
+            problems.append(f"pair ({t}, {j}) reuses a tracker or a measurement")
+        seen_t.add(t)
+        seen_q.add(j)
+        cost = float(problem.costs[t, j])
+        if not cost < problem.gate_m:
+            problems.append(f"pair ({t}, {j}) costs {cost:g}, not under the gate "
+                            f"{problem.gate_m:g}")
+        saving += problem.gate_m - cost
+    tol = 1e-9 * (1.0 + abs(saving))
+    if not problems and result.objective is not None and abs(result.objective - saving) > tol:
+        problems.append(f"reported saving {result.objective} but the pairs save {saving}")
+    if result.objective is not None and result.bound is not None and \
+            result.objective > result.bound + tol:
+        problems.append(f"saving {result.objective} exceeds the claimed bound {result.bound}")
+    return problems
+
+
 #: The association backends by name: ``BACKENDS.get(name).solve(problem, ...)``.
-BACKENDS: Registry[AssociationProblem, Association] = Registry("association")
+BACKENDS: Registry[AssociationProblem, Association] = Registry("association",
+                                                                validator=answer_problems)
 BACKENDS.register(Backend("greedy", solve_greedy, False,
                           "Algorithm 1 (§4.3): the global minimum under the gate first"))
 BACKENDS.register(Backend("optimal", solve_optimal, True,

@@ -20,22 +20,21 @@ seam), so they are written against these protocols, never against the concrete e
   particle filters), with one entropy per target; what the road-search planners read.
 - :class:`LabelledParticleBelief`: a labelled multi-Bernoulli density as per-label particle sets
   and existence probabilities (Nguyen et al.'s radio-tag TBD-LMB filter,
-  :class:`~searchtrack.estimate.radio.tbd.TbdLmbFilter`); what the radio planners read.
+  :class:`~searchtrack.estimate.radio.tbd.TbdLmbFilter`, and the plain store
+  :class:`~searchtrack.estimate.labelled_particles.LabelledParticles`); what the radio planners
+  read.
 
 All are ``runtime_checkable``: a planner checks its inputs with ``isinstance`` against them.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
 
 from searchtrack.core.types import FloatArray
-
-if TYPE_CHECKING:
-    from searchtrack.estimate.radio.particles import LabelledParticles
 
 
 @runtime_checkable
@@ -182,15 +181,36 @@ class RoadParticleBelief(Protocol):
 class LabelledParticleBelief(Protocol):
     """A labelled multi-Bernoulli density on particles (Nguyen et al., §III-C, eqs. 24–30).
 
-    ``labelled_particles()`` returns a
-    :class:`~searchtrack.estimate.radio.particles.LabelledParticles`: for each label ``λ`` (a tag
-    frequency) an existence probability ``r_λ`` and ``N`` weighted particles of the state
-    ``[px, vx, py, vy]``, the motion mode and the pulse offset ``τ`` (arrays ``(Λ, N, ...)``,
-    weights normalised per label). Planners predict and update their own copy.
+    For each of ``Λ`` labels ``λ`` (tag frequencies, row ``λ`` of every array) an existence
+    probability ``r_λ`` and ``N`` weighted particles of the state ``[px, vx, py, vy]``, the motion
+    mode and the pulse offset ``τ``. Planners read these arrays and predict and update their own
+    copy (:mod:`~searchtrack.estimate.labelled_particles`); they never change the belief's.
+    :class:`~searchtrack.estimate.labelled_particles.LabelledParticles` is the plain one.
     """
 
-    def labelled_particles(self) -> LabelledParticles:
-        """A copy of the current labelled particles (new arrays the caller may change)."""
+    @property
+    def x(self) -> FloatArray:
+        """``(Λ, N, 4)`` particle states ``[px, vx, py, vy]`` (m, m/s)."""
+        ...
+
+    @property
+    def mode(self) -> NDArray[np.integer[Any]]:
+        """``(Λ, N)`` integer motion modes (0 = WD, 1 = CV)."""
+        ...
+
+    @property
+    def tau(self) -> FloatArray:
+        """``(Λ, N)`` pulse offsets ``τ`` (s) in ``[0, T0)``."""
+        ...
+
+    @property
+    def w(self) -> FloatArray:
+        """``(Λ, N)`` non-negative particle weights, each label's summing to 1."""
+        ...
+
+    @property
+    def r(self) -> FloatArray:
+        """``(Λ,)`` existence probabilities ``r_λ`` in ``[0, 1]``."""
         ...
 
 

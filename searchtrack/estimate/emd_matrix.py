@@ -48,7 +48,7 @@ from searchtrack.estimate.signatures import (
     truncate,
 )
 from searchtrack.estimate.transport import emd, emd_on_graph
-from searchtrack.estimate.transport.simplex import warm_up
+from searchtrack.estimate.transport.simplex import KERNEL_SET, warm_up
 from searchtrack.models.road_metric import RoadMetric, SourceDistances
 from searchtrack.models.roads import RoadNetwork
 
@@ -110,12 +110,15 @@ def _solver(name: str) -> Any:
 
 EMD_MATRIX_BACKENDS: Registry[EMDMatrixProblem, EMDMatrix] = Registry("emd_matrix")
 EMD_MATRIX_BACKENDS.register(Backend("auto", _solver("transport"), True,
-                                     "the transport backend (the faster at road sizes)"))
+                                     "the transport backend (the faster at road sizes)",
+                                     kernels=(KERNEL_SET,)))
 EMD_MATRIX_BACKENDS.register(Backend(
     "transport", _solver("transport"), True,
-    "distances between the truncated supports, then the network simplex per pair"))
+    "distances between the truncated supports, then the network simplex per pair",
+    kernels=(KERNEL_SET,)))
 EMD_MATRIX_BACKENDS.register(Backend(
-    "graph", _solver("graph"), True, "a min-cost flow on the whole road graph per pair"))
+    "graph", _solver("graph"), True, "a min-cost flow on the whole road graph per pair",
+    kernels=(KERNEL_SET,)))
 
 
 def solve_emd_matrix(problem: EMDMatrixProblem, *, backend: str = "auto",

@@ -8,6 +8,10 @@ set) and numba stores the machine code on disk; later processes load it in well 
 :func:`cold_sets` tells, without compiling anything, which sets a command would have to compile,
 so that the command can say so before it goes quiet; :func:`warm` compiles them (the
 ``searchtrack warm-up`` command and the install step of ``make`` run it for every set).
+
+Which sets a solve compiles is said once, by its backend (:attr:`~searchtrack.core.registry.
+Backend.kernels`): :func:`kernels_of` reads it from the registries, and the sets ``warm-up``
+compiles are those the registered backends list plus the estimators' (:func:`warm_up_sets`).
 """
 
 from __future__ import annotations
@@ -21,6 +25,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+
+from searchtrack.core.registry import Registry
+from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
+from searchtrack.plan.optw.solve import ILS_KERNELS, LABELLING_KERNELS
 
 log = logging.getLogger(__name__)
 
@@ -61,7 +69,8 @@ def _warm_radio() -> None:
     """Two seconds of each radio filter, with one planning call, on the paper's scenario."""
     from searchtrack.models.radio import RadioScenario
     from searchtrack.plan.radio import RadioPlanSettings
-    from searchtrack.sim.radio_mission import RadioMissionConfig, run_radio_mission
+    from searchtrack.sim.radio_config import RadioMissionConfig
+    from searchtrack.sim.radio_mission import run_radio_mission
 
     scenario = dataclasses.replace(RadioScenario.paper(), duration_s=2.0)
     plan = RadioPlanSettings(horizon=1, plan_particles=20)
@@ -93,29 +102,74 @@ class KernelSet:
     warm: Callable[[], None]
 
 
+ROAD_FILTER_KERNELS, RADIO_KERNELS = "road-filter", "radio"
+"""The sets of the road particle filter and of the radio filters."""
+
 KERNEL_SETS: dict[str, KernelSet] = {s.name: s for s in (
-    KernelSet("optw-ils", "OPTW iterated local search",
+    KernelSet(ILS_KERNELS, "OPTW iterated local search",
               ("searchtrack.plan.optw.ils_kernels", "searchtrack.plan.optw.ils_search"),
               _warm_optw_ils),
-    KernelSet("optw-labelling", "OPTW labelling DP", ("searchtrack.plan.optw.labelling_kernels",
-                                            "searchtrack.plan.optw.labelling_primitives"),
+    KernelSet(LABELLING_KERNELS, "OPTW labelling DP",
+              ("searchtrack.plan.optw.labelling_kernels",
+               "searchtrack.plan.optw.labelling_primitives"),
               _warm_optw_labelling),
     KernelSet("simplex", "network simplex (EMD association)",
               ("searchtrack.estimate.transport.simplex_kernels",), _warm_simplex),
-    KernelSet("road-filter", "road particle filter", ("searchtrack.estimate.road_filter_kernels",),
-              _warm_road_filter),
-    KernelSet("radio", "radio TBD likelihood and propagation",
+    KernelSet(ROAD_FILTER_KERNELS, "road particle filter",
+              ("searchtrack.estimate.road_filter_kernels",), _warm_road_filter),
+    KernelSet(RADIO_KERNELS, "radio TBD likelihood and propagation",
               ("searchtrack.estimate.radio.likelihood", "searchtrack.estimate.radio.propagation",
-               "searchtrack.estimate.radio.particles", "searchtrack.plan.radio.kernels"),
+               "searchtrack.estimate.labelled_particles", "searchtrack.plan.radio.kernels"),
               _warm_radio),
 )}
 """Every kernel set of the library, by name."""
 
-OPTW_KERNELS = ("optw-ils", "optw-labelling")
+FILTER_KERNELS = (ROAD_FILTER_KERNELS, RADIO_KERNELS)
+"""The sets the estimators compile, which no solver registry lists: the road particle filter
+(and the RBPF built on it) and the radio TBD-LMB / detection-then-track filters (whose
+look-ahead kernels the radio planning backends share)."""
+
+
+def kernels_of(*registries: Registry[Any, Any]) -> tuple[str, ...]:
+    """The kernel sets the backends of ``registries`` list (:attr:`~searchtrack.core.registry.
+    Backend.kernels`), each once, in :data:`KERNEL_SETS` order (names of no set last)."""
+    named = {k for r in registries for name in r.names() for k in r.get(name).kernels}
+    return (*(n for n in KERNEL_SETS if n in named), *sorted(named - KERNEL_SETS.keys()))
+
+
+OPTW_KERNELS = kernels_of(OPTW_BACKENDS)
 """The sets an OPTW solve may use (the ``auto`` backend runs both)."""
 
-ROAD_MISSION_KERNELS = (*OPTW_KERNELS, "simplex", "road-filter")
-"""The sets a road mission may use: reacquisition routes, EMD association, the road filter."""
+
+def solver_registries() -> list[Registry[Any, Any]]:
+    """Every solver registry of the library (importing the solver families)."""
+    from searchtrack.estimate.association import BACKENDS as association
+    from searchtrack.estimate.emd_matrix import EMD_MATRIX_BACKENDS
+    from searchtrack.estimate.transport.solve import EMD_BACKENDS, GRAPH_EMD_BACKENDS
+    from searchtrack.plan.assign.solve import BACKENDS as assign
+    from searchtrack.plan.guidance.solve import BACKENDS as guidance
+    from searchtrack.plan.radio.solve import BACKENDS as radio
+    from searchtrack.plan.road_search.solve import BACKENDS as road_search
+    from searchtrack.plan.search.solve import BACKENDS as search
+    from searchtrack.plan.trajectory.solve import BACKENDS as trajectory
+
+    return [OPTW_BACKENDS, assign, search, trajectory, road_search, radio, guidance,
+            association, EMD_MATRIX_BACKENDS, EMD_BACKENDS, GRAPH_EMD_BACKENDS]
+
+
+def warm_up_sets() -> tuple[str, ...]:
+    """The sets ``searchtrack warm-up`` compiles by default: every set a registered backend
+    lists, and the estimators' (:data:`FILTER_KERNELS`), in :data:`KERNEL_SETS` order."""
+    named = {*kernels_of(*solver_registries()), *FILTER_KERNELS}
+    return (*(n for n in KERNEL_SETS if n in named), *sorted(named - KERNEL_SETS.keys()))
+
+
+def road_mission_kernels() -> tuple[str, ...]:
+    """The sets a road mission may use: reacquisition routes (OPTW), EMD association (the EMD
+    matrix backends) and the road filter."""
+    from searchtrack.estimate.emd_matrix import EMD_MATRIX_BACKENDS
+
+    return (*kernels_of(OPTW_BACKENDS, EMD_MATRIX_BACKENDS), ROAD_FILTER_KERNELS)
 
 
 def dispatchers(module: str) -> list[Any]:

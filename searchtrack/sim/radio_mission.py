@@ -14,25 +14,21 @@ event the void-probability constraint (eq. 44) guards against.
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import time
 from collections import Counter
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from searchtrack.core import checks
-from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.registry import check_seed
 from searchtrack.core.result import Status
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.metrics import ospa_components
 from searchtrack.estimate.radio import LabelledFilter
-from searchtrack.estimate.radio.filter import MAX_PARTICLES_PER_LABEL
 from searchtrack.models.radio import (
     RadioScenario,
     RadioTruth,
@@ -40,81 +36,14 @@ from searchtrack.models.radio import (
     simulate_truth,
     straight_sweep_heading,
 )
-from searchtrack.plan.radio import RadioPlanProblem, RadioPlanSettings, solve
+from searchtrack.plan.radio import RadioPlanProblem, solve
 from searchtrack.plan.radio.problem import check_lookahead_size
+from searchtrack.sim.radio_config import STRAIGHT, RadioMissionConfig
 from searchtrack.sim.radio_keep_out import KeepOut, fly_with_keep_out
 from searchtrack.sim.radio_run import SIMULATORS, spectrogram
-from searchtrack.sim.radio_track_job import FILTERS as FILTER_TABLE
 from searchtrack.sim.radio_track_job import make_filter
 
 log = logging.getLogger("searchtrack.sim.radio_mission")
-
-FILTERS = tuple(FILTER_TABLE)
-"""The filters: the TBD-LMB on the raw STFT, detection-then-track (§IV-B)."""
-
-PLANNERS = ("renyi", "cs", "straight")
-"""The path strategies of Exp. 2: Rényi and Cauchy–Schwarz planning, the straight sweep."""
-
-MEASUREMENTS = tuple(SIMULATORS)
-"""How spectrograms are simulated (:data:`~searchtrack.sim.radio_run.SIMULATORS`)."""
-
-
-@dataclass(frozen=True)
-class RadioMissionConfig:
-    """How one closed-loop run is flown and filtered.
-
-    Parameters
-    ----------
-    filter
-        ``"tbd"`` or ``"dtt"``.
-    planner
-        ``"renyi"``, ``"cs"`` (information planning, eq. 45) or ``"straight"`` (the diagonal
-        sweep of Exp. 2).
-    backend
-        The planning backend for ``renyi``/``cs`` (``exhaustive``, ``beam``, ``greedy``,
-        ``auto``).
-    particles_per_label
-        Particles of each label's Bernoulli component (the paper: 50 000; at most
-        :data:`~searchtrack.estimate.radio.filter.MAX_PARTICLES_PER_LABEL`).
-    plan
-        Planner settings; its ``reward`` is set from ``planner``.
-    plan_time_limit_s
-        Time limit of one planning call (the paper assumes it finishes within N_p = 5 s).
-    measurement
-        ``"stft"`` or ``"time"`` (:data:`MEASUREMENTS`).
-    keep_out
-        Fly each primitive through a trajectory controller keeping r_min from every estimate.
-    ospa_c_m, ospa_p
-        OSPA cut-off and order (§IV-B: 100 m, 1).
-    """
-
-    filter: str = "tbd"
-    planner: str = "renyi"
-    backend: str = "exhaustive"
-    particles_per_label: int = 50_000
-    plan: RadioPlanSettings = field(default_factory=RadioPlanSettings)
-    plan_time_limit_s: float = 5.0
-    measurement: str = "stft"
-    keep_out: bool = False
-    ospa_c_m: float = 100.0
-    ospa_p: float = 1.0
-
-    def __post_init__(self) -> None:
-        checks.choice("filter", self.filter, FILTERS)
-        checks.choice("planner", self.planner, PLANNERS)
-        checks.choice("measurement", self.measurement, MEASUREMENTS)
-        if checks.count("particles_per_label", self.particles_per_label,
-                        least=1) > MAX_PARTICLES_PER_LABEL:
-            raise InvalidInputError("particles_per_label", self.particles_per_label,
-                                    f"must be an integer in [1, {MAX_PARTICLES_PER_LABEL}]")
-        checks.positive("plan_time_limit_s", self.plan_time_limit_s)
-        checks.positive("ospa_c_m", self.ospa_c_m)
-        checks.positive("ospa_p", self.ospa_p)
-        if not isinstance(self.keep_out, bool):
-            raise InvalidInputError("keep_out", self.keep_out, "must be true or false")
-        if self.planner != "straight" and self.plan.reward != self.planner:
-            object.__setattr__(self, "plan", dataclasses.replace(self.plan, reward=self.planner))
-
 
 @dataclass(frozen=True)
 class RadioMissionLog:
@@ -204,11 +133,11 @@ class _Flight:
 
     def replan(self, belief: LabelledFilter, k: int) -> None:
         sc, uav = self.scenario, self.scenario.uav
-        if self.config.planner == "straight":
+        if self.config.planner == STRAIGHT:
             # the sweep's heading is recomputed every second, so it turns at the corners
             self.path = self._sweep(uav.step_s)
             if k % self.interval == 0:
-                self.statuses["straight"] += 1
+                self.statuses[STRAIGHT] += 1
             return
         problem = RadioPlanProblem(belief.labelled_particles(), self.pose, sc, self.config.plan)
         t0 = time.perf_counter()
@@ -249,7 +178,7 @@ def run_radio_mission(scenario: RadioScenario, config: RadioMissionConfig, seed:
     """Fly one closed-loop run of ``scenario`` (deterministic for ``seed``). Honours a stop
     request between steps: the log then holds the steps done and says ``interrupted``."""
     seed = check_seed(seed)
-    if config.planner != "straight":
+    if config.planner != STRAIGHT:
         check_lookahead_size(scenario, config.plan)
     streams = np.random.SeedSequence(seed).spawn(3)
     truth = simulate_truth(scenario, np.random.default_rng(streams[0]))

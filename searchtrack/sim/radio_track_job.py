@@ -29,11 +29,13 @@ from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.registry import check_seed
 from searchtrack.estimate.radio import DttLmbFilter, FilterConfig, LabelledFilter, TbdLmbFilter
 from searchtrack.models.radio import RadioScenario
+from searchtrack.sim.radio_config import FILTERS as FILTER_NAMES
 from searchtrack.sim.radio_run import RadioRun
 
-FILTERS: dict[str, type[TbdLmbFilter] | type[DttLmbFilter]] = {"tbd": TbdLmbFilter,
-                                                              "dtt": DttLmbFilter}
-"""The filters by name: the TBD-LMB on the raw STFT, detection-then-track (§IV-B)."""
+FILTERS: dict[str, type[TbdLmbFilter] | type[DttLmbFilter]] = dict(
+    zip(FILTER_NAMES, (TbdLmbFilter, DttLmbFilter), strict=True))
+"""The filters by name (:data:`searchtrack.sim.radio_config.FILTERS`): the TBD-LMB on the raw
+STFT, detection-then-track (§IV-B)."""
 
 
 def make_filter(name: str, scenario: RadioScenario, particles_per_label: int,

@@ -35,17 +35,23 @@ from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.belief import RoadParticleBelief
 from searchtrack.models.road_particles import DirectedRoads, RoadMotion
 from searchtrack.plan.road_rl import RoadFeatures, RoadPolicy, policy_for
-from searchtrack.plan.road_search import RoadSearchProblem, RoadSearchSettings, solve
+from searchtrack.plan.road_search import BACKENDS, RoadSearchProblem, RoadSearchSettings, solve
 
 if TYPE_CHECKING:
     from searchtrack.sim.road_tracking import RoadTrackingConfig
 
 log = logging.getLogger("searchtrack.sim.road_planners")
 
-SOLVER_PLANNERS = ("exhaustive", "beam", "exact", "auto", "greedy", "ideal")
-"""Planners that are road-search backends (:mod:`searchtrack.plan.road_search`)."""
+OWN_PLANNERS = ("random", "rl")
+"""The planners flown here rather than solved: the authors' random choice (U-turns included)
+and a trained policy."""
 
-PLANNERS = (*SOLVER_PLANNERS, "random", "rl")
+SOLVER_PLANNERS = tuple(name for name in BACKENDS.names() if name not in OWN_PLANNERS)
+"""Planners that are road-search backends: the names of :data:`searchtrack.plan.road_search.
+BACKENDS`, less those flown here (the ``random`` planner is the authors' choice at each node,
+not the registry's ``random`` backend)."""
+
+PLANNERS = (*SOLVER_PLANNERS, *OWN_PLANNERS)
 """Every planner an episode can fly."""
 
 Chooser = Callable[[int, int], int]

@@ -169,23 +169,24 @@ def _courier(t: Table) -> CourierModel:
 
 
 def _filter(t: Table) -> FilterSpec:
+    d = FilterSpec  # the defaults: the dataclass's own
     spec = FilterSpec(
-        alpha=t.number("alpha", 0.447),
-        decay_c=t.number("decay_c", 50.0),
-        phi_max=t.number("phi_max", 10.0),
-        p_min=t.number("p_min", 0.07),
-        gate_m=t.number("gate_m", 300.0),
-        associator=t.string("associator", "greedy", choices=ASSOCIATORS),
-        birth_weighting=t.string("birth_weighting", "llr",  # type: ignore[arg-type]
+        alpha=t.number("alpha", d.alpha),
+        decay_c=t.number("decay_c", d.decay_c),
+        phi_max=t.number("phi_max", d.phi_max),
+        p_min=t.number("p_min", d.p_min),
+        gate_m=t.number("gate_m", d.gate_m),
+        associator=t.string("associator", d.associator, choices=ASSOCIATORS),
+        birth_weighting=t.string("birth_weighting", d.birth_weighting,  # type: ignore[arg-type]
                                  choices=("llr", "likelihood_ratio")),
-        merge_radius_m=t.number("merge_radius_m", 100.0, minimum=0.0),
+        merge_radius_m=t.number("merge_radius_m", d.merge_radius_m, minimum=0.0),
         llr_floor=_floor(t),
-        negative_information=t.boolean("negative_information", True),
-        belief=t.string("belief", "lrt", choices=BELIEFS),  # type: ignore[arg-type]
-        histories=t.integer("histories", 10, minimum=1),
-        particles=t.integer("particles", 500, minimum=1),
+        negative_information=t.boolean("negative_information", d.negative_information),
+        belief=t.string("belief", d.belief, choices=BELIEFS),  # type: ignore[arg-type]
+        histories=t.integer("histories", d.histories, minimum=1),
+        particles=t.integer("particles", d.particles, minimum=1),
         tracker_alpha=t.optional_number("tracker_alpha"),
-        handover=t.boolean("handover", True),
+        handover=t.boolean("handover", d.handover),
     )
     t.done()
     return spec
@@ -195,21 +196,23 @@ def _floor(t: Table) -> float:
     """``llr_floor``: a negative number, or the string ``"none"`` for no floor."""
     if t.raw("llr_floor", None) == "none":
         return -math.inf
-    value = t.number("llr_floor", -20.0)
+    value = t.number("llr_floor", FilterSpec.llr_floor)
     if value >= 0.0:
         raise t.fail("llr_floor", f"must be < 0 or \"none\", got {value!r}")
     return value
 
 
 def _guidance(t: Table) -> GuidanceSpec:
+    d = GuidanceSpec  # the defaults: the dataclass's own
     spec = GuidanceSpec(
-        strategy=t.string("strategy", "search_and_loiter", choices=STRATEGIES),
+        strategy=t.string("strategy", d.strategy, choices=STRATEGIES),
         spring_k=t.optional_number("spring_k"),
         loiter_k=t.optional_number("loiter_k"),
-        revisit_threshold=t.number("revisit_threshold", 0.3),
-        optw_backend=t.string("optw_backend", "auto", choices=tuple(OPTW_BACKENDS.names())),
-        optw_budget_s=t.number("optw_budget_s", 0.03),
-        coverage_weight=t.number("coverage_weight", 0.0),
+        revisit_threshold=t.number("revisit_threshold", d.revisit_threshold),
+        optw_backend=t.string("optw_backend", d.optw_backend,
+                              choices=tuple(OPTW_BACKENDS.names())),
+        optw_budget_s=t.number("optw_budget_s", d.optw_budget_s),
+        coverage_weight=t.number("coverage_weight", d.coverage_weight),
     )
     t.done()
     return spec

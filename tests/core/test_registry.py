@@ -186,3 +186,24 @@ def test_relabel_sets_runtime_message_and_adds_stats() -> None:
                                                                  "new")
     assert out.stats == {"a": 1.0, "b": 5.0, "c": 3.0} and inner.stats == {"a": 1.0, "b": 2.0}
     assert 3.0 <= out.runtime_s <= deadline.elapsed()
+
+
+def test_the_validator_turns_a_rejected_answer_into_an_error() -> None:
+    """solve() passes every answer with a plan through the family's validator: a plan it
+    rejects comes back as ERROR with no plan, objective or bound, naming what it found."""
+    reg: Registry[int, int] = Registry(
+        "toy", validator=lambda p, r: [] if r.plan == p else [f"plan {r.plan} is not {p}"])
+
+    def honest(problem: int, /, *, time_limit_s: float, seed: int) -> Result[int]:
+        return Result(Status.OPTIMAL, float(problem), float(problem), 0.0, "honest", problem)
+
+    def liar(problem: int, /, *, time_limit_s: float, seed: int) -> Result[int]:
+        return Result(Status.OPTIMAL, 1.0, 1.0, 0.0, "liar", problem + 1)
+
+    reg.register(Backend("honest", honest, True, "returns the input"))
+    reg.register(Backend("liar", liar, True, "returns the next integer"))
+    assert reg.solve("honest", 3, time_limit_s=1.0, seed=0).status is Status.OPTIMAL
+    bad = reg.solve("liar", 3, time_limit_s=1.0, seed=0)
+    assert bad.status is Status.ERROR
+    assert bad.plan is None and bad.objective is None and bad.bound is None
+    assert "plan 4 is not 3" in bad.message

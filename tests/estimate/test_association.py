@@ -3,6 +3,7 @@ matrices with known optimal pairs."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -14,6 +15,7 @@ from searchtrack.estimate.association import (
     BACKENDS,
     Association,
     AssociationProblem,
+    answer_problems,
     gated_objective,
     greedy_pairs,
     solve,
@@ -109,3 +111,21 @@ def test_association_pairs_are_one_to_one() -> None:
     assert Association(((0, 1), (1, 0))).unassociated(3) == (2,)
     with pytest.raises(InvalidInputError, match="pairs"):
         Association(((0, 1), (0, 2)))
+
+
+def test_validator_rejects_wrong_associations() -> None:
+    """A pair over the gate, a misreported saving and an out-of-range index are named; every
+    backend's answer passes."""
+    problem = AssociationProblem(np.array([[10.0, 400.0], [50.0, 20.0]]), gate_m=300.0)
+    for name in BACKENDS.names():
+        result = BACKENDS.solve(name, problem, time_limit_s=1.0, seed=0)
+        assert result.status is not Status.ERROR and answer_problems(problem, result) == []
+    good = BACKENDS.solve("optimal", problem, time_limit_s=1.0, seed=0)
+    assert good.objective == pytest.approx(570.0)
+    over = dataclasses.replace(good, plan=Association(((0, 1),)), objective=-100.0)
+    assert any("gate" in p for p in answer_problems(problem, over))
+    lie = dataclasses.replace(good, objective=571.0)
+    assert any("saving" in p for p in answer_problems(problem, lie))
+    outside = dataclasses.replace(good, plan=Association(((2, 0),)))
+    assert any("outside" in p for p in answer_problems(problem, outside))
+    assert BACKENDS.validated(problem, lie).status is Status.ERROR

@@ -4,9 +4,10 @@
   Numba kernel and its NumPy reference.
 - :mod:`.propagation`: the jump-Markov step (eqs. 46–47) of all particles in one Numba pass,
   draw for draw :func:`searchtrack.models.radio.motion.propagate`.
-- :mod:`.particles`: the labelled particle LMB shared by the filters (one Bernoulli per label,
-  vectorised across labels): birth density, prediction (eqs. 24–27 with re-birth), update
-  (eqs. 29–30), systematic resampling, cardinality and mode read-outs.
+- :mod:`.particles`: the filters' steps on the labelled particle LMB (one Bernoulli per label,
+  vectorised across labels): birth density and prediction (eqs. 24–27 with re-birth). The store
+  with its cardinality and mode read-outs, the update (eqs. 29–30) and systematic resampling are
+  the belief seam's, :mod:`searchtrack.estimate.labelled_particles`, re-exported here.
 - :mod:`.filter`: :class:`LabelledFilter`, predict–update–resample on each measurement with a
   given log-likelihood ratio, its read-outs and belief seams; :class:`FilterConfig`.
 - :mod:`.tbd`: :class:`TbdLmbFilter`, the filter with the likelihood of eq. 22.
@@ -16,6 +17,7 @@
 
 from __future__ import annotations
 
+from searchtrack.estimate.labelled_particles import LabelledParticles, resample, update
 from searchtrack.estimate.radio.dtt import (
     Detections,
     DttConfig,
@@ -29,14 +31,7 @@ from searchtrack.estimate.radio.likelihood import (
     log_likelihood_ratio,
     log_likelihood_ratio_reference,
 )
-from searchtrack.estimate.radio.particles import (
-    LabelledParticles,
-    birth_particles,
-    initial_state,
-    predict,
-    resample,
-    update,
-)
+from searchtrack.estimate.radio.particles import birth_particles, initial_state, predict
 from searchtrack.estimate.radio.tbd import TbdLmbFilter
 
 __all__ = [

@@ -48,9 +48,9 @@ from scipy.stats import rice
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate.labelled_particles import LabelledParticles
 from searchtrack.estimate.radio.birth_proposal import detection_proposal
 from searchtrack.estimate.radio.filter import FilterConfig, LabelledFilter
-from searchtrack.estimate.radio.particles import LabelledParticles
 from searchtrack.models.radio import RadioScenario, RadioSignal
 
 _LOG = logging.getLogger("searchtrack.estimate.radio.dtt")

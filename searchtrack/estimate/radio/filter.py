@@ -1,21 +1,23 @@
 """The labelled particle LMB filter shared by the radio-tag filters of Nguyen et al.
 
 The JMS TBD-LMB filter (§III-C) and the detection-then-track baseline (§IV-B) run the same
-recursion on the labelled particles of :mod:`.particles`, one step per STFT magnitude matrix
-``z`` (``M × L``, eq. 11) taken from a UAV pose:
+recursion on the labelled particles of :mod:`searchtrack.estimate.labelled_particles`, one step
+per STFT magnitude matrix ``z`` (``M × L``, eq. 11) taken from a UAV pose:
 :func:`~searchtrack.estimate.radio.particles.predict` (eqs. 24–27 with re-birth, ``n_birth =
 birth_fraction · N`` birth particles per label), a per-particle log-likelihood ratio,
-:func:`~searchtrack.estimate.radio.particles.update` (eqs. 29–30) and systematic resampling back
-to ``N`` particles per label. They differ only in the log-likelihood ratios, so
-:class:`LabelledFilter` takes them as a function (:data:`LogLikelihood`) of the checked ``z``,
-the pose and the predicted particles: eq. 22 on the raw cells
+:func:`~searchtrack.estimate.labelled_particles.update` (eqs. 29–30) and systematic resampling
+(:func:`~searchtrack.estimate.labelled_particles.resample`) back to ``N`` particles per label.
+They differ only in the log-likelihood ratios, so :class:`LabelledFilter` takes them as a
+function (:data:`LogLikelihood`) of the checked ``z``, the pose and the predicted particles:
+eq. 22 on the raw cells
 (:class:`~searchtrack.estimate.radio.tbd.TbdLmbFilter`) or the detection likelihood on the peaks
 (:class:`~searchtrack.estimate.radio.dtt.DttLmbFilter`).
 
 Read-outs: a label is reported when ``r > existence_threshold`` at its weighted mean position;
 the number of objects is Poisson-binomial (mean ``Σ r``, variance ``Σ r (1 − r)``). The filter is
-a :class:`~searchtrack.estimate.belief.LabelledParticleBelief` (what the radio planners read)
-and a :class:`~searchtrack.estimate.particle_belief.ParticleBelief` (positions of all ``Λ·N``
+a :class:`~searchtrack.estimate.belief.LabelledParticleBelief` (``x``, ``mode``, ``tau``, ``w``,
+``r`` of its current state: what the radio planners read) and a
+:class:`~searchtrack.estimate.particle_belief.ParticleBelief` (positions of all ``Λ·N``
 particles, weights ``r_λ w_i`` summing to ``Σ r``).
 """
 
@@ -26,18 +28,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
-from searchtrack.estimate.radio.particles import (
-    LabelledParticles,
-    initial_state,
-    predict,
-    resample,
-    update,
-)
+from searchtrack.estimate.labelled_particles import LabelledParticles, resample, update
+from searchtrack.estimate.radio.particles import initial_state, predict
 from searchtrack.models.radio.scenario import RadioScenario
 
 log = logging.getLogger("searchtrack.estimate.radio.filter")
@@ -168,6 +165,31 @@ class LabelledFilter:
     def labelled_particles(self) -> LabelledParticles:
         """A writable copy of the current particle LMB."""
         return self._state.copy()
+
+    @property
+    def x(self) -> FloatArray:
+        """``(Λ, N, 4)`` particle states of the current particle LMB (read-only)."""
+        return self._state.x
+
+    @property
+    def mode(self) -> NDArray[np.int8]:
+        """``(Λ, N)`` motion modes of the current particle LMB (read-only)."""
+        return self._state.mode
+
+    @property
+    def tau(self) -> FloatArray:
+        """``(Λ, N)`` pulse offsets (s) of the current particle LMB (read-only)."""
+        return self._state.tau
+
+    @property
+    def w(self) -> FloatArray:
+        """``(Λ, N)`` per-label particle weights, each row summing to 1 (read-only)."""
+        return self._state.w
+
+    @property
+    def r(self) -> FloatArray:
+        """``(Λ,)`` existence probabilities (read-only)."""
+        return self._state.r
 
     def step(self, z: FloatArray, uav_pose: ArrayLike) -> None:
         """Predict, update with the STFT magnitudes ``z`` ``(M, L)`` taken at ``uav_pose``

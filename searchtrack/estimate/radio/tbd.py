@@ -11,10 +11,10 @@ separable (Proposition 1) this is the exact LMB recursion up to the Monte Carlo 
 from __future__ import annotations
 
 from searchtrack.core.types import FloatArray
+from searchtrack.estimate.labelled_particles import LabelledParticles
 from searchtrack.estimate.radio.birth_proposal import energy_proposal
 from searchtrack.estimate.radio.filter import FilterConfig, LabelledFilter
 from searchtrack.estimate.radio.likelihood import label_log_likelihoods
-from searchtrack.estimate.radio.particles import LabelledParticles
 from searchtrack.models.radio.scenario import RadioScenario
 
 __all__ = ["FilterConfig", "TbdLmbFilter"]

@@ -43,6 +43,9 @@ _ROUNDOFF = 1e-10  # unrouted mass below this fraction of the mass scale is roun
 
 NativeStatus = Literal["optimal", "infeasible", "unbounded", "time_limit"]
 
+KERNEL_SET = "simplex"
+"""The ``searchtrack warm-up`` name of these kernels, listed by every backend that runs them."""
+
 _WARM = [False]
 
 

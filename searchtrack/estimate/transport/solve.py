@@ -25,7 +25,7 @@ from searchtrack.estimate.transport.lp import solve_graph_lp, solve_transport_lp
 from searchtrack.estimate.transport.network import solve_graph_network, solve_transport_network
 from searchtrack.estimate.transport.plan import GraphFlow, TransportPlan
 from searchtrack.estimate.transport.problem import GraphProblem, TransportProblem
-from searchtrack.estimate.transport.simplex import warm_up
+from searchtrack.estimate.transport.simplex import KERNEL_SET, warm_up
 from searchtrack.models.roads import RoadNetwork
 
 log = logging.getLogger("searchtrack.estimate.transport")
@@ -118,9 +118,11 @@ _LP = _verified(solve_transport_lp, transport_violations)
 EMD_BACKENDS: Registry[TransportProblem, TransportPlan] = Registry("emd")
 EMD_BACKENDS.register(Backend("auto", _auto(solve_transport_network, solve_transport_lp,
                                             transport_violations), True,
-                              "network simplex; the cvxpy LP if it fails"))
+                              "network simplex; the cvxpy LP if it fails",
+                              kernels=(KERNEL_SET,)))
 EMD_BACKENDS.register(Backend("network", _NETWORK, True,
-                              "primal network simplex on the bipartite graph of the supports"))
+                              "primal network simplex on the bipartite graph of the supports",
+                              kernels=(KERNEL_SET,)))
 EMD_BACKENDS.register(Backend("lp", _LP, True,
                               "transportation LP (4.3)–(4.7) in cvxpy, HiGHS simplex"))
 
@@ -130,9 +132,10 @@ GRAPH_EMD_BACKENDS: Registry[GraphProblem, GraphFlow] = Registry("emd_on_graph")
 GRAPH_EMD_BACKENDS.register(Backend("auto", _auto(solve_graph_network, solve_graph_lp,
                                                   graph_violations), True,
                                     "network simplex on the graph's arcs; the cvxpy LP if it "
-                                    "fails"))
+                                    "fails", kernels=(KERNEL_SET,)))
 GRAPH_EMD_BACKENDS.register(Backend("network", _GRAPH_NETWORK, True,
-                                    "primal network simplex on the graph's arcs"))
+                                    "primal network simplex on the graph's arcs",
+                                    kernels=(KERNEL_SET,)))
 GRAPH_EMD_BACKENDS.register(Backend("lp", _GRAPH_LP, True,
                                     "min-cost flow LP B f = p − q in cvxpy, HiGHS simplex"))
 

@@ -14,6 +14,7 @@ from searchtrack.plan.assign.brute import solve_brute_force, supports_brute_forc
 from searchtrack.plan.assign.greedy import solve_greedy, solve_lazy_greedy
 from searchtrack.plan.assign.objectives import MutualInformationFunction, coverage_only
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
+from searchtrack.plan.assign.validate import answer_problems
 
 
 def _exact(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Result[Assignment]:
@@ -55,7 +56,8 @@ def _auto(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Resu
                                 heuristic_limit_s=time_limit_s)
 
 
-BACKENDS: Registry[AssignmentProblem, Assignment] = Registry("assignment")
+BACKENDS: Registry[AssignmentProblem, Assignment] = Registry("assignment",
+                                                            validator=answer_problems)
 BACKENDS.register(Backend("auto", _auto, True,
                           "lazy greedy at once, then exact in the limit: branch and bound (END), "
                           "enumeration (MI, small problems)"))

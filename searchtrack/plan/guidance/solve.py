@@ -19,10 +19,11 @@ from searchtrack.plan.guidance.strategies import (
     solve_search_and_loiter,
     solve_search_and_reacquire,
 )
+from searchtrack.plan.guidance.validate import answer_problems
 from searchtrack.plan.guidance.view import Guidance
 
 #: The guidance strategies by name.
-BACKENDS: Registry[GuidanceProblem, Guidance] = Registry("guidance")
+BACKENDS: Registry[GuidanceProblem, Guidance] = Registry("guidance", validator=answer_problems)
 BACKENDS.register(Backend("search", solve_search, False,
                           "every UAV searches: ∇R + ∇P + ∇Q (5.12)"))
 BACKENDS.register(Backend("loiter", solve_loiter, False,

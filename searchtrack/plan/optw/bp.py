@@ -41,7 +41,7 @@ from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw.bp_master import LPSolution, Master, Path, Restrictions, pool_ip
 from searchtrack.plan.optw.bp_pricing import Pricer, droppable
 from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes
-from searchtrack.plan.optw.labelling import _BIG, _CAP_MAX, Core, _route, build_cores
+from searchtrack.plan.optw.labelling_core import BIG, CAP_MAX, Core, build_cores, instance_route
 from searchtrack.plan.optw.routes import idle_routes, initial_plan
 
 log = logging.getLogger("searchtrack.plan.optw.bp")
@@ -119,7 +119,7 @@ class _Tree:
         t0 = time.perf_counter()
         limit = min(self.tuning.primal_s, 0.5 * self.deadline.remaining())
         if limit > 0.05:
-            hint = [self.master._known[p] for p in self.best]
+            hint = [self.master.index(p) for p in self.best]
             chosen = pool_ip(self.master.paths, self.master.profits, self.inst.vehicles,
                              self.master.empty_ok, self.value, limit, self.seed, hint)
             if chosen is not None:
@@ -196,7 +196,7 @@ class _Tree:
                     "heuristic_pricing_hits", 0.0) + 1
         else:
             got = self.pricer.price(dur, prof, mu, _EPS, drop=drop, forbidden=forbidden,
-                                    collect=t.collect, cap=_CAP_MAX, deadline=self.deadline)
+                                    collect=t.collect, cap=CAP_MAX, deadline=self.deadline)
             self.stats["exact_pricing_calls"] = self.stats.get("exact_pricing_calls", 0.0) + 1
         self.tick("pricing_s", t0)
         return got.paths, got.upper
@@ -212,7 +212,7 @@ def _core_path(inst: OPTWInstance, where: dict[int, int], route: Route) -> Path 
 def _feasible(core: Core, path: Path) -> bool:
     t = int(core.opn[core.src])
     for a, b in itertools.pairwise(path):
-        if core.dur[a, b] >= _BIG:
+        if core.dur[a, b] >= BIG:
             return False
         t = max(int(core.opn[b]), t + int(core.dur[a, b]))
         if t > core.cls[b]:
@@ -274,7 +274,7 @@ def solve_bp(instance: OPTWInstance, *, time_limit_s: float = 60.0, seed: int = 
     start = None if initial is None else initial_plan(inst, initial)
     fwd, _, orig = build_cores(inst)
     where = {int(v): c for c, v in enumerate(orig[1:-1].tolist(), start=1)}
-    empty_ok = bool(fwd.dur[fwd.src, fwd.snk] < _BIG)
+    empty_ok = bool(fwd.dur[fwd.src, fwd.snk] < BIG)
     total = float(fwd.prof.sum())
     master = Master(fwd.n, inst.vehicles, empty_ok, 100.0 * (total + 1.0))
     profit = inst.profit
@@ -372,7 +372,7 @@ def _result(tree: _Tree, nodes: int, open_bounds: list[float], empty_ok: bool) -
     open_bounds = [b for b in open_bounds if not tree.pruned(b)]
     plan: Routes | None = None
     if tree.best or tree.value > -math.inf:
-        routes = [_route(inst, tree.orig, list(p)) for p in tree.best if len(p) > 2]
+        routes = [instance_route(inst, tree.orig, list(p)) for p in tree.best if len(p) > 2]
         plan = tuple(routes) + idle_routes(inst)[len(routes):] if empty_ok else tuple(routes)
     elapsed = deadline.elapsed()
     if not open_bounds:

@@ -8,10 +8,10 @@ Set packing over route columns, as a linear program solved by OR-Tools GLOP::
          λ ≥ 0
 
 Customers are the vertices ``1 … n − 2`` of the labelling core graph
-(:func:`searchtrack.plan.optw.labelling.build_cores`); a column is a feasible elementary core path
-``src → … → snk``. Every row also has an artificial variable of profit ``−M`` (bounded to 0
-unless the row is an equality), so the RMP is always feasible; it only restricts the duals
-(``π_i ≥ −M``), so every Lagrangian bound computed from them stays valid.
+(:func:`searchtrack.plan.optw.labelling_core.build_cores`); a column is a feasible elementary
+core path ``src → … → snk``. Every row also has an artificial variable of profit ``−M``
+(bounded to 0 unless the row is an equality), so the RMP is always feasible; it only restricts
+the duals (``π_i ≥ −M``), so every Lagrangian bound computed from them stays valid.
 
 Branching restricts the master by bounds only: a column a node forbids gets upper bound 0, a
 required customer's row gets lower bound 1. GLOP keeps its basis across these changes and across
@@ -135,6 +135,10 @@ class Master:
     def size(self) -> int:
         """Columns in the pool."""
         return len(self.paths)
+
+    def index(self, path: Path) -> int:
+        """Position of the pooled column ``path`` in :attr:`paths`."""
+        return self._known[path]
 
     def add(self, paths: Iterable[Path], profits: Iterable[float], allowed: bool = True) -> int:
         """Add the new ones of ``paths`` (core paths with their profit); return how many."""

@@ -1,10 +1,10 @@
 """Pricing for the team-OPTW branch-and-price: best routes on reduced profits, by labelling.
 
 The pricing problem is ``max_r Σ_{i∈r} (p_i − π_i)`` over the elementary feasible routes the
-node allows (Boussier, Feillet & Gendreau 2007). It is solved by the bounded ng/DSSR labelling of
-:mod:`searchtrack.plan.optw.labelling` (Righini & Salani 2008, 2009; Baldacci, Mingozzi & Roberti
-2011) in its *collect* mode: the floor ``μ + ε`` stays fixed and every elementary path above it is
-returned as a column.
+node allows (Boussier, Feillet & Gendreau 2007). It is solved by the bounded ng/DSSR labelling
+shared with the single-vehicle solver (:mod:`searchtrack.plan.optw.labelling_core`; Righini &
+Salani 2008, 2009; Baldacci, Mingozzi & Roberti 2011) in its *collect* mode: the floor ``μ + ε``
+stays fixed and every elementary path above it is returned as a column.
 
 * **Dropping customers.** When service plus travel satisfies the triangle inequality through a
   customer ``j`` (``dur[i, k] ≤ dur[i, j] + dur[j, k]``; checked once per instance), skipping
@@ -32,31 +32,27 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from searchtrack.core.deadline import Deadline
-from searchtrack.plan.optw import labelling_kernels as K
 from searchtrack.plan.optw.bp_master import Path, Restrictions
 from searchtrack.plan.optw.instance import OPTWInstance
-from searchtrack.plan.optw.labelling import (
-    _BIG,
-    _FULL_MEMORY,
-    _MAX_BUCKETS,
-    _MAX_QUEUE_LOG2,
-    _NG_SIZE,
-    _PATHS_PER_PASS,
-    _SCAN,
+from searchtrack.plan.optw.labelling_core import (
+    BIG,
+    FULL_MEMORY,
+    NG_SIZE,
+    PATHS_PER_PASS,
     Core,
-    _finish,
-    _forbid_cycles,
-    _path,
+    PassResult,
     base_ng,
+    core_pair,
+    forbid_cycles,
     initial_ng,
+    run_pass,
 )
-from searchtrack.plan.optw.labelling_primitives import shortest_paths
+from searchtrack.plan.optw.labelling_kernels import DONE
 
 log = logging.getLogger("searchtrack.plan.optw.bp_pricing")
 
@@ -109,7 +105,7 @@ class Pricer:
 
     fwd: Core
     drop_ok: NDArray[np.bool_]
-    ng_size: int = _NG_SIZE
+    ng_size: int = NG_SIZE
     table_ng: int | None = 4  # ng-size of the table pass that starts exact pricing (None: off)
     guide: bool = False  # keep forward tables for :meth:`guided`
     memory: NDArray[np.bool_] = field(init=False)
@@ -138,26 +134,18 @@ class Pricer:
         tab = np.ascontiguousarray(table[idx] + (prof[idx] - old[idx])[:, None])
         out = self._pass(rev, ng, tab, floor, gap, cap, collect, np.maximum(rev.prof, 0.0),
                          deadline)
-        lv, lp, par, found, n_found = out[5], out[6], out[7], out[12], out[13]
-        paths = [tuple(int(idx[v]) for v in _path(lv, par, s)[::-1])
-                 for s in found[:n_found].tolist()]
-        return Priced(paths, [float(lp[s]) for s in found[:n_found].tolist()], None)
+        found = out.found.tolist()
+        paths = [tuple(int(idx[v]) for v in out.path(s)[::-1]) for s in found]
+        return Priced(paths, [float(out.lp[s]) for s in found], None)
 
     def _pass(self, core: Core, ng: NDArray[np.uint64], tab: NDArray[np.float64] | None,
               floor: float, gap: float, cap: int, collect: int, bprof: NDArray[np.float64],
-              deadline: Deadline) -> tuple[Any, ...]:
-        """One kernel pass in collect mode."""
-        width = max(1, math.ceil((core.horizon + 1) / _MAX_BUCKETS))
-        buckets = core.horizon // width + 1
-        out: tuple[Any, ...] = K.label_pass(
-            core.dur, core.succ_ptr, core.succ, core.opn, core.cls, core.prof, ng,
-            core.thr, core.cum, core.src, core.snk,
-            np.zeros((core.n, buckets)) if tab is None else tab, tab is not None,
-            core.horizon, width, (core.horizon >> _MAX_QUEUE_LOG2).bit_length(),
-            floor, math.inf, gap, cap, deadline.end, _SCAN, collect, bprof,
-        )
+              deadline: Deadline) -> PassResult:
+        """One pass in collect mode, counted in the stats."""
+        out = run_pass(core, ng, tab, lb=floor, gap=gap, cap=cap, deadline=deadline,
+                       collect=collect, bprof=bprof)
         self.stats["passes"] += 1
-        self.stats["labels"] += float(out[8])
+        self.stats["labels"] += float(out.labels)
         return out
 
     def node_dur(self, node: Restrictions) -> NDArray[np.int64]:
@@ -165,16 +153,16 @@ class Pricer:
         dur = self.fwd.dur.copy()
         src, snk = self.fwd.src, self.fwd.snk
         for v in node.forbidden:
-            dur[v, :] = _BIG
-            dur[:, v] = _BIG
+            dur[v, :] = BIG
+            dur[:, v] = BIG
         for i, j in node.no_arcs:
-            dur[i, j] = _BIG
+            dur[i, j] = BIG
         for i, j in node.arcs:
             keep = dur[i, j]
             if i != src:
-                dur[i, :] = _BIG
+                dur[i, :] = BIG
             if j != snk:
-                dur[:, j] = _BIG
+                dur[:, j] = BIG
             dur[i, j] = keep
         return dur
 
@@ -209,7 +197,7 @@ class Pricer:
             keep[v] = False
         idx = np.flatnonzero(keep)
         fwd, rev = self._cores(dur, prof, idx)
-        full = fwd.n - 2 <= _FULL_MEMORY
+        full = fwd.n - 2 <= FULL_MEMORY
         ng = base_ng(fwd) | initial_ng(fwd, fwd.n if full else self.ng_size)
         ng |= _pack(self.memory[np.ix_(idx, idx)])
         bprof = np.maximum(fwd.prof, 0.0)
@@ -219,61 +207,53 @@ class Pricer:
             small = base_ng(fwd) | initial_ng(fwd, self.table_ng)
             out = self._pass(rev, small, None, floor, gap, cap, 1 << 62, bprof, deadline)
             self.stats["table_passes"] = self.stats.get("table_passes", 0.0) + 1
-            if out[0] == K.DONE:
-                tables[1] = np.maximum.accumulate(out[9], axis=1)
+            if out.code == DONE:
+                tables[1] = out.table()
         upper = math.inf
         direction = 0
         while True:
             core = fwd if direction == 0 else rev
             out = self._pass(core, ng, tables[1 - direction], floor, gap, cap, collect, bprof,
                              deadline)
-            code, _, _, sinks, n_sinks, lv, lp, par, n_lab, own, _, _, found, n_found = out
-            if self.guide and direction == 0 and code == K.DONE:
-                guide = np.full((self.fwd.n, own.shape[1]), -np.inf)
-                guide[idx] = np.maximum.accumulate(own, axis=1)
+            if self.guide and direction == 0 and out.code == DONE:
+                guide = np.full((self.fwd.n, out.own.shape[1]), -np.inf)
+                guide[idx] = out.table()
                 self._guide = (guide, prof.copy())
             log.debug("pricing pass %s on %d vertices, cap %d: code %d, %d labels, %d found, "
-                      "%d relaxed", "fwd" if direction == 0 else "bwd", fwd.n, cap, code, n_lab,
-                      n_found, n_sinks)
+                      "%d relaxed", "fwd" if direction == 0 else "bwd", fwd.n, cap, out.code,
+                      out.labels, out.found.size, out.sinks.size)
             paths, values = [], []
-            for s in found[:n_found].tolist():
-                path = _path(lv, par, s)
+            for s in out.found.tolist():
+                path = out.path(s)
                 if direction == 1:
                     path = path[::-1]
                 paths.append(tuple(int(idx[v]) for v in path))
-                values.append(float(lp[s]))
-            if code != K.DONE:
+                values.append(float(out.lp[s]))
+            if out.code != DONE:
                 return Priced(paths, values, None)
-            tops = np.concatenate([lp[found[:n_found]], lp[sinks[:n_sinks]]])
+            lp, sinks = out.lp, out.sinks
+            tops = np.concatenate([lp[out.found], lp[sinks]])
             upper = min(upper, max(floor + gap, float(tops.max(initial=-math.inf))))
-            if n_found or not n_sinks:
+            if out.found.size or not sinks.size:
                 return Priced(paths, values, upper)
-            better = np.asarray(sinks[:n_sinks])
-            for s in better[np.argsort(-lp[better], kind="stable")[:_PATHS_PER_PASS]]:
-                cyc = _path(lv, par, int(s))
-                self._forbid(ng, idx, cyc)
-            tables[direction] = np.maximum.accumulate(own, axis=1)
+            for s in sinks[np.argsort(-lp[sinks], kind="stable")[:PATHS_PER_PASS]]:
+                self._forbid(ng, idx, out.path(int(s)))
+            tables[direction] = out.table()
             direction = 1 - direction
 
     def _cores(self, dur: NDArray[np.int64], prof: NDArray[np.float64],
                idx: NDArray[np.intp]) -> tuple[Core, Core]:
         """Forward and reversed core graphs on the vertices ``idx`` (source and sink kept)."""
         d = np.ascontiguousarray(dur[np.ix_(idx, idx)])
-        sp = shortest_paths(d, _BIG)
         f = self.fwd
-        opn, cls, h = f.opn[idx], f.cls[idx], f.horizon
         p = np.ascontiguousarray(prof[idx], dtype=np.float64)
         p[0] = p[-1] = 0.0
-        m = idx.size
-        fwd = _finish(d, sp, opn, cls, p, 0, m - 1, h)
-        rev = _finish(np.ascontiguousarray(d.T), np.ascontiguousarray(sp.T), h - cls, h - opn,
-                      p, m - 1, 0, h)
-        return fwd, rev
+        return core_pair(d, f.opn[idx], f.cls[idx], p, 0, idx.size - 1, f.horizon)
 
     def _forbid(self, ng: NDArray[np.uint64], idx: NDArray[np.intp], path: list[int]) -> None:
         """Forbid each cycle ``i … i`` of ``path`` (sub-graph vertices) in ``ng`` and in the
         learned memory (Martinelli, Pecin & Poggi 2014)."""
         pairs: list[tuple[int, int]] = []
-        _forbid_cycles(ng, path, pairs)
+        forbid_cycles(ng, path, pairs)
         for u, v in pairs:
             self.memory[idx[u], idx[v]] = True

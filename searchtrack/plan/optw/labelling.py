@@ -1,9 +1,10 @@
 """Exact single-vehicle OPTW by bounded labelling with ng/DSSR relaxation (Righini & Salani 2009).
 
-The search runs *passes*. A pass is one labelling dynamic program (kernel in
-:mod:`searchtrack.plan.optw.labelling_kernels`) over a relaxation of the elementary path problem:
-a path may revisit a customer unless the customer is in the label's ng-memory (Baldacci, Mingozzi
-& Roberti 2011: each customer remembers its 8 nearest customers; with at most 16 customers, all).
+The search runs *passes*. A pass is one labelling dynamic program
+(:func:`searchtrack.plan.optw.labelling_core.run_pass`, shared with the branch-and-price pricing)
+over a relaxation of the elementary path problem: a path may revisit a customer unless the
+customer is in the label's ng-memory (Baldacci, Mingozzi & Roberti 2011: each customer remembers
+its 8 nearest customers; with at most 16 customers, all).
 
 * Passes alternate between the instance graph and its time reversal, and each prunes its labels
   with the profit table of the previous pass: the best relaxed profit collected from the other
@@ -21,7 +22,6 @@ from __future__ import annotations
 
 import itertools
 import logging
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -33,194 +33,22 @@ from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw import labelling_kernels as K
 from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes
-from searchtrack.plan.optw.labelling_primitives import shortest_paths
-from searchtrack.plan.optw.reach import reach
+from searchtrack.plan.optw.labelling_core import (
+    BIG,
+    CAP_MAX,
+    FULL_MEMORY,
+    NG_SIZE,
+    PATHS_PER_PASS,
+    Core,
+    base_ng,
+    build_cores,
+    forbid_cycles,
+    initial_ng,
+    instance_route,
+    run_pass,
+)
 
 log = logging.getLogger("searchtrack.plan.optw.labelling")
-
-_BIG = np.int64(1) << np.int64(40)
-_MAX_BUCKETS = 8192
-_MAX_QUEUE_LOG2 = 22  # at most 2**22 time buckets in the label queue
-_NG_SIZE = 8
-_FULL_MEMORY = 16  # up to this many customers, labels remember every visit
-_CAP_MAX = 1 << 22  # labels per pass (about 100 bytes each)
-_PATHS_PER_PASS = 20
-_SCAN = 256  # other-memory labels a new label is compared with
-
-
-@dataclass(frozen=True, eq=False)
-class Core:
-    """The graph one labelling pass runs on, in that pass's time axis.
-
-    Vertex 0 is the source, ``n − 1`` the sink, ``1 … n − 2`` the customers some route can visit
-    (instance vertex ``orig[c]``). ``dur[i, j]`` is service at ``i`` plus travel to ``j`` in ticks
-    (``_BIG`` when no feasible route uses the arc), ``sp`` the shortest such durations over any
-    path; ``[opn, cls]`` the window on the service start.
-    """
-
-    dur: NDArray[np.int64]
-    sp: NDArray[np.int64]
-    succ_ptr: NDArray[np.int64]
-    succ: NDArray[np.int64]
-    opn: NDArray[np.int64]
-    cls: NDArray[np.int64]
-    prof: NDArray[np.float64]
-    thr: NDArray[np.int64]
-    cum: NDArray[np.uint64]
-    src: int
-    snk: int
-    horizon: int
-
-    @property
-    def n(self) -> int:
-        """Number of core vertices."""
-        return int(self.dur.shape[0])
-
-
-def _finish(dur: NDArray[np.int64], sp: NDArray[np.int64], opn: NDArray[np.int64],
-            cls: NDArray[np.int64], prof: NDArray[np.float64], src: int, snk: int,
-            horizon: int) -> Core:
-    """Add successor lists and the out-of-reach tables to a core graph."""
-    n = dur.shape[0]
-    nw = (n + 63) // 64
-    ok = dur < _BIG
-    succ_ptr = np.zeros(n + 1, dtype=np.int64)
-    succ_ptr[1:] = np.cumsum(ok.sum(axis=1))
-    # successors by increasing duration: good labels are found early
-    order = np.argsort(np.where(ok, dur, _BIG), axis=1, kind="stable")
-    succ = order[np.take_along_axis(ok, order, axis=1)].astype(np.int64)
-    customers = np.arange(1, n - 1)
-    thr_all = cls[None, customers] - sp[:, customers]  # unreachable from v at t iff t > thr
-    order = np.argsort(thr_all, axis=1, kind="stable")
-    thr = np.ascontiguousarray(np.take_along_axis(thr_all, order, axis=1), dtype=np.int64)
-    onehot = np.zeros((customers.size, nw), dtype=np.uint64)
-    onehot[customers - 1, customers >> 6] = np.uint64(1) << (customers & 63).astype(np.uint64)
-    cum = np.zeros((n, customers.size + 1, nw), dtype=np.uint64)
-    cum[:, 1:] = np.bitwise_or.accumulate(onehot[order], axis=1)
-    return Core(dur, sp, succ_ptr, succ, opn, cls, prof, thr, cum, src, snk, horizon)
-
-
-def build_cores(inst: OPTWInstance) -> tuple[Core, Core, NDArray[np.int64]]:
-    """The forward core graph, its time reversal and the core → instance vertex map.
-
-    The reversal maps service start ``τ`` to ``H − τ`` and every arc ``i → j`` to ``j → i`` with
-    the same duration, so a forward pass on it is a backward pass on the instance.
-    """
-    rc = reach(inst)
-    cust = rc.useful.astype(np.int64)
-    k = cust.size
-    n = k + 2
-    src, snk = 0, n - 1
-    limit = inst.latest_finish
-    dep = inst.departure
-    s, t = inst.service.astype(np.int64), inst.travel.astype(np.int64)
-    opn = np.zeros(n, dtype=np.int64)
-    cls = np.zeros(n, dtype=np.int64)
-    opn[1:-1] = inst.open[cust]
-    cls[1:-1] = np.minimum(inst.close[cust], rc.latest[cust])
-    opn[src] = cls[src] = dep
-    opn[snk], cls[snk] = 0, limit
-    early = np.empty(n, dtype=np.int64)
-    early[1:-1] = rc.earliest[cust]
-    early[src] = dep
-    early[snk] = 0
-    prof = np.zeros(n, dtype=np.float64)
-    prof[1:-1] = inst.profit[cust]
-    dur = np.full((n, n), _BIG, dtype=np.int64)
-    dur[1:-1, 1:-1] = s[cust, None] + t[np.ix_(cust, cust)]
-    dur[src, 1:-1] = s[inst.start] + t[inst.start, cust]
-    if inst.end is None:
-        dur[1:-1, snk] = s[cust]
-        dur[src, snk] = s[inst.start]
-    else:
-        dur[1:-1, snk] = s[cust] + t[cust, inst.end]
-        dur[src, snk] = s[inst.start] + t[inst.start, inst.end]
-    np.fill_diagonal(dur, _BIG)
-    feasible = np.maximum(opn[None, :], early[:, None] + dur) <= cls[None, :]
-    dur = np.where(feasible & (dur < _BIG), dur, _BIG)
-    into_sink = dur[:, snk] < _BIG
-    # the sink's own limit may be "never": clip it to the latest possible arrival
-    cls[snk] = min(limit, int((cls + dur[:, snk])[into_sink].max(initial=0)))
-    horizon = int(max(int(cls.max()), dep))
-    sp = shortest_paths(dur, _BIG)  # a lower bound on any path's duration
-    fwd = _finish(dur, sp, opn, cls, prof, src, snk, horizon)
-    rev = _finish(np.ascontiguousarray(dur.T), np.ascontiguousarray(sp.T), horizon - cls,
-                  horizon - opn, prof, snk, src, horizon)
-    orig = np.concatenate([[inst.start], cust, [-1 if inst.end is None else inst.end]])
-    return fwd, rev, orig.astype(np.int64)
-
-
-def _set_bits(masks: NDArray[np.uint64], row: int, vertices: NDArray[np.intp]) -> None:
-    """Set the bits of ``vertices`` in ``masks[row]``."""
-    for v in vertices.tolist():
-        masks[row, v >> 6] |= np.uint64(1) << np.uint64(v & 63)
-
-
-def initial_ng(core: Core, size: int) -> NDArray[np.uint64]:
-    """ng-neighbourhoods: each customer remembers itself and its ``size`` nearest customers.
-
-    Nearness is ``min(dur[i, j], dur[j, i])`` among the customers with which a cycle fits the
-    windows; source and sink remember nothing (they cannot be revisited anyway).
-    """
-    n = core.n
-    ng = np.zeros((n, (n + 63) // 64), dtype=np.uint64)
-    customers = np.arange(1, n - 1)
-    near = np.minimum(core.dur, core.dur.T).astype(np.float64)
-    # a cycle through i and j needs j reachable after i and i after j
-    near[(core.sp + core.sp.T) >= _BIG] = np.inf
-    for i in customers.tolist():
-        row = near[i, customers]
-        row[i - 1] = np.inf
-        picks = customers[np.argsort(row, kind="stable")[:size]]
-        _set_bits(ng, i, np.append(picks[np.isfinite(near[i, picks])], i))
-    return ng
-
-
-def base_ng(core: Core) -> NDArray[np.uint64]:
-    """ng-neighbourhoods that make every customer remember itself, and the customers joined by
-    zero-duration arcs remember each other: no cycle of zero duration, which would let a relaxed
-    path collect profit for free, can then be repeated."""
-    n = core.n
-    ng = np.zeros((n, (n + 63) // 64), dtype=np.uint64)
-    inner = core.dur[1:-1, 1:-1] == 0
-    zero = 1 + np.flatnonzero(inner.any(axis=0) | inner.any(axis=1))
-    for i in range(1, n - 1):
-        _set_bits(ng, i, zero if i in zero else np.array([i]))
-    return ng
-
-
-def _path(lv: NDArray[np.int64], par: NDArray[np.int64], leaf: int) -> list[int]:
-    out = []
-    x = leaf
-    while x >= 0:
-        out.append(int(lv[x]))
-        x = int(par[x])
-    return out[::-1]
-
-
-def _forbid_cycles(ng: NDArray[np.uint64], path: list[int],
-                   pairs: list[tuple[int, int]] | None = None) -> int:
-    """Grow ng-sets so that each cycle ``i … i`` of ``path`` is forbidden; return bits added.
-    Every pair ``(u, i)`` of a cycle (``u`` inside it) is also appended to ``pairs``."""
-    added = 0
-    last: dict[int, int] = {}
-    for pos, v in enumerate(path):
-        if v in last:
-            word, bit = v >> 6, np.uint64(1) << np.uint64(v & 63)
-            for u in path[last[v] + 1 : pos]:
-                if pairs is not None:
-                    pairs.append((u, v))
-                if not ng[u, word] & bit:
-                    ng[u, word] |= bit
-                    added += 1
-        last[v] = pos
-    return added
-
-
-def _route(inst: OPTWInstance, orig: NDArray[np.int64], core_path: list[int]) -> Route:
-    inner = tuple(int(orig[c]) for c in core_path[1:-1])
-    tail = () if inst.end is None else (inst.end,)
-    return (inst.start, *inner, *tail)
 
 
 def _collected(inst: OPTWInstance, route: Route) -> float:
@@ -283,48 +111,40 @@ class _Search:
         default_factory=lambda: dict.fromkeys(("passes", "labels", "expanded", "checks"), 0.0)
     )
 
-    def run_pass(self, direction: int) -> int | None:
+    def step(self, direction: int) -> int | None:
         """Run one pass (0 forward, 1 backward); the kernel's stop code, or None if proven."""
         core = self.fwd if direction == 0 else self.rev
-        width = max(1, math.ceil((core.horizon + 1) / _MAX_BUCKETS))
-        buckets = core.horizon // width + 1
-        tab = self.tables[1 - direction]
-        out = K.label_pass(
-            core.dur, core.succ_ptr, core.succ, core.opn, core.cls, core.prof, self.ng,
-            core.thr, core.cum, core.src, core.snk,
-            np.zeros((core.n, buckets)) if tab is None else tab, tab is not None,
-            core.horizon, width, (core.horizon >> _MAX_QUEUE_LOG2).bit_length(),
-            self.lb, self.upper, self.gap, _CAP_MAX, self.deadline.end, _SCAN, 0, core.prof,
-        )
-        code, lb, best, sinks, n_sinks, lv, lp, par, n_lab, own, pops, work = out[:12]
-        for key, value in zip(("passes", "labels", "expanded", "checks"), (1, n_lab, pops, work),
-                              strict=True):
+        out = run_pass(core, self.ng, self.tables[1 - direction], lb=self.lb, ub=self.upper,
+                       gap=self.gap, cap=CAP_MAX, deadline=self.deadline)
+        for key, value in zip(("passes", "labels", "expanded", "checks"),
+                              (1, out.labels, out.pops, out.work), strict=True):
             self.stats[key] += float(value)
-        if best >= 0 and lb > self.lb:
-            path = _path(lv, par, int(best))
-            self.lb = float(lb)
-            self.route = _route(self.inst, self.orig, path if direction == 0 else path[::-1])
-        if code != K.DONE:
-            return int(code)
+        if out.best >= 0 and out.lb > self.lb:
+            path = out.path(out.best)
+            self.lb = out.lb
+            self.route = instance_route(self.inst, self.orig,
+                                        path if direction == 0 else path[::-1])
+        if out.code != K.DONE:
+            return out.code
         # the non-elementary paths that beat the best route: their cycles are forbidden next
-        better = np.asarray(sinks[:n_sinks])
-        better = better[lp[better] >= self.lb + self.gap]
+        lp = out.lp
+        better = out.sinks[lp[out.sinks] >= self.lb + self.gap]
         relaxed = float(lp[better].max()) if better.size else -np.inf
         self.upper = min(self.upper, max(self.lb, relaxed))
         log.debug("pass %d (%s): %d labels, %d expanded, lb %g, relaxed %g, %.2f s",
-                  int(self.stats["passes"]), "fwd" if direction == 0 else "bwd", n_lab, pops,
-                  self.lb, relaxed, self.deadline.elapsed())
+                  int(self.stats["passes"]), "fwd" if direction == 0 else "bwd", out.labels,
+                  out.pops, self.lb, relaxed, self.deadline.elapsed())
         if not better.size:
             return None
         added = 0
-        for s in better[np.argsort(-lp[better], kind="stable")[:_PATHS_PER_PASS]]:
-            added += _forbid_cycles(self.ng, _path(lv, par, int(s)))
+        for s in better[np.argsort(-lp[better], kind="stable")[:PATHS_PER_PASS]]:
+            added += forbid_cycles(self.ng, out.path(int(s)))
         if not added:  # cannot happen (a forbidden cycle is gone); full memory is exact anyway
             log.warning("no cycle to forbid after pass %d: remembering every visit",
                         int(self.stats["passes"]))
             self.ng |= initial_ng(self.fwd, self.fwd.n)
-        self.tables[direction] = np.maximum.accumulate(own, axis=1)
-        return int(code)
+        self.tables[direction] = out.table()
+        return out.code
 
 
 def solve_labelling(
@@ -378,20 +198,20 @@ def solve_labelling(
     start = None if initial is None else _check_initial(inst, initial)
     fwd, rev, orig = build_cores(inst)
     if ng_size is None:
-        ng_size = fwd.n if fwd.n - 2 <= _FULL_MEMORY else _NG_SIZE
+        ng_size = fwd.n if fwd.n - 2 <= FULL_MEMORY else NG_SIZE
     search = _Search(
         inst, fwd, rev, orig, ng=np.bitwise_or(base_ng(fwd), initial_ng(fwd, ng_size)),
         gap=_profit_gap(inst), lb=-np.inf, route=None, upper=float(fwd.prof.sum()),
         deadline=deadline,
     )
-    if fwd.dur[fwd.src, fwd.snk] < _BIG:
-        search.lb, search.route = 0.0, _route(inst, orig, [fwd.src, fwd.snk])
+    if fwd.dur[fwd.src, fwd.snk] < BIG:
+        search.lb, search.route = 0.0, instance_route(inst, orig, [fwd.src, fwd.snk])
     if start is not None and _collected(inst, start) > search.lb:
         search.lb, search.route = _collected(inst, start), start
     code = None
     direction = 0
     while search.lb + search.gap <= search.upper:
-        code = search.run_pass(direction)
+        code = search.step(direction)
         if code is None or code != K.DONE:
             break
         direction = 1 - direction

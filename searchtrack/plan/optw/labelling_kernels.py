@@ -1,9 +1,10 @@
 """Numba kernel of the OPTW labelling solver: one bounded pass of ng/DSSR-relaxed labelling.
 
 A pass works on a *core graph* (source ``src``, customers, sink ``snk``; see
-:mod:`searchtrack.plan.optw.labelling`) in its own time axis: the forward pass in service-start
-ticks, the backward pass on the reversed graph with time ``H − τ``. Both are the same forward
-labelling algorithm (Righini & Salani 2009, §3), so there is only one kernel.
+:mod:`searchtrack.plan.optw.labelling_core`, whose ``run_pass`` calls the kernel) in its own time
+axis: the forward pass in service-start ticks, the backward pass on the reversed graph with time
+``H − τ``. Both are the same forward labelling algorithm (Righini & Salani 2009, §3), so there
+is only one kernel.
 
 A label is ``(vertex, time, profit, mask)``: ``mask`` holds the vertices the label may not visit,
 the ng-memory (Baldacci, Mingozzi & Roberti 2011) joined with the vertices that can no longer be
@@ -19,17 +20,17 @@ import numpy as np
 from numba import njit
 
 from searchtrack.plan.optw.labelling_primitives import (
-    _clock,
-    _completion,
-    _dominance,
-    _find_group,
-    _grow1,
-    _grow2,
-    _is_elementary,
-    _outside_tables,
-    _profit_outside,
-    _rehash,
-    _unreach_count,
+    clock,
+    completion,
+    dominance,
+    find_group,
+    grow1,
+    grow2,
+    is_elementary,
+    outside_tables,
+    profit_outside,
+    rehash,
+    unreach_count,
 )
 
 DONE = 0  # the pass finished: every label was expanded or pruned
@@ -64,7 +65,8 @@ def label_pass(  # type: ignore[no-untyped-def]
         ``thr[v]`` sorted times after which the customers fall out of reach from ``v``;
         ``cum[v, r]`` the mask of the first ``r`` of them.
     tab, use_tab, horizon, width
-        Opposite-direction profit table used as completion bound (see :func:`_completion`);
+        Opposite-direction profit table used as completion bound (see
+        :func:`searchtrack.plan.optw.labelling_primitives.completion`);
         bucket ``k`` covers times ``[k·width, (k+1)·width)``.
     qshift
         Labels are expanded in order of ``time >> qshift`` (0: exact time order).
@@ -89,12 +91,12 @@ def label_pass(  # type: ignore[no-untyped-def]
     Returns
     -------
     tuple
-        ``(status, lb, best, sinks, n_sinks, lv, lp, par, n_labels, own, pops)``: ``best`` the
-        sink label of the best elementary path that beat the given ``lb`` (−1 if none),
-        ``sinks[:n_sinks]`` sink labels of non-elementary paths that reached ``lb + gap`` when
-        found, ``own`` this pass's profit table (same bucketing as ``tab``), ``pops`` the labels
-        expanded, ``work`` the labels visited by dominance checks, ``found[:n_found]`` the sink
-        labels of the elementary paths collected (collect mode).
+        ``(status, lb, best, sinks, n_sinks, lv, lp, par, n_labels, own, pops, work, found,
+        n_found)``: ``best`` the sink label of the best elementary path that beat the given
+        ``lb`` (−1 if none), ``sinks[:n_sinks]`` sink labels of non-elementary paths that
+        reached ``lb + gap`` when found, ``own`` this pass's profit table (same bucketing as
+        ``tab``), ``pops`` the labels expanded, ``work`` the labels visited by dominance checks,
+        ``found[:n_found]`` the sink labels of the elementary paths collected (collect mode).
     """
     n = dur.shape[0]
     nw = ng.shape[1]
@@ -130,10 +132,10 @@ def label_pass(  # type: ignore[no-untyped-def]
     ghead = np.empty(1 << 11, dtype=np.int64)
     n_groups = 0
     work = np.zeros(1, dtype=np.int64)  # labels visited by dominance checks
-    outside, ngp, ngl = _outside_tables(cum, ng, bprof)
+    outside, ngp, ngl = outside_tables(cum, ng, bprof)
 
     t0 = opn[src]
-    r = _unreach_count(thr, src, t0)
+    r = unreach_count(thr, src, t0)
     lv[0] = src
     lt[0] = t0
     lp[0] = 0.0
@@ -159,7 +161,7 @@ def label_pass(  # type: ignore[no-untyped-def]
         if not alive[lab] or lbnd[lab] < lb + gap:
             continue
         pops += 1
-        if pops % _CHECK_EVERY == 0 and _clock() > deadline:
+        if pops % _CHECK_EVERY == 0 and clock() > deadline:
             status = TIMEOUT
             break
         v = lv[lab]
@@ -180,12 +182,12 @@ def label_pass(  # type: ignore[no-untyped-def]
             else:
                 bnd = np.inf
                 if use_tab:
-                    bnd = p2 + _completion(tab, j, a, horizon, width, prof)
+                    bnd = p2 + completion(tab, j, a, horizon, width, prof)
             if bnd < lb + gap:
                 continue
             g = -1
             if j != snk:
-                r = _unreach_count(thr, j, a)
+                r = unreach_count(thr, j, a)
                 for w in range(nw):
                     memo[w] = lmem[lab, w] & ng[j, w]
                 memo[j >> 6] |= one << np.uint64(j & 63)
@@ -193,21 +195,21 @@ def label_pass(  # type: ignore[no-untyped-def]
                     scratch[w] = memo[w] | cum[j, r, w]
                 if not use_tab:
                     # without a table: at most the customers neither remembered nor out of reach
-                    bnd = p2 + _profit_outside(outside, ngp, ngl, cum, j, r, memo, bprof)
+                    bnd = p2 + profit_outside(outside, ngp, ngl, cum, j, r, memo, bprof)
                     if bnd < lb + gap:
                         continue
-                g = _find_group(slots, gv, gkey, j, memo)
-                if g >= 0 and _dominance(ghead, g, gnx, alive, lt, lp, lm, a, p2, scratch,
+                g = find_group(slots, gv, gkey, j, memo)
+                if g >= 0 and dominance(ghead, g, gnx, alive, lt, lp, lm, a, p2, scratch,
                                          cap_max, work):
                     continue
-                if _dominance(head, j, nxt, alive, lt, lp, lm, a, p2, scratch, scan, work):
+                if dominance(head, j, nxt, alive, lt, lp, lm, a, p2, scratch, scan, work):
                     continue
                 if g < 0:
                     slot = -1 - g
                     if n_groups == gv.shape[0]:
-                        gv = _grow1(gv, 2 * n_groups)
-                        ghead = _grow1(ghead, 2 * n_groups)
-                        gkey = _grow2(gkey, 2 * n_groups)
+                        gv = grow1(gv, 2 * n_groups)
+                        ghead = grow1(ghead, 2 * n_groups)
+                        gkey = grow2(gkey, 2 * n_groups)
                     g = n_groups
                     n_groups += 1
                     gv[g] = j
@@ -216,23 +218,23 @@ def label_pass(  # type: ignore[no-untyped-def]
                         gkey[g, w] = memo[w]
                     slots[slot] = g
                     if 2 * n_groups > slots.shape[0]:
-                        slots = _rehash(slots, gv, gkey, n_groups)
+                        slots = rehash(slots, gv, gkey, n_groups)
             if n_lab >= cap:
                 if cap >= cap_max:
                     status = FULL
                     break
                 cap = min(2 * cap, cap_max)
-                lv = _grow1(lv, cap)
-                lt = _grow1(lt, cap)
-                lp = _grow1(lp, cap)
-                lbnd = _grow1(lbnd, cap)
-                par = _grow1(par, cap)
-                nxt = _grow1(nxt, cap)
-                qnx = _grow1(qnx, cap)
-                alive = _grow1(alive, cap)
-                lm = _grow2(lm, cap)
-                lmem = _grow2(lmem, cap)
-                gnx = _grow1(gnx, cap)
+                lv = grow1(lv, cap)
+                lt = grow1(lt, cap)
+                lp = grow1(lp, cap)
+                lbnd = grow1(lbnd, cap)
+                par = grow1(par, cap)
+                nxt = grow1(nxt, cap)
+                qnx = grow1(qnx, cap)
+                alive = grow1(alive, cap)
+                lm = grow2(lm, cap)
+                lmem = grow2(lmem, cap)
+                gnx = grow1(gnx, cap)
             s = n_lab
             n_lab += 1
             lv[s] = j
@@ -243,10 +245,10 @@ def label_pass(  # type: ignore[no-untyped-def]
             if j == snk:
                 alive[s] = False
                 mark += 1
-                if _is_elementary(par, lv, s, stamp, mark):
+                if is_elementary(par, lv, s, stamp, mark):
                     if collect > 0:
                         if n_found == found.shape[0]:
-                            found = _grow1(found, 2 * n_found)
+                            found = grow1(found, 2 * n_found)
                         found[n_found] = s
                         n_found += 1
                         if n_found >= collect:
@@ -259,7 +261,7 @@ def label_pass(  # type: ignore[no-untyped-def]
                         break
                 else:
                     if n_sinks == sinks.shape[0]:
-                        sinks = _grow1(sinks, 2 * n_sinks)
+                        sinks = grow1(sinks, 2 * n_sinks)
                     sinks[n_sinks] = s
                     n_sinks += 1
                 continue

@@ -14,7 +14,7 @@ from searchtrack.core.interrupt import stop_clock
 
 
 @njit(cache=True)
-def _clock() -> float:
+def clock() -> float:
     """The wall clock, or +inf once a stop is requested (the kernel then stops as at its
     deadline)."""
     with objmode(now="float64"):
@@ -23,14 +23,16 @@ def _clock() -> float:
 
 
 @njit(cache=True)
-def _grow1(a, cap):  # type: ignore[no-untyped-def]
+def grow1(a, cap):  # type: ignore[no-untyped-def]
+    """A copy of the 1-d array ``a`` with room for ``cap`` entries (the new ones unset)."""
     b = np.empty(cap, dtype=a.dtype)
     b[: a.shape[0]] = a
     return b
 
 
 @njit(cache=True)
-def _grow2(a, cap):  # type: ignore[no-untyped-def]
+def grow2(a, cap):  # type: ignore[no-untyped-def]
+    """A copy of the 2-d array ``a`` with room for ``cap`` rows (the new ones zero)."""
     b = np.zeros((cap, a.shape[1]), dtype=a.dtype)
     b[: a.shape[0]] = a
     return b
@@ -54,7 +56,7 @@ def shortest_paths(dur, big):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def _unreach_count(thr, v, t):  # type: ignore[no-untyped-def]
+def unreach_count(thr, v, t):  # type: ignore[no-untyped-def]
     """Number of entries of the sorted row ``thr[v]`` below ``t`` (vertices out of reach)."""
     lo = 0
     hi = thr.shape[1]
@@ -68,7 +70,7 @@ def _unreach_count(thr, v, t):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def _completion(tab, v, t, horizon, width, prof):  # type: ignore[no-untyped-def]
+def completion(tab, v, t, horizon, width, prof):  # type: ignore[no-untyped-def]
     """Upper bound on the profit still collectable after serving ``v`` at time ``t``.
 
     ``tab[v, k]`` is the best profit (``v`` included) of an opposite-direction label at ``v``
@@ -84,7 +86,7 @@ def _completion(tab, v, t, horizon, width, prof):  # type: ignore[no-untyped-def
 
 
 @njit(cache=True)
-def _outside_tables(cum, ng, prof):  # type: ignore[no-untyped-def]
+def outside_tables(cum, ng, prof):  # type: ignore[no-untyped-def]
     """What the bound without a table needs, so that it costs O(|ng-set|), not O(N).
 
     ``outside[v, r]`` is the total ``prof`` of the customers not among the first ``r`` that fall
@@ -123,7 +125,7 @@ def _outside_tables(cum, ng, prof):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def _profit_outside(outside, ngp, ngl, cum, j, r, memo, prof):  # type: ignore[no-untyped-def]
+def profit_outside(outside, ngp, ngl, cum, j, r, memo, prof):  # type: ignore[no-untyped-def]
     """Total profit of the customers neither in ``memo`` (the ng-memory at ``j``) nor among the
     ``r`` out of reach from ``j`` (the customers ``1 … N − 2`` not in the label's mask)."""
     one = np.uint64(1)
@@ -138,7 +140,7 @@ def _profit_outside(outside, ngp, ngl, cum, j, r, memo, prof):  # type: ignore[n
 
 
 @njit(cache=True)
-def _is_elementary(par, lv, leaf, stamp, mark):  # type: ignore[no-untyped-def]
+def is_elementary(par, lv, leaf, stamp, mark):  # type: ignore[no-untyped-def]
     """True when the path ending at label ``leaf`` visits no vertex twice."""
     x = leaf
     while x >= 0:
@@ -151,7 +153,7 @@ def _is_elementary(par, lv, leaf, stamp, mark):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def _dominance(head, h, nxt, alive, lt, lp, lm, t, p, mask, limit, work):  # type: ignore[no-untyped-def]
+def dominance(head, h, nxt, alive, lt, lp, lm, t, p, mask, limit, work):  # type: ignore[no-untyped-def]
     """Compare a new label ``(t, p, mask)`` with the first ``limit`` live labels of a list.
 
     The list starts at ``head[h]`` and follows ``nxt``. Returns True when one of them dominates
@@ -204,7 +206,7 @@ def _hash(v, key):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def _find_group(slots, gv, gkey, v, key):  # type: ignore[no-untyped-def]
+def find_group(slots, gv, gkey, v, key):  # type: ignore[no-untyped-def]
     """Group of ``(v, key)``, or ``-1 − slot`` with the free slot where it would go."""
     m = np.uint64(slots.shape[0] - 1)
     h = np.int64(_hash(v, key) & m)
@@ -223,7 +225,8 @@ def _find_group(slots, gv, gkey, v, key):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def _rehash(slots, gv, gkey, n_groups):  # type: ignore[no-untyped-def]
+def rehash(slots, gv, gkey, n_groups):  # type: ignore[no-untyped-def]
+    """The hash table of :func:`find_group` at twice the size, holding the same groups."""
     new = np.full(2 * slots.shape[0], -1, dtype=np.int64)
     m = np.uint64(new.shape[0] - 1)
     for g in range(n_groups):

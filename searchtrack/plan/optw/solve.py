@@ -10,7 +10,7 @@ import logging
 import time
 
 from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
-from searchtrack.core.result import Result, Status, interrupted
+from searchtrack.core.result import Result, interrupted
 from searchtrack.plan.optw.instance import OPTWInstance, Routes
 from searchtrack.plan.optw.validate import validate
 
@@ -70,6 +70,9 @@ def _auto(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Route
                                 heuristic_limit_s=heuristic_share(time_limit_s), tol=_TOL)
 
 
+#: The kernel sets of the ILS and of the labelling DP (``searchtrack warm-up`` names).
+ILS_KERNELS, LABELLING_KERNELS = "optw-ils", "optw-labelling"
+
 _WARMED: set[str] = set()
 
 
@@ -79,13 +82,11 @@ def warm_up(backend: str) -> None:
     ``solve`` calls it before starting the clock, so a time limit measures solving, not
     just-in-time compilation (about 20 s per kernel set on a cold cache, under 1 s warm).
     """
-    needs = {"ils": ["ils"], "labelling": ["labelling"], "auto": ["ils", "labelling"],
-             "bp": ["ils", "labelling"]}
-    for kernel in needs.get(backend, []):
+    for kernel in BACKENDS.get(backend).kernels:
         if kernel in _WARMED:
             continue
         started = time.perf_counter()
-        if kernel == "ils":
+        if kernel == ILS_KERNELS:
             from searchtrack.plan.optw import ils
 
             ils.warm_up()
@@ -101,17 +102,20 @@ def _single_vehicle(inst: OPTWInstance) -> str | None:
     return None if inst.vehicles == 1 else "solves single-vehicle instances only (vehicles=1)"
 
 
-BACKENDS: Registry[OPTWInstance, Routes] = Registry("optw")
+BACKENDS: Registry[OPTWInstance, Routes] = Registry(
+    "optw", validator=lambda instance, result: answer_problems(instance, result))
 BACKENDS.register(Backend("auto", _auto, True,
                           "ILS answer at once, then labelling (m = 1) or branch-and-price "
-                          "(m ≥ 2) to prove it"))
-BACKENDS.register(Backend("ils", _ils, False, "iterated local search (Vansteenwegen et al. 2009+)"))
+                          "(m ≥ 2) to prove it", kernels=(ILS_KERNELS, LABELLING_KERNELS)))
+BACKENDS.register(Backend("ils", _ils, False, "iterated local search (Vansteenwegen et al. 2009+)",
+                          kernels=(ILS_KERNELS,)))
 BACKENDS.register(Backend("labelling", _labelling, True,
                           "labelling DP with decremental state-space relaxation (m = 1)",
-                          supports=_single_vehicle))
+                          supports=_single_vehicle, kernels=(LABELLING_KERNELS,)))
 BACKENDS.register(Backend("cpsat", _cpsat, True, "OR-Tools CP-SAT circuit model"))
 BACKENDS.register(Backend("bp", _bp, True,
-                          "branch-and-price on route columns (Boussier, Feillet & Gendreau 2007)"))
+                          "branch-and-price on route columns (Boussier, Feillet & Gendreau 2007)",
+                          kernels=(ILS_KERNELS, LABELLING_KERNELS)))
 BACKENDS.register(Backend("mip", _mip, True, "integer program (5.17)–(5.26) with OR-Tools SCIP"))
 
 
@@ -148,10 +152,10 @@ def solve(
     return checked(instance, result)
 
 
-def checked(instance: OPTWInstance, result: Result[Routes]) -> Result[Routes]:
-    """``result`` if the validator accepts its plan and objective, else an ``ERROR`` result."""
-    if result.plan is None:
-        return result
+def answer_problems(instance: OPTWInstance, result: Result[Routes]) -> list[str]:
+    """What the independent validator finds wrong with ``result``'s routes, objective and
+    bound (empty when they hold)."""
+    assert result.plan is not None
     report = validate(instance, result.plan)
     problems = list(report.violations)
     if result.objective is not None and abs(report.profit - result.objective) > _TOL:
@@ -159,15 +163,9 @@ def checked(instance: OPTWInstance, result: Result[Routes]) -> Result[Routes]:
                         f"{report.profit}")
     if result.bound is not None and report.profit > result.bound + _TOL:
         problems.append(f"profit {report.profit} exceeds the claimed bound {result.bound}")
-    if not problems:
-        return result
-    log.error("optw %s: %s returned an invalid plan: %s", instance.name, result.backend, problems)
-    return Result(
-        status=Status.ERROR,
-        objective=None,
-        bound=None,
-        runtime_s=result.runtime_s,
-        backend=result.backend,
-        plan=None,
-        message="validator rejected the plan: " + "; ".join(problems),
-    )
+    return problems
+
+
+def checked(instance: OPTWInstance, result: Result[Routes]) -> Result[Routes]:
+    """``result`` if the validator accepts its plan and objective, else an ``ERROR`` result."""
+    return BACKENDS.validated(instance, result)

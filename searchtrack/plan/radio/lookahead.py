@@ -2,7 +2,7 @@
 predicted ideal measurement set (Nguyen et al., §III-D, eqs. 33, 39; footnote 3).
 
 * Draw: ``plan_particles`` per label from the belief by systematic resampling
-  (:func:`~searchtrack.estimate.radio.particles.resample`), so the prediction ``π₁`` has equal
+  (:func:`~searchtrack.estimate.labelled_particles.resample`), so the prediction ``π₁`` has equal
   weights.
 * Predict: the cloud is propagated second by second over the look-ahead (``H · N_p`` seconds)
   with the full motion model — kinematics, mode jumps and the ``τ`` random walk
@@ -26,7 +26,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
-from searchtrack.estimate.radio.particles import LabelledParticles, resample
+from searchtrack.estimate.labelled_particles import LabelledParticles, resample
 from searchtrack.models.radio import propagate
 from searchtrack.plan.radio.divergences import disc_mass
 from searchtrack.plan.radio.problem import RadioPlanProblem

@@ -18,7 +18,8 @@ import numpy as np
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
-from searchtrack.estimate.radio.particles import LabelledParticles
+from searchtrack.estimate.belief import LabelledParticleBelief
+from searchtrack.estimate.labelled_particles import LabelledParticles
 from searchtrack.models.radio import RadioScenario
 
 #: Reward names: the Rényi divergence (eq. 41) and the Cauchy–Schwarz divergence (eq. 42).
@@ -93,9 +94,17 @@ def check_lookahead_size(scenario: RadioScenario, settings: RadioPlanSettings) -
 
 def _belief(value: object, n_labels: int, period_s: float) -> LabelledParticles:
     """A read-only copy of ``value`` after checking it is a valid labelled particle density."""
-    if not isinstance(value, LabelledParticles):
-        raise InvalidInputError("belief", value, "must be LabelledParticles")
-    b = value.copy()
+    if not isinstance(value, LabelledParticleBelief):
+        raise InvalidInputError("belief", value, "must be a LabelledParticleBelief (x, mode, tau, "
+                                "w, r)")
+    try:
+        b = LabelledParticles(np.array(value.x, dtype=np.float64), np.array(value.mode),
+                              np.array(value.tau, dtype=np.float64),
+                              np.array(value.w, dtype=np.float64),
+                              np.array(value.r, dtype=np.float64))
+    except (InvalidInputError, TypeError, ValueError) as exc:
+        raise InvalidInputError("belief", type(value).__name__,
+                                f"must hold arrays of matching shapes ({exc})") from None
     if b.n_labels != n_labels:
         raise InvalidInputError("belief", b.x.shape,
                                 f"must have one row per label of the signal ({n_labels})")
@@ -127,8 +136,13 @@ class RadioPlanProblem:
     Parameters
     ----------
     belief
-        The filtering density ``π_k`` (copied, read-only): per label ``r_λ`` and weighted
-        particles of ``[px, vx, py, vy]``, mode and ``τ``; one row per label of the signal.
+        The filtering density ``π_k``, any
+        :class:`~searchtrack.estimate.belief.LabelledParticleBelief` (the radio filter, a
+        :class:`~searchtrack.estimate.labelled_particles.LabelledParticles`): per label ``r_λ``
+        and weighted particles of ``[px, vx, py, vy]``, mode and ``τ``; one row per label of the
+        signal. Its arrays are copied into a read-only
+        :class:`~searchtrack.estimate.labelled_particles.LabelledParticles`, which this field
+        then holds.
     uav_pose
         ``(3,)`` UAV pose ``(x, y, heading)`` (m, m, rad). It may be outside the area (a UAV
         too close to an edge to turn back in time leaves it), within the area's size of it:
@@ -146,7 +160,7 @@ class RadioPlanProblem:
         look-ahead larger than :func:`check_lookahead_size` allows.
     """
 
-    belief: LabelledParticles
+    belief: LabelledParticleBelief
     uav_pose: FloatArray
     scenario: RadioScenario
     settings: RadioPlanSettings = RadioPlanSettings()
@@ -171,7 +185,7 @@ class RadioPlanProblem:
     @property
     def n_labels(self) -> int:
         """Number of labels ``Λ``."""
-        return self.belief.n_labels
+        return int(self.belief.r.size)
 
     @property
     def steps_per_interval(self) -> int:

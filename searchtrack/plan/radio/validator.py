@@ -9,13 +9,16 @@ Nothing of the planner is used (no tree, no likelihood table, no factorised sums
   heading (unless any heading is allowed); every pose inside the area;
 * the look-ahead cloud is drawn again by the documented recipe (systematic resampling of
   ``plan_particles`` per label, then the motion model second by second, one generator seeded
-  with ``seed``), with the filter's own functions;
+  with ``seed``), with the belief seam's resampling and the motion model's propagation;
 * the void probability at each pose is eq. 44 summed over all ``2^Λ`` label sets, the particle
   mass in the disc counted by distance;
 * each reward simulates the ideal measurement with :func:`~searchtrack.models.radio.stft.
   ideal_stft` from the estimates (``r > 0.5``, weighted mean position, weighted-mode frame),
-  updates the posterior with the exact likelihood of eq. 22 and the filter's update
-  (eqs. 29–30), and evaluates eq. 41 or eqs. 42–43 over all label sets.
+  updates the posterior with the exact likelihood of eq. 22 (every cell of every particle's
+  influence region, ``log I0`` by SciPy, amplitudes and frames by the signal model) and the
+  belief seam's update (eqs. 29–30,
+  :func:`~searchtrack.estimate.labelled_particles.update`), and evaluates eq. 41 or eqs. 42–43
+  over all label sets.
 """
 
 from __future__ import annotations
@@ -25,12 +28,12 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.special import i0e
 
 from searchtrack.core.angles import wrap_angle
 from searchtrack.core.types import FloatArray
-from searchtrack.estimate.radio.likelihood import label_log_likelihoods
-from searchtrack.estimate.radio.particles import LabelledParticles, resample, update
-from searchtrack.models.radio import propagate
+from searchtrack.estimate.labelled_particles import LabelledParticles, resample, update
+from searchtrack.models.radio import RadioSignal, propagate
 from searchtrack.models.radio.stft import ideal_stft
 from searchtrack.plan.radio.problem import RadioPlan, RadioPlanProblem
 
@@ -189,6 +192,27 @@ def _ideal(problem: RadioPlanProblem, cloud: LabelledParticles, pose: FloatArray
                       np.array(taus), pose)
 
 
+def _log_likelihoods(signal: RadioSignal, z: FloatArray, x: FloatArray, tau: FloatArray,
+                     pose: FloatArray) -> FloatArray:
+    """``(Λ, N)`` eq. 22 of every particle seen from ``pose``: the Rice-over-Rayleigh log ratio
+    ``−ν²/(2Σ_z) + log I0(z ν/Σ_z)``, ``ν = γ |W_b|``, summed over the cells
+    ``{m, m + 1} ∩ [0, M) × S(λ)`` of its amplitude ``γ`` and pulse frame ``m = m(τ)``."""
+    gamma = signal.amplitude(x[:, :, ::2], pose)
+    frames = np.asarray(signal.frame_of(tau), dtype=np.int64)
+    bins, leak, var = signal.tag_bins(), signal.tag_leakage(), signal.cell_var
+    n_frames = z.shape[0]
+    out = np.empty(gamma.shape)
+    for lab in range(gamma.shape[0]):
+        pair = frames[lab][:, None] + np.arange(2)                           # (N, 2)
+        inside = (pair >= 0) & (pair < n_frames)
+        cells = z[np.clip(pair, 0, n_frames - 1)[:, :, None], bins[lab][None, None, :]]
+        nu = gamma[lab][:, None, None] * leak[lab][None, None, :]            # (N, 1, B)
+        arg = cells * nu / var
+        llr = -(nu**2) / (2.0 * var) + np.log(i0e(arg)) + arg
+        out[lab] = (llr.sum(axis=2) * inside).sum(axis=1)
+    return out
+
+
 def check_plan(problem: RadioPlanProblem, plan: RadioPlan, *, seed: int = 0,
                any_heading: bool = False) -> PlanCheck:
     """Check ``plan`` against ``problem`` and recompute its void probabilities and rewards on
@@ -211,7 +235,7 @@ def check_plan(problem: RadioPlanProblem, plan: RadioPlan, *, seed: int = 0,
         void.append(_void(cloud.r, cloud.w, x[:, :, ::2], pose[:2], st.r_min_m))
         if (k + 1) % n_p == 0:
             z = _ideal(problem, cloud, pose)
-            posterior = update(posterior, label_log_likelihoods(sc.signal, z, x, tau, pose))
+            posterior = update(posterior, _log_likelihoods(sc.signal, z, x, tau, pose))
             rewards.append(_divergence(problem, cloud, posterior))
     voids, gains = np.array(void), np.array(rewards)
     objective = float(np.sum(gains * st.discount ** np.arange(gains.size)))

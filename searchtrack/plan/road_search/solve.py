@@ -14,6 +14,7 @@ from searchtrack.plan.road_search.beam import solve_beam
 from searchtrack.plan.road_search.exhaustive import solve_exhaustive, supports_exhaustive
 from searchtrack.plan.road_search.greedy import solve_greedy
 from searchtrack.plan.road_search.problem import RoadPlan, RoadSearchProblem
+from searchtrack.plan.road_search.validator import answer_problems
 
 
 def _exact(problem: RoadSearchProblem, *, time_limit_s: float, seed: int) -> Result[RoadPlan]:
@@ -34,7 +35,8 @@ def _auto(problem: RoadSearchProblem, *, time_limit_s: float, seed: int) -> Resu
                                 seed=seed, heuristic_limit_s=time_limit_s, tol=1e-7)
 
 
-BACKENDS: Registry[RoadSearchProblem, RoadPlan] = Registry("road search")
+BACKENDS: Registry[RoadSearchProblem, RoadPlan] = Registry("road search",
+                                                         validator=answer_problems)
 BACKENDS.register(Backend("auto", _auto, True,
                           "beam at once, then CP-SAT in the time left to improve or prove it"))
 BACKENDS.register(Backend("exhaustive", solve_exhaustive, True,

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from searchtrack.core.result import Result
 from searchtrack.plan.road_search.problem import RoadPlan, RoadSearchProblem
 from searchtrack.plan.road_search.weights import target_weights
 
@@ -90,3 +91,20 @@ def check_plan(problem: RoadSearchProblem, plan: RoadPlan) -> PlanCheck:
                            weighting=st.weighting)
     value = float(np.sum(gamma[:, None] * problem.particle_weight * best))
     return PlanCheck(True, value)
+
+
+def answer_problems(problem: RoadSearchProblem, result: Result[RoadPlan]) -> list[str]:
+    """What :func:`check_plan` finds wrong with ``result``: path faults, an objective that is
+    not the plan's recomputed value, an objective above a claimed bound."""
+    assert result.plan is not None
+    check = check_plan(problem, result.plan)
+    if not check.feasible:
+        return list(check.reasons)
+    problems = []
+    obj = result.objective
+    tol = 1e-7 * (1.0 + abs(check.objective))
+    if obj is not None and abs(obj - check.objective) > tol:
+        problems.append(f"reported value {obj} but the paths score {check.objective}")
+    if obj is not None and result.bound is not None and obj > result.bound + tol:
+        problems.append(f"value {obj} exceeds the claimed bound {result.bound}")
+    return problems

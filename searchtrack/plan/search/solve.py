@@ -10,8 +10,9 @@ from searchtrack.core.result import Result
 from searchtrack.plan.search.lawnmower import lawnmower_supports, solve_lawnmower
 from searchtrack.plan.search.problem import SearchPlan, SearchProblem
 from searchtrack.plan.search.receding import solve_receding
+from searchtrack.plan.search.validate import answer_problems
 
-BACKENDS: Registry[SearchProblem, SearchPlan] = Registry("search")
+BACKENDS: Registry[SearchProblem, SearchPlan] = Registry("search", validator=answer_problems)
 BACKENDS.register(Backend("receding", solve_receding, True,
                           "004 eqs. 7-8: score every lattice sequence of the horizon, best first"))
 BACKENDS.register(Backend("lawnmower", solve_lawnmower, False,

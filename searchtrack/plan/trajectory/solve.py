@@ -14,6 +14,7 @@ from searchtrack.plan.trajectory.closed_form import MODELS, solve_closed_form
 from searchtrack.plan.trajectory.ltv_mpc import solve_ltv_mpc
 from searchtrack.plan.trajectory.nmpc import prepare, solve_nmpc
 from searchtrack.plan.trajectory.problem import ControlPlan, TrackingProblem
+from searchtrack.plan.trajectory.validate import answer_problems
 
 NMPC_SHARE = 0.6
 _MIN_QP_S = 2e-3
@@ -47,7 +48,8 @@ _STAGES: tuple[Stage[TrackingProblem, ControlPlan], ...] = (
     Stage("closed_form", _closed, supports=_closed_form_models),
 )
 
-BACKENDS: Registry[TrackingProblem, ControlPlan] = Registry("trajectory")
+BACKENDS: Registry[TrackingProblem, ControlPlan] = Registry("trajectory",
+                                                            validator=answer_problems)
 BACKENDS.register(Backend("auto", _auto, False,
                           "NMPC, falling back to the LTV-MPC QP, then to the closed form "
                           "(for models that have one)"))

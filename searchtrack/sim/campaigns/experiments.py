@@ -26,6 +26,7 @@ from searchtrack.models.road_particles import DirectedRoads
 from searchtrack.plan.optw import BACKENDS as OPTW_BACKENDS
 from searchtrack.plan.optw import read_optw, solve
 from searchtrack.plan.search import CentreProbability, EmptyHorizonMI, lawnmower_3d
+from searchtrack.sim import scenario as sc
 from searchtrack.sim.campaigns import series
 from searchtrack.sim.experiments import radio_tracking, road_missions
 from searchtrack.sim.experiments.phd_search import PLANNERS, SearchConfig, run_search_episode
@@ -37,7 +38,7 @@ from searchtrack.sim.experiments.phd_tracking import (
 )
 from searchtrack.sim.phd_scenario import STANDARD_AREA, standard_scenario
 from searchtrack.sim.road_planners import PLANNERS as ROAD_PLANNERS
-from searchtrack.sim.scenario import MapSpec, bundled_map
+from searchtrack.sim.road_tracking import RoadTrackingConfig
 
 ParamValue = bool | int | float | str
 """A parameter value: what TOML gives and a DuckDB column holds."""
@@ -251,10 +252,10 @@ def _track(params: Params, seed: int) -> Metrics:
     return out
 
 
-ROAD_MAPS: dict[str, MapSpec] = {
-    "grid-3x3": MapSpec("grid", rows=3, cols=3, block_m=100.0, spacing_m=100.0),
-    **{name: MapSpec("osm", bundled_map(name), spacing_m=1e6)
-       for name in ("aguascalientes", "West-Oakland")},
+ROAD_MAPS: dict[str, sc.MapSpec] = {
+    "grid-3x3": sc.MapSpec("grid", rows=3, cols=3, block_m=100.0, spacing_m=100.0),
+    **{name: sc.MapSpec("osm", sc.bundled_map(name), spacing_m=1e6)
+       for name in sc.BUNDLED_MAPS},
 }
 """Maps of ``road_tracking_episode``: the paper's 3 × 3 grid of 100 m roads, and the bundled
 OSM extracts with one edge per road segment between junctions (not resampled)."""
@@ -295,7 +296,7 @@ def _roads(map_name: str) -> DirectedRoads:
 def _road_tracking(params: Params, seed: int) -> Metrics:
     """One closed-loop paper-000 episode: the entropy over time (JSON, one value per scan) and
     its means over the whole run, its first and last thirds."""
-    from searchtrack.sim.road_tracking import RoadTrackingConfig, run_road_tracking
+    from searchtrack.sim.road_tracking import run_road_tracking
 
     map_name = str(params["map"])
     config = RoadTrackingConfig(
@@ -322,13 +323,12 @@ _EXPERIMENTS = (
                {"result": float, "seed_echo": int}, _toy,
                "sleeps, returns its value as result (or raises): for tests and benchmarks"),
     Experiment("mission", (
-        Param("map", str, "grid-small", tuple(MISSION_MAPS)),
-        Param("mode", str, "track", ("track", "detect")),
+        Param("map", str, "grid-small", tuple(MISSION_MAPS)), Param("mode", str, "track", sc.MODES),
         Param("uavs", int, 3), Param("targets", int, 4),
-        Param("strategy", str, "search_and_loiter",
-              ("search", "loiter", "search_and_loiter", "search_and_reacquire")),
+        Param("strategy", str, sc.GuidanceSpec.strategy, sc.STRATEGIES),
         Param("altitude_m", float, 457.2), Param("duration_s", float, 60.0),
-        Param("tracker_alpha", float, 0.0, minimum=0.0), Param("handover", bool, True),
+        Param("tracker_alpha", float, 0.0, minimum=0.0),
+        Param("handover", bool, sc.FilterSpec.handover),
         Param("coverage_weight", float, 0.0, minimum=0.0)),
         {"detected": int, "time_to_detect_all_s": float, "moc_mean": float,
          "moc_after_detection": float, "pvt": float, "pva": float}, road_missions.mission_run,
@@ -361,7 +361,7 @@ _EXPERIMENTS = (
         {**dict.fromkeys(TRACK_METRICS, float), "planner_ms": float, "filter_ms": float},
         _track, "paper 003's closed-loop multi-UAV PHD tracking: tail means of its series"),
     Experiment("road_tracking_episode", (
-        Param("planner", str, "exhaustive", ROAD_PLANNERS),
+        Param("planner", str, RoadTrackingConfig.planner, ROAD_PLANNERS),
         Param("map", str, "grid-3x3", tuple(ROAD_MAPS)),
         Param("targets", int, 2), Param("uavs", int, 1), Param("duration_s", float, 120.0),
         Param("histories", int, 10), Param("particles", int, 500),

@@ -13,29 +13,34 @@ import numpy as np
 
 from searchtrack.models.radio import RadioScenario
 from searchtrack.plan.radio import RadioPlanSettings
-from searchtrack.sim.radio_mission import (
+from searchtrack.sim.radio_config import (
     FILTERS,
     MEASUREMENTS,
+    PLAN_BACKENDS,
     PLANNERS,
     RadioMissionConfig,
-    run_radio_mission,
 )
+from searchtrack.sim.radio_mission import run_radio_mission
+
+_MISSION, _PLAN = RadioMissionConfig, RadioPlanSettings  # their fields' defaults
 
 PARAMS: dict[str, tuple[type, object, tuple[object, ...]]] = {
-    "filter": (str, "tbd", FILTERS),
-    "planner": (str, "renyi", PLANNERS),
+    "filter": (str, _MISSION.filter, FILTERS),
+    "planner": (str, _MISSION.planner, PLANNERS),
     "noise_std_v": (float, 0.025, ()),
     "particles": (int, 1000, ()),
     "plan_particles": (int, 300, ()),
-    "horizon": (int, 3, ()),
+    "horizon": (int, _PLAN.horizon, ()),
     "headings": (int, 8, ()),
-    "backend": (str, "exhaustive", ("exhaustive", "beam", "greedy", "auto")),
-    "measurement": (str, "stft", MEASUREMENTS),
-    "keep_out": (bool, False, ()),
-    "p_void_min": (float, 0.9, ()),
+    "backend": (str, _MISSION.backend, PLAN_BACKENDS),
+    "measurement": (str, _MISSION.measurement, MEASUREMENTS),
+    "keep_out": (bool, _MISSION.keep_out, ()),
+    "p_void_min": (float, _PLAN.p_void_min, ()),
     "duration_s": (float, 400.0, ()),
 }
-"""Parameters: name → (type, default, allowed values or ``()`` for any)."""
+"""Parameters: name → (type, default, allowed values or ``()`` for any); the defaults of the
+mission's and the planner's settings are :class:`RadioMissionConfig`'s and
+:class:`RadioPlanSettings`' (the campaign flies fewer particles than the paper)."""
 
 METRICS = {"mean_ospa_m": float, "mean_localisation_m": float, "mean_cardinality_m": float,
            "unsafe_fraction": float, "filter_ms": float, "planner_ms": float,

@@ -47,7 +47,6 @@ from searchtrack.plan.assign import (
     Objective,
 )
 from searchtrack.plan.assign import solve as solve_assignment
-from searchtrack.sim.campaigns.report import save_png
 
 FAMILY = "assign"
 DESCRIPTION = "one candidate action per UAV on a particle belief (paper 003)"
@@ -227,6 +226,8 @@ def figure(problem: AssignJob, result: Result[Assignment], path: Path) -> Path |
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    from searchtrack.sim.campaigns.report import save_png
 
     prob = problem.problem
     fig, ax = plt.subplots(figsize=(6.0, 6.0))

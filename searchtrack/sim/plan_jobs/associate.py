@@ -44,19 +44,20 @@ from searchtrack.core.result import Result
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.association import BACKENDS, Association
 from searchtrack.estimate.emd_association import EMDAssociator
+from searchtrack.estimate.emd_matrix import EMD_MATRIX_BACKENDS
 from searchtrack.estimate.node_tracker import (
     TrackerBank,
     measurement_density,
     position_log_likelihood,
 )
 from searchtrack.models.roads import RoadNetwork
-from searchtrack.sim.campaigns.report import save_png
+from searchtrack.sim.kernels import kernels_of
 from searchtrack.sim.road_track_job import FieldReader, read_map
 
 FAMILY = "associate"
 DESCRIPTION = "pair trackers with detections on a road map by gated EMD (thesis 001)"
 
-KERNELS = ("simplex",)
+KERNELS = kernels_of(EMD_MATRIX_BACKENDS)
 """The numba kernel sets this family's backends compile on first use."""
 
 #: Largest PROBLEM.json read (bytes).
@@ -243,6 +244,8 @@ def figure(problem: AssociateJob, result: Result[AssociationPlan], path: Path) -
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    from searchtrack.sim.campaigns.report import save_png
 
     if result.plan is None:
         return None

@@ -48,15 +48,14 @@ from searchtrack.plan.guidance.reacquire import reacquisition_instance
 from searchtrack.plan.optw import BACKENDS, OPTWInstance, Routes
 from searchtrack.plan.optw import solve as solve_optw
 from searchtrack.plan.optw.routes import schedule
-from searchtrack.sim.campaigns.report import save_png
-from searchtrack.sim.kernels import OPTW_KERNELS
+from searchtrack.sim.kernels import kernels_of
 from searchtrack.sim.road_track_job import FieldReader, read_map
 from searchtrack.sim.track_job import MAX_DISTANCE_M
 
 FAMILY = "route"
 DESCRIPTION = "one UAV's OPTW route over tracker beliefs on roads, as reacquisition (thesis 001)"
 
-KERNELS = OPTW_KERNELS
+KERNELS = kernels_of(BACKENDS)
 """The numba kernel sets this family's backends compile on first use."""
 
 #: Largest PROBLEM.json read (bytes).
@@ -221,6 +220,8 @@ def figure(problem: RouteJob, result: Result[Routes], path: Path) -> Path | None
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    from searchtrack.sim.campaigns.report import save_png
 
     net = problem.network
     plan = plan_json(problem, result)

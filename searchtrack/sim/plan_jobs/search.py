@@ -61,7 +61,6 @@ from searchtrack.plan.search import (
     SearchSettings,
 )
 from searchtrack.plan.search import solve as solve_search
-from searchtrack.sim.campaigns.report import save_png
 from searchtrack.sim.plan_jobs.assign import (
     ProblemFields,
     load_problem,
@@ -229,6 +228,8 @@ def figure(problem: SearchJob, result: Result[SearchPlan], path: Path) -> Path |
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
+    from searchtrack.sim.campaigns.report import save_png
 
     prob = problem.problem
     fig, ax = plt.subplots(figsize=(6.0, 6.0))

@@ -59,7 +59,6 @@ from searchtrack.core.result import Result, Sense, Status
 from searchtrack.core.types import FloatArray
 from searchtrack.models.vehicles import VehicleModel, fixed_wing, uav7, unicycle
 from searchtrack.plan.trajectory import BACKENDS, Obstacles, SampledPath, waypoint_path
-from searchtrack.sim.campaigns.report import save_png
 from searchtrack.sim.flight import FlightConfig, FlightLog, fly
 from searchtrack.sim.toml_fields import MAX_MAGNITUDE, Table
 
@@ -341,6 +340,8 @@ def figure(problem: TrajectoryProblem, result: Result[FlightLog], path: Path) ->
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.patches import Circle
+
+    from searchtrack.sim.campaigns.report import save_png
 
     fig, ax = plt.subplots(figsize=(7, 6))
     try:

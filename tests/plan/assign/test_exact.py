@@ -33,11 +33,11 @@ def test_exact_matches_brute_force(solver: str, seed: int) -> None:
     p = random_problem(rng, robots=3, actions=5, steps=2, particles=60, gaussian=seed % 2 == 0)
     best = solve_brute_force(p)
     if solver == "bnb":
-        res = solve_branch_and_bound(p)
+        res = solve_branch_and_bound(p, time_limit_s=120.0)
     elif solver == "scip-unreduced":
-        res = solve_exact(p, pieces=4, reduce=False)
+        res = solve_exact(p, pieces=4, reduce=False, time_limit_s=120.0)
     else:
-        res = solve_exact(p, solver=solver)  # type: ignore[arg-type]
+        res = solve_exact(p, solver=solver, time_limit_s=120.0)  # type: ignore[arg-type]
     assert best.objective is not None and res.objective is not None and res.bound is not None
     assert res.objective == pytest.approx(best.objective, rel=1e-6)
     assert res.bound >= best.objective - 1e-9

@@ -128,3 +128,4 @@ def test_default_backend_is_search_and_reacquire() -> None:
     result = solve(_problem(net, [[100.0, 20.0]], [(20, 0.2)]), time_limit_s=2.0)
     assert result.backend == "search_and_reacquire" and result.plan is not None
     assert result.plan.mode == ("reacquire",)
+

@@ -44,3 +44,9 @@ def random_instance(seed: int) -> OPTWInstance:
 def cases() -> dict[str, OPTWInstance]:
     """The catalogue and nine random non-metric instances, by name."""
     return {**catalogue(), **{f"random-{s}": random_instance(s) for s in range(9)}}
+
+
+def single_vehicle_cases() -> dict[str, OPTWInstance]:
+    """The catalogue's one-vehicle instances and six random non-metric ones, by name."""
+    base = {k: v for k, v in catalogue().items() if k.endswith("m1")}
+    return {**base, **{f"random-{s}": random_instance(s) for s in range(6)}}

@@ -32,10 +32,12 @@ def test_duals_close_the_duality_gap(vehicles: int) -> None:
 
 
 def test_known_columns_are_not_added_twice() -> None:
-    """Adding a column already in the pool is a no-op."""
+    """Adding a column already in the pool is a no-op; each column keeps its position."""
     m = _master()
     assert m.add([PATHS[0], (0, 2, 1, 3)], [5.0, 6.0]) == 1
     assert m.size == len(PATHS) + 1
+    assert m.index(PATHS[0]) == 0 and m.index((0, 2, 1, 3)) == len(PATHS)
+    assert all(m.paths[m.index(p)] == p for p in PATHS)
 
 
 def test_restrict_forbids_columns_and_requires_rows() -> None:

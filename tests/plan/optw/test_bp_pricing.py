@@ -8,23 +8,19 @@ import numpy as np
 import pytest
 
 from searchtrack.core.deadline import Deadline
-from searchtrack.plan.optw import OPTWInstance, validate
+from searchtrack.plan.optw import validate
 from searchtrack.plan.optw.bp_master import Restrictions
 from searchtrack.plan.optw.bp_pricing import Pricer, droppable
-from searchtrack.plan.optw.labelling import _CAP_MAX, build_cores, warm_up
+from searchtrack.plan.optw.labelling import warm_up
+from searchtrack.plan.optw.labelling_core import CAP_MAX, build_cores
 from tests.plan.optw.catalogue import catalogue, feasible_sets
-from tests.plan.optw.small import hand, random_instance
+from tests.plan.optw.small import hand, single_vehicle_cases
 
 
 @pytest.fixture(scope="module", autouse=True)
 def _compiled() -> None:
     """Compile (or load) the labelling kernel once, outside the tests."""
     warm_up()
-
-
-def _cases() -> dict[str, OPTWInstance]:
-    base = {k: v for k, v in catalogue().items() if k.endswith("m1")}
-    return {**base, **{f"random-{s}": random_instance(s) for s in range(6)}}
 
 
 def test_droppable_needs_the_triangle_inequality() -> None:
@@ -39,12 +35,12 @@ def test_droppable_needs_the_triangle_inequality() -> None:
     assert flags[1] is False
 
 
-@pytest.mark.parametrize("name", sorted(_cases()))
+@pytest.mark.parametrize("name", sorted(single_vehicle_cases()))
 @pytest.mark.parametrize("drop", [True, False])
 def test_pricing_is_exact(name: str, drop: bool) -> None:
     """Columns are feasible routes of the claimed reduced profit above the floor, one is found
     whenever some route beats the floor, and the bound covers the best route."""
-    inst = _cases()[name]
+    inst = single_vehicle_cases()[name]
     fwd, _, orig = build_cores(inst)
     if fwd.n <= 2:
         return
@@ -62,7 +58,7 @@ def test_pricing_is_exact(name: str, drop: bool) -> None:
         best = max(value.values(), default=-math.inf)
         floor = best - rng.uniform(-1, 3) if trial else -1.0
         got = pricer.price(fwd.dur, prof, floor, 1e-6, drop=drop, forbidden=frozenset(),
-                           collect=50, cap=_CAP_MAX, deadline=Deadline(30.0))
+                           collect=50, cap=CAP_MAX, deadline=Deadline(30.0))
         assert got.upper is not None and got.upper >= best - 1e-9
         assert bool(got.paths) == (best > floor + 1e-6)
         for path, val in zip(got.paths, got.values, strict=True):
@@ -82,7 +78,7 @@ def test_pricing_honours_forbidden_customers_and_arcs() -> None:
                         arcs=frozenset({(3, 4)}))
     dur = pricer.node_dur(node)
     got = pricer.price(dur, fwd.prof.copy(), 0.0, 1e-6, drop=False, forbidden=node.forbidden,
-                       collect=200, cap=_CAP_MAX, deadline=Deadline(30.0))
+                       collect=200, cap=CAP_MAX, deadline=Deadline(30.0))
     assert got.paths
     assert all(node.allows(p, 0, fwd.n - 1) for p in got.paths)
 
@@ -97,7 +93,7 @@ def test_guided_pricing_returns_exact_columns() -> None:
     assert not pricer.guided(fwd.dur, prof, 0.0, 1e-6, forbidden=frozenset(), collect=10,
                              cap=1000, deadline=deadline).paths  # nothing to be guided by yet
     pricer.price(fwd.dur, prof, 0.0, 1e-6, drop=False, forbidden=frozenset(), collect=10**6,
-                 cap=_CAP_MAX, deadline=deadline)
+                 cap=CAP_MAX, deadline=deadline)
     prof[1:-1] *= 0.8
     got = pricer.guided(fwd.dur, prof, 1.0, 1e-6, forbidden=frozenset(), collect=10, cap=10**5,
                         deadline=deadline)

@@ -192,7 +192,7 @@ def test_full_label_store_keeps_a_valid_bound(monkeypatch: pytest.MonkeyPatch) -
     """When the label store fills up, the best route so far comes back with a proven bound."""
     import searchtrack.plan.optw.labelling as labelling
 
-    monkeypatch.setattr(labelling, "_CAP_MAX", 300)
+    monkeypatch.setattr(labelling, "CAP_MAX", 300)
     inst = read_optw(DATA / "c101.txt")
     res = solve_labelling(inst, time_limit_s=20.0)
     assert res.status in (Status.FEASIBLE, Status.NO_SOLUTION)

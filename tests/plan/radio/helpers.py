@@ -8,7 +8,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from searchtrack.core.types import FloatArray
-from searchtrack.estimate.radio.particles import LabelledParticles
+from searchtrack.estimate.labelled_particles import LabelledParticles
 from searchtrack.models.radio import RadioSignal, UavModel
 from searchtrack.models.radio.scenario import RadioScenario
 from searchtrack.plan.radio import RadioPlanProblem, RadioPlanSettings

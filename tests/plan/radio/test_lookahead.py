@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from searchtrack.estimate.radio.particles import resample
+from searchtrack.estimate.labelled_particles import resample
 from searchtrack.models.radio import propagate
 from searchtrack.plan.radio.divergences import disc_mass, void_probability
 from searchtrack.plan.radio.lookahead import look_ahead

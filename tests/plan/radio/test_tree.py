@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from searchtrack.estimate.radio.particles import LabelledParticles, update
+from searchtrack.estimate.labelled_particles import LabelledParticles, update
 from searchtrack.models.radio import primitives
 from searchtrack.plan.radio import tree as tree_module
 from searchtrack.plan.radio.divergences import cauchy_schwarz, renyi, void_probability
