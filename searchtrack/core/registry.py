@@ -71,9 +71,9 @@ class Backend(Generic[P, Q]):
     kernels: tuple[str, ...] = ()
 
 
-#: ``validator(problem, result)``: what an independent check finds wrong with the answer (its
-#: plan, objective and bound); empty when the answer holds.
-Validator = Callable[[P, Result[Q]], Sequence[str]]
+#: ``validator(problem, result, seed)``: what an independent check finds wrong with the answer
+#: (its plan, objective and bound) solved with ``seed``; empty when the answer holds.
+Validator = Callable[[P, Result[Q], int], Sequence[str]]
 
 
 class Registry(Generic[P, Q]):
@@ -138,14 +138,14 @@ class Registry(Generic[P, Q]):
         result = interrupted(chosen.solve(problem, time_limit_s=time_limit_s, seed=seed))
         log.debug("%s via %s: %s %s in %.3f s", self.problem, name, result.status.name,
                   result.objective, result.runtime_s)
-        return self.validated(problem, result)
+        return self.validated(problem, result, seed)
 
-    def validated(self, problem: P, result: Result[Q]) -> Result[Q]:
-        """``result`` if the family's validator accepts its answer (or there is no validator or
-        no plan), else an ``ERROR`` result naming what the validator found."""
+    def validated(self, problem: P, result: Result[Q], seed: int = 0) -> Result[Q]:
+        """``result`` (solved with ``seed``) if the family's validator accepts its answer (or
+        there is no validator or no plan), else an ``ERROR`` result naming what it found."""
         if self.validator is None or result.plan is None:
             return result
-        problems = list(self.validator(problem, result))
+        problems = list(self.validator(problem, result, seed))
         if problems:
             log.error("%s: %s returned an invalid answer: %s", self.problem, result.backend,
                       problems)

@@ -204,11 +204,13 @@ def solve_auto(problem: AssociationProblem, *, time_limit_s: float,
                                 seed=seed, heuristic_limit_s=time_limit_s)
 
 
-def answer_problems(problem: AssociationProblem, result: Result[Association]) -> list[str]:
+def answer_problems(problem: AssociationProblem, result: Result[Association],
+                    seed: int = 0) -> list[str]:
     """The independent check of an association: every pair names an existing tracker and
     measurement, each once, with a cost under the gate; the objective is the pairs' gated
     saving ``Σ (gate − c_ij)`` summed here from the cost matrix, and never above a claimed
     bound."""
+    del seed  # the check draws nothing
     assert result.plan is not None
     k, q = problem.shape
     problems: list[str] = []

@@ -119,8 +119,10 @@ class RoadTrackingConfig:
         if self.scan_period_s < self.dt_s:
             raise InvalidInputError("scan_period_s", self.scan_period_s,
                                     f"must be ≥ dt_s = {self.dt_s}")
-        if self.duration_s < self.dt_s:
-            raise InvalidInputError("duration_s", self.duration_s, f"must be ≥ dt_s = {self.dt_s}")
+        if self.n_steps < self.scan_every:
+            raise InvalidInputError("duration_s", self.duration_s,
+                                    f"must span one scan (scan_period_s = {self.scan_period_s:g} "
+                                    f"s): an episode records its entropy at the scans")
         if (steps := self.duration_s / self.dt_s) > MAX_STEPS:
             raise InvalidInputError("duration_s", self.duration_s, f"{steps:.3g} steps of dt_s="
                                     f"{self.dt_s:g}, above the {MAX_STEPS} an episode may take")

@@ -198,7 +198,7 @@ def policy_archive(draw: st.DrawFn) -> bytes:
 
 
 def _evaluate(p: Path, t: Path) -> list[str]:
-    return ["rl", "evaluate", "--policy", str(p), "--episodes", "1", "--duration", "0.5"]
+    return ["rl", "evaluate", "--policy", str(p), "--episodes", "1", "--duration", "1"]
 
 
 @FAST

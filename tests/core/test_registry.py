@@ -192,7 +192,7 @@ def test_the_validator_turns_a_rejected_answer_into_an_error() -> None:
     """solve() passes every answer with a plan through the family's validator: a plan it
     rejects comes back as ERROR with no plan, objective or bound, naming what it found."""
     reg: Registry[int, int] = Registry(
-        "toy", validator=lambda p, r: [] if r.plan == p else [f"plan {r.plan} is not {p}"])
+        "toy", validator=lambda p, r, seed: [] if r.plan == p else [f"plan {r.plan} is not {p}"])
 
     def honest(problem: int, /, *, time_limit_s: float, seed: int) -> Result[int]:
         return Result(Status.OPTIMAL, float(problem), float(problem), 0.0, "honest", problem)

@@ -20,8 +20,10 @@ from searchtrack.plan.guidance.problem import GuidanceProblem
 from searchtrack.plan.guidance.view import Guidance
 
 
-def answer_problems(problem: GuidanceProblem, result: Result[Guidance]) -> list[str]:
+def answer_problems(problem: GuidanceProblem, result: Result[Guidance],
+                    seed: int = 0) -> list[str]:
     """What is wrong with ``result``'s guidance (empty when it holds)."""
+    del seed  # the check draws nothing
     plan = result.plan
     assert plan is not None
     view = problem.view

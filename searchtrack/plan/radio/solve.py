@@ -17,6 +17,7 @@ from searchtrack.plan.radio.backends import (
     solve_straight,
 )
 from searchtrack.plan.radio.problem import RadioPlan, RadioPlanProblem
+from searchtrack.plan.radio.validator import answer_problems
 
 
 def _prove(problem: RadioPlanProblem, first: Result[RadioPlan], limit_s: float,
@@ -29,7 +30,8 @@ def _auto(problem: RadioPlanProblem, *, time_limit_s: float, seed: int) -> Resul
                                 seed=seed, heuristic_limit_s=time_limit_s, tol=1e-9)
 
 
-BACKENDS: Registry[RadioPlanProblem, RadioPlan] = Registry("radio planning")
+BACKENDS: Registry[RadioPlanProblem, RadioPlan] = Registry("radio planning",
+                                                           validator=answer_problems)
 BACKENDS.register(Backend("auto", _auto, True,
                           "beam at once, then exhaustive in the time left to improve or prove it"))
 BACKENDS.register(Backend("exhaustive", solve_exhaustive, True,

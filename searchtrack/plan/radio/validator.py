@@ -31,6 +31,7 @@ import numpy as np
 from scipy.special import i0e
 
 from searchtrack.core.angles import wrap_angle
+from searchtrack.core.result import Result
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.labelled_particles import LabelledParticles, resample, update
 from searchtrack.models.radio import RadioSignal, propagate
@@ -241,3 +242,29 @@ def check_plan(problem: RadioPlanProblem, plan: RadioPlan, *, seed: int = 0,
     objective = float(np.sum(gains * st.discount ** np.arange(gains.size)))
     return PlanCheck(not faults, voids, bool(np.all(voids > st.p_void_min)), gains, objective,
                      tuple(faults))
+
+
+def answer_problems(problem: RadioPlanProblem, result: Result[RadioPlan],
+                    seed: int = 0) -> list[str]:
+    """What :func:`check_plan` on the look-ahead draws of ``seed`` finds wrong with ``result``:
+    path faults, void probabilities or rewards that are not the recomputed ones, a constraint
+    verdict that does not hold, and (for a plan that meets it) an objective that is not
+    ``Σ_j γ^{j−1} r_j``."""
+    plan = result.plan
+    assert plan is not None
+    check = check_plan(problem, plan, seed=seed, any_heading=result.backend == "straight")
+    if not check.valid:
+        return list(check.reasons)
+    problems = []
+    if not np.allclose(check.void, plan.void, rtol=0.0, atol=1e-9):
+        problems.append("void probabilities differ from the recomputed ones")
+    if check.meets_constraint != plan.feasible:
+        problems.append(f"the plan says feasible={plan.feasible}, the recomputed voids "
+                        f"say {check.meets_constraint}")
+    if not np.allclose(check.rewards, plan.rewards, rtol=1e-6, atol=1e-12):
+        problems.append("rewards differ from the recomputed ones")
+    obj = result.objective
+    if plan.feasible and obj is not None and abs(obj - check.objective) > 1e-6 * (
+            1.0 + abs(check.objective)):
+        problems.append(f"reported objective {obj} but the path scores {check.objective}")
+    return problems

@@ -57,8 +57,10 @@ def _moves(problem: SearchProblem, sequence: FloatArray) -> list[str]:
     return out
 
 
-def answer_problems(problem: SearchProblem, result: Result[SearchPlan]) -> list[str]:
+def answer_problems(problem: SearchProblem, result: Result[SearchPlan],
+                    seed: int = 0) -> list[str]:
     """What is wrong with ``result``'s sequence, score and bound (empty when they hold)."""
+    del seed  # the check draws nothing
     plan = result.plan
     assert plan is not None
     seq = np.asarray(plan.sequence, dtype=np.float64)

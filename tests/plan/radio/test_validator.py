@@ -105,3 +105,23 @@ def test_leaving_the_area_when_it_must_is_not_a_fault() -> None:
     assert check_plan(p, plan).valid
     west = fly_heading(p.scenario.uav, pose, math.pi, 5.0)
     assert plan.path[-1, 0] > west[-1, 0] + 50.0
+
+
+def test_solve_rejects_a_tampered_answer() -> None:
+    """The registry's validator recomputes the plan on the solve's seed: every backend's answer
+    stands, a reward changed after the fact turns the answer into ERROR."""
+    import dataclasses
+
+    from searchtrack.plan.radio.solve import BACKENDS as RADIO_BACKENDS
+    from searchtrack.plan.radio.validator import answer_problems
+
+    p = problem(tag_ahead(), horizon=2, plan_particles=40)
+    for backend in BACKENDS:
+        res = solve(p, backend=backend, seed=3, time_limit_s=30.0)
+        assert res.status is not Status.ERROR, res.message
+        assert res.plan is not None and answer_problems(p, res, seed=3) == []
+    res = solve(p, backend="greedy", seed=3)
+    assert res.plan is not None
+    lie = dataclasses.replace(res, plan=_tampered(res.plan, rewards=res.plan.rewards * 1.01))
+    assert any("rewards" in r for r in answer_problems(p, lie, seed=3))
+    assert RADIO_BACKENDS.validated(p, lie, seed=3).status is Status.ERROR
