@@ -87,6 +87,15 @@ def test_fleet_binning_is_the_bounds() -> None:
     assert tuple(option.choices or ()) == BINNINGS and option.default == BoundConfig.binning
 
 
+def test_fleet_defaults_are_the_bound_config() -> None:
+    """Every ``fleet-size`` option that sets a :class:`BoundConfig` field defaults to it."""
+    options = _options("fleet-size")
+    fields = {"--uav-speed": "uav_speed_mps", "--target-speed": "target_speed_mps",
+              "--sigma-v": "sigma_v_mps", "--R": "meas_var_m2", "--dt": "dt_s"}
+    for flag, field in fields.items():
+        assert options[flag].default == getattr(BoundConfig, field), flag
+
+
 def test_road_planners_are_the_road_search_registry() -> None:
     assert set(SOLVER_PLANNERS) == set(ROAD_SEARCH_BACKENDS.names()) - set(OWN_PLANNERS)
     assert (*SOLVER_PLANNERS, *OWN_PLANNERS) == PLANNERS

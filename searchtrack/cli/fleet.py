@@ -211,16 +211,20 @@ def configure(parser: argparse.ArgumentParser) -> None:
                         help="number of targets (≥ 2)")
     parser.add_argument("--max-variance", type=positive_float, required=True, metavar="V",
                         help="required bound on a mode's positional variance (m²)")
-    parser.add_argument("--uav-speed", type=positive_float, default=40.0, metavar="MPS",
-                        help="UAV airspeed V_a (m/s, default 40)")
-    parser.add_argument("--target-speed", type=positive_float, default=10.0, metavar="MPS",
-                        help="target speed (m/s, default 10)")
-    parser.add_argument("--sigma-v", type=positive_float, default=4.0, metavar="MPS",
-                        help="target velocity noise σ_v (m/s, default 4)")
-    parser.add_argument("--R", type=positive_float, default=5.0, metavar="M2",
-                        help="measurement variance along the road (m², default 5)")
-    parser.add_argument("--dt", type=positive_float, default=0.1, metavar="S",
-                        help="time step δ_t (s, default 0.1)")
+    parser.add_argument("--uav-speed", type=positive_float, default=BoundConfig.uav_speed_mps,
+                        metavar="MPS", help="UAV airspeed V_a (m/s, default "
+                        f"{BoundConfig.uav_speed_mps:g})")
+    parser.add_argument("--target-speed", type=positive_float,
+                        default=BoundConfig.target_speed_mps, metavar="MPS",
+                        help=f"target speed (m/s, default {BoundConfig.target_speed_mps:g})")
+    parser.add_argument("--sigma-v", type=positive_float, default=BoundConfig.sigma_v_mps,
+                        metavar="MPS", help="target velocity noise σ_v (m/s, default "
+                        f"{BoundConfig.sigma_v_mps:g})")
+    parser.add_argument("--R", type=positive_float, default=BoundConfig.meas_var_m2,
+                        metavar="M2", help="measurement variance along the road (m², default "
+                        f"{BoundConfig.meas_var_m2:g})")
+    parser.add_argument("--dt", type=positive_float, default=BoundConfig.dt_s, metavar="S",
+                        help=f"time step δ_t (s, default {BoundConfig.dt_s:g})")
     parser.add_argument("--binning", choices=BINNINGS, default=BoundConfig.binning,
                         help="Gaussian on 1 m bins: density at bin points as in Eq. 47 (default; "
                         "needs variances ≥ 0.25 m²) or bin probabilities")

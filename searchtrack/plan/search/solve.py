@@ -1,8 +1,10 @@
 """Solve a search step by backend name: ``receding`` enumerates every lattice sequence of the
-horizon (exact over the lattice), ``lawnmower`` follows the 3-D coverage pattern."""
+horizon (exact over the lattice), ``lawnmower`` follows the 3-D coverage pattern, ``auto`` is
+``receding``."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 from searchtrack.core.registry import Backend, Registry
@@ -12,7 +14,14 @@ from searchtrack.plan.search.problem import SearchPlan, SearchProblem
 from searchtrack.plan.search.receding import solve_receding
 from searchtrack.plan.search.validate import answer_problems
 
+
+def _auto(problem: SearchProblem, *, time_limit_s: float, seed: int) -> Result[SearchPlan]:
+    result = solve_receding(problem, time_limit_s=time_limit_s, seed=seed)
+    return dataclasses.replace(result, message=f"auto: {result.message}")
+
+
 BACKENDS: Registry[SearchProblem, SearchPlan] = Registry("search", validator=answer_problems)
+BACKENDS.register(Backend("auto", _auto, True, "the receding-horizon planner (receding)"))
 BACKENDS.register(Backend("receding", solve_receding, True,
                           "004 eqs. 7-8: score every lattice sequence of the horizon, best first"))
 BACKENDS.register(Backend("lawnmower", solve_lawnmower, False,

@@ -40,7 +40,6 @@ positions planned, the score split and how many sequences were compared.
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -192,19 +191,15 @@ def read_problem(path: str | Path) -> SearchJob:
 
 
 def backends() -> list[str]:
-    """``"auto"`` (the receding-horizon planner) then the search backends."""
-    return ["auto", *BACKENDS.names()]
+    """The search backends (``auto`` runs ``receding``)."""
+    return BACKENDS.names()
 
 
 def solve(problem: SearchJob, *, backend: str, time_limit_s: float,
           seed: int) -> Result[SearchPlan]:
-    """Plan the next positions with the named backend (``auto`` runs ``receding``; see
-    :func:`searchtrack.plan.search.solve`)."""
-    name = "receding" if backend == "auto" else backend
-    result = solve_search(problem.problem, backend=name, time_limit_s=time_limit_s, seed=seed)
-    if backend == "auto":
-        result = dataclasses.replace(result, message=f"auto: {result.message}")
-    return result
+    """Plan the next positions with the named backend (see :func:`searchtrack.plan.search.
+    solve`)."""
+    return solve_search(problem.problem, backend=backend, time_limit_s=time_limit_s, seed=seed)
 
 
 def plan_json(problem: SearchJob, result: Result[SearchPlan]) -> dict[str, Any]:

@@ -25,9 +25,10 @@ def _problem(bounds: np.ndarray = BOX) -> SearchProblem:
 
 
 def test_registry_lists_the_backends() -> None:
-    """The exact receding planner and the lawnmower pattern, in that order."""
-    assert BACKENDS.names() == ["receding", "lawnmower"]
-    assert [BACKENDS.get(n).exact for n in BACKENDS.names()] == [True, False]
+    """``auto`` (the receding planner), the exact receding planner and the lawnmower pattern,
+    in that order."""
+    assert BACKENDS.names() == ["auto", "receding", "lawnmower"]
+    assert [BACKENDS.get(n).exact for n in BACKENDS.names()] == [True, True, False]
 
 
 def test_default_backend_is_the_receding_planner() -> None:
