@@ -22,7 +22,7 @@ from threadpoolctl import threadpool_limits
 from searchtrack.core.result import Status
 from searchtrack.plan.optw import OPTWInstance, read_optw, solve
 
-ROOT = Path(__file__).resolve().parents[2] / "shared" / "benchmarks" / "optw"
+ROOT = Path(__file__).resolve().parents[1] / "searchtrack" / "data" / "optw"
 
 
 Case = tuple[OPTWInstance, float | None]

@@ -28,7 +28,7 @@ from searchtrack.plan.optw.cpsat import Formulation, solve_cpsat
 from searchtrack.plan.optw.ils import solve_ils, warm_up
 from searchtrack.plan.optw.mip import solve_mip
 
-DEFAULT_DATA = Path(__file__).resolve().parents[2] / "shared" / "benchmarks" / "optw"
+DEFAULT_DATA = Path(__file__).resolve().parents[1] / "searchtrack" / "data" / "optw"
 
 
 def _optima(data: Path) -> dict[str, tuple[str, float | None]]:

@@ -17,7 +17,7 @@ from searchtrack.core.result import Status
 from searchtrack.plan.optw import read_optw, validate
 from searchtrack.plan.optw.labelling import solve_labelling, warm_up
 
-BENCH = Path(__file__).resolve().parents[2] / "shared" / "benchmarks" / "optw"
+BENCH = Path(__file__).resolve().parents[1] / "searchtrack" / "data" / "optw"
 
 
 def instances(root: Path, with_open: bool) -> list[tuple[Path, float | None]]:

@@ -14,7 +14,7 @@ from pathlib import Path
 from searchtrack.plan.optw import read_optw, validate
 from searchtrack.plan.optw.ils import solve_ils, warm_up
 
-BENCH = Path(__file__).resolve().parents[2] / "shared" / "benchmarks" / "optw"
+BENCH = Path(__file__).resolve().parents[1] / "searchtrack" / "data" / "optw"
 
 
 def optima(root: Path) -> list[tuple[Path, float]]:

@@ -28,7 +28,7 @@ from searchtrack.plan.optw import read_optw, solve
 from searchtrack.plan.optw.cpsat import solve_cpsat
 from searchtrack.plan.optw.solve import checked, warm_up
 
-ROOT = Path(__file__).resolve().parents[2] / "shared" / "benchmarks" / "optw"
+ROOT = Path(__file__).resolve().parents[1] / "searchtrack" / "data" / "optw"
 FIELDS = ["instance", "m", "backend", "limit", "seed", "status", "profit", "bound", "time_s",
           "nodes", "columns", "root_bound", "root_s", "pricing_per_s", "lp_s", "pricing_s",
           "heuristic_s", "message"]

@@ -11,7 +11,7 @@ from searchtrack.core.errors import ParseError
 from searchtrack.plan.optw import read_optw, write_optw
 
 DATA = Path(__file__).parents[2] / "data" / "optw"
-SHARED = Path(__file__).parents[4] / "shared" / "benchmarks" / "optw"
+BENCH = Path(__file__).parents[3] / "searchtrack" / "data" / "optw"
 
 
 def test_reads_solomon_c101() -> None:
@@ -36,10 +36,9 @@ def test_reads_tiny_hand_made_file() -> None:
     assert list(inst.profit) == [0, 10, 20, 5, 7, 99]
 
 
-@pytest.mark.skipif(not SHARED.is_dir(), reason="shared benchmarks not present")
-def test_reads_every_shared_benchmark() -> None:
-    """All 39 benchmark files parse; Cordeau files get two-decimal times."""
-    files = sorted(SHARED.rglob("*.txt"))
+def test_reads_every_shipped_benchmark() -> None:
+    """All 39 one-vehicle benchmark files parse; Cordeau files get two-decimal times."""
+    files = sorted([*BENCH.glob("solomon100/*.txt"), *BENCH.glob("cordeau/*.txt")])
     assert len(files) == 39
     for f in files:
         inst = read_optw(f)

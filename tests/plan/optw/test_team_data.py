@@ -23,7 +23,6 @@ PACKAGE_DATA = Path(searchtrack.__file__).parent / "data" / "optw"
 TEAMS = PACKAGE_DATA.parent / "toptw"
 REPO = Path(__file__).parents[3]
 BKV_CSV = REPO / "benchmarks" / "toptw_best_known.csv"
-SHARED = Path(__file__).parents[4] / "shared" / "benchmarks" / "optw"
 
 CORDEAU_CUSTOMERS = {
     "pr11": 48, "pr12": 96, "pr13": 144, "pr14": 192, "pr15": 240,
@@ -120,10 +119,7 @@ def test_solomon_200_series_share_their_customers() -> None:
 
 def _known_instance_files() -> dict[str, Path]:
     files = {p.stem: p for p in TEAMS.glob("*/*.txt")}
-    files.update({p.stem: p for p in PACKAGE_DATA.glob("*.txt")})
-    if SHARED.is_dir():
-        for sub in ("solomon100", "cordeau"):
-            files.update({p.stem: p for p in (SHARED / sub).glob("*.txt")})
+    files.update({p.stem: p for p in PACKAGE_DATA.glob("*/*.txt")})
     return files
 
 
@@ -138,16 +134,13 @@ def _bkv_rows() -> list[dict[str, str]]:
 
 
 def _optima() -> dict[str, int]:
-    """Proven m = 1 optima from the packaged and (if present) shared optima.csv."""
+    """Proven m = 1 optima from the packaged optima.csv."""
     out: dict[str, int] = {}
-    for path in (PACKAGE_DATA / "optima.csv", SHARED / "optima.csv"):
-        if not path.is_file():
-            continue
-        with path.open(newline="", encoding="utf-8") as f:
-            for row in csv.DictReader(f):
-                if row["status"] == "proven":
-                    value = int(row["optimum"])
-                    assert out.setdefault(row["instance"], value) == value, row["instance"]
+    with (PACKAGE_DATA / "optima.csv").open(newline="", encoding="utf-8") as f:
+        for row in csv.DictReader(f):
+            if row["status"] == "proven":
+                value = int(row["optimum"])
+                assert out.setdefault(row["instance"], value) == value, row["instance"]
     return out
 
 
@@ -166,14 +159,10 @@ def test_bkv_csv_is_well_formed() -> None:
 
 
 def test_bkv_instances_exist() -> None:
-    """Every instance named is shipped here, packaged, or among the shared benchmark files."""
+    """Every instance named is shipped with the package."""
     files = _known_instance_files()
     for r in _bkv_rows():
-        name = r["instance"]
-        if name in files:
-            continue
-        # Without the shared folder only c1/r1/rc1 and pr01–pr10 may be absent.
-        assert not SHARED.is_dir() and re.fullmatch(r"(c|r|rc)1\d\d|pr(0\d|10)", name), name
+        assert r["instance"] in files, r["instance"]
 
 
 def test_bkv_not_above_total_profit_and_non_decreasing_in_m() -> None:
