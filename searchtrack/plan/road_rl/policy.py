@@ -18,8 +18,6 @@ from __future__ import annotations
 
 import json
 import math
-import zipfile
-import zlib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -27,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from searchtrack.core.errors import InvalidInputError, ParseError
-from searchtrack.core.files import atomic_path
+from searchtrack.core.files import atomic_path, read_npz
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.belief import RoadParticleBelief
 from searchtrack.models.road_particles import DirectedRoads
@@ -166,28 +164,20 @@ class RoadPolicy:
         if p.stat().st_size > MAX_POLICY_BYTES:
             raise ParseError(p, None, None, f"larger than {MAX_POLICY_BYTES // 2**20} MiB")
         try:
-            with zipfile.ZipFile(p) as archive:
-                unpacked = sum(info.file_size for info in archive.infolist())
-            if unpacked > MAX_UNPACKED_BYTES:
-                raise ParseError(p, None, None, f"not a policy file (its arrays unpack to more "
-                                 f"than {MAX_UNPACKED_BYTES // 2**20} MiB)")
-            with np.load(p, allow_pickle=False) as data:
-                names = {str(k) for k in data.files}
-                meta = _meta(p, data["meta"] if "meta" in names else None)
-                n = meta["layers"]
-                wanted = {"meta"} | {f"{x}{i}" for x in "wb" for i in range(n)}
-                odd = sorted(wanted - names) + sorted(names - wanted)
-                if odd:
-                    raise ParseError(p, None, odd[0], f"not a policy file: "
-                                     f"{'missing' if odd[0] in wanted else 'unknown'} array (a "
-                                     f"policy of {n} layers has w0..w{n - 1} and b0..b{n - 1})")
-                weights = tuple(_layer(p, data, f"w{i}", 2) for i in range(n))
-                biases = tuple(_layer(p, data, f"b{i}", 1) for i in range(n))
-        except ParseError:
-            raise
-        except (OSError, ValueError, KeyError, TypeError, EOFError, zipfile.BadZipFile,
-                zlib.error, NotImplementedError, RuntimeError) as exc:
-            raise ParseError(p, None, None, f"not a policy file ({exc})") from None
+            data = read_npz(p, max_bytes=MAX_UNPACKED_BYTES)
+        except ParseError as exc:
+            raise ParseError(p, None, exc.field, f"not a policy file: {exc.reason}") from None
+        names = set(data)
+        meta = _meta(p, data.get("meta"))
+        n = meta["layers"]
+        wanted = {"meta"} | {f"{x}{i}" for x in "wb" for i in range(n)}
+        odd = sorted(wanted - names) + sorted(names - wanted)
+        if odd:
+            raise ParseError(p, None, odd[0], f"not a policy file: "
+                             f"{'missing' if odd[0] in wanted else 'unknown'} array (a "
+                             f"policy of {n} layers has w0..w{n - 1} and b0..b{n - 1})")
+        weights = tuple(_layer(p, data, f"w{i}", 2) for i in range(n))
+        biases = tuple(_layer(p, data, f"b{i}", 1) for i in range(n))
         try:
             return cls(weights, biases, meta["activation"], meta["signature"])
         except InvalidInputError as exc:
