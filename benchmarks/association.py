@@ -44,7 +44,7 @@ from searchtrack.estimate.node_tracker import (
 from searchtrack.estimate.signatures import truncate_signature
 from searchtrack.models import RoadNetwork, read_osm
 from searchtrack.models.road_metric import RoadMetric
-from searchtrack.sim.scenario import bundled_map
+from searchtrack.sim.roads.scenario import bundled_map
 
 OSM = str(bundled_map("aguascalientes"))
 STEPS = (10, 50, 200)

@@ -36,7 +36,7 @@ from threadpoolctl import threadpool_limits
 
 from searchtrack.estimate.transport import emd, emd_on_graph
 from searchtrack.models import read_osm
-from searchtrack.sim.scenario import bundled_map
+from searchtrack.sim.roads.scenario import bundled_map
 
 SPACING_M = 10.0
 SUPPORT = 50

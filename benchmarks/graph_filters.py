@@ -34,7 +34,7 @@ from searchtrack.estimate import (
 )
 from searchtrack.estimate.diffusion import Method
 from searchtrack.models import RoadNetwork, grid_network, read_osm
-from searchtrack.sim.scenario import bundled_map
+from searchtrack.sim.roads.scenario import bundled_map
 
 OSM = bundled_map("aguascalientes")
 ALPHA, DT_S, DECAY_C, M, RHO_M, S_M = 0.447, 0.3, 50.0, 2.9264, 120.0, 5.0

@@ -42,7 +42,7 @@ from searchtrack.plan.guidance import (
 )
 from searchtrack.plan.guidance import solve as guide
 from searchtrack.plan.optw.solve import solve, warm_up
-from searchtrack.sim.scenario import bundled_map
+from searchtrack.sim.roads.scenario import bundled_map
 
 OSM = str(bundled_map("aguascalientes"))
 STEPS = (2, 8, 20, 60)

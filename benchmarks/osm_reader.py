@@ -29,7 +29,7 @@ import numpy as np
 
 from searchtrack.models.osm import CAR_HIGHWAYS, read_osm
 from searchtrack.models.projection import LocalProjection
-from searchtrack.sim.scenario import BUNDLED_MAPS, bundled_map
+from searchtrack.sim.roads.scenario import BUNDLED_MAPS, bundled_map
 
 
 def _car(highway: object) -> bool:

@@ -2,7 +2,7 @@
 
     python benchmarks/phd.py [--seeds 3] [--skip-gm] [--particles-per-target 400]
 
-The standard scenario (:func:`searchtrack.sim.phd_scenario.standard_scenario`): 10 nearly-
+The standard scenario (:func:`searchtrack.sim.particles.scenario.standard_scenario`): 10 nearly-
 constant-velocity targets (q = 0.5) in 1000 m × 1000 m, 100 scans 1 s apart, p_d = 0.9,
 σ = 10 m, 10 clutter points per scan. Every filter runs on the same scans with one BLAS thread.
 Columns: ms per scan for the filter (predict + update + resample) and for extracting estimates,
@@ -46,7 +46,7 @@ from searchtrack.estimate.phd import (
     resample,
     update,
 )
-from searchtrack.sim.phd_scenario import PHDScenario, standard_scenario
+from searchtrack.sim.particles.scenario import PHDScenario, standard_scenario
 
 FloatArray = NDArray[np.float64]
 C_M, FIRST = 100.0, 20

@@ -1,6 +1,6 @@
 """Where the expected count of paper 004's closed loop goes: the PHD mass split by target.
 
-The lawnmower loop of :mod:`searchtrack.sim.experiments.phd_search` (12 static targets in
+The lawnmower loop of :mod:`searchtrack.sim.particles.search` (12 static targets in
 ``[−20, 260]³`` m, no clutter), run step by step with ``_filter_step`` as
 ``run_search_episode`` runs it, for seeds ``0 … n−1``. After steps 50, 100, 200, 300 and 400 it
 reports the *count*: the expected number of targets ``λ = Σ w`` of the PHD plus the estimates
@@ -43,7 +43,7 @@ from tables import table
 
 from searchtrack.estimate.phd import PHDState, gate_found
 from searchtrack.plan.search import lawnmower_3d
-from searchtrack.sim.experiments.phd_search import SearchConfig, _filter_step
+from searchtrack.sim.particles.search import SearchConfig, _filter_step
 
 FloatArray = NDArray[np.float64]
 STEPS = (50, 100, 200, 300, 400)

@@ -9,7 +9,7 @@ Subcommands (each prints a Markdown table with the paper's claim beside the meas
   (perfect localisation). Planners: the receding-horizon exploration planner (τ = 1, 2, 3, 12 m
   lattice moves, refinement off) and the 3-D lawnmower (48 m line and layer spacing, 12 m steps).
 - ``search``: 004 Algorithm 1 with the SMC-PHD filter in the loop
-  (:mod:`searchtrack.sim.experiments.phd_search`): proposed (exploration + centre-probability
+  (:mod:`searchtrack.sim.particles.search`): proposed (exploration + centre-probability
   refinement, τ = 1) vs 3-D lawnmower vs refinement only (α = 0); steps until every target has a
   saved estimate within 5 m, mean with a 95 % t-interval over seeds.
 - ``horizon``: the same closed loop, proposed planner with τ = 1, 2, 3 (004 E1).
@@ -44,7 +44,7 @@ from searchtrack.plan.search import (
     lawnmower_3d,
     solve,
 )
-from searchtrack.sim.experiments.phd_search import SearchConfig, SearchEpisode, run_search_episode
+from searchtrack.sim.particles.search import SearchConfig, SearchEpisode, run_search_episode
 
 FloatArray = NDArray[np.float64]
 BOX = np.array([[-20.0, 260.0]] * 3)

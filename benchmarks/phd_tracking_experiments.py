@@ -1,6 +1,6 @@
 """Paper 003 comparison: closed-loop PHD tracking with greedy END, greedy MI and a lawnmower.
 
-``track``: 003's closed loop (:mod:`searchtrack.sim.experiments.phd_tracking`): greedy END vs
+``track``: 003's closed loop (:mod:`searchtrack.sim.particles.tracking`): greedy END vs
 greedy MI vs lawnmower for R = 2, 4, 6 UAVs, GP (learned) vs random-walk filter motion, on
 taxi-like traces; means over the second half of each episode and over seeds, printed as a Markdown
 table with the paper's claim beside the measured numbers.
@@ -24,7 +24,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from tables import interval
 
-from searchtrack.sim.experiments.phd_tracking import (
+from searchtrack.sim.particles.tracking import (
     TrackConfig,
     TrackEpisode,
     run_track_episode,

@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
 from searchtrack.models.road_particles import DirectedRoads, RoadMotion
 from searchtrack.models.road_synthetic import grid_network
-from searchtrack.sim.experiments.road_missions import MAPS
+from searchtrack.sim.roads.experiment import MAPS
 
 FloatArray = NDArray[np.float64]
 

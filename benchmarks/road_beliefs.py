@@ -8,7 +8,7 @@ trackers (``lrt``) and the Rao-Blackwellized particle filter of Moore et al. 202
 Scenarios: ``demo`` is the shipped demo (``searchtrack/data/scenarios/demo.toml``: 3 UAVs,
 4 targets, 914.4 m, Aguascalientes, 240 s); ``grid-dense`` is the thesis's experiment-2 cell on
 the dense 16 × 16 grid with 3 UAVs / 2 targets at 914.4 m, 300 s
-(:mod:`searchtrack.sim.experiments.road_missions`). Each cell is flown with both beliefs on the
+(:mod:`searchtrack.sim.roads.experiment`). Each cell is flown with both beliefs on the
 same seeds (the world's randomness is the mission's; the RBPF draws from a stream of its own,
 so the targets drive alike until the UAVs' paths part). Same guidance, same sensor, same scores:
 
@@ -35,16 +35,17 @@ from pathlib import Path
 import numpy as np
 from tables import table
 
-from searchtrack.sim.campaign import estimate, fly_seeds
-from searchtrack.sim.experiments.road_missions import (
+from searchtrack.sim.campaigns.stats import estimate
+from searchtrack.sim.roads.experiment import (
     TRACKING_STRATEGIES,
     tracking_base,
     tracking_scenario,
 )
-from searchtrack.sim.mission import World
-from searchtrack.sim.record import MissionLog
-from searchtrack.sim.scenario import BELIEFS, Belief, GuidanceSpec, Scenario
-from searchtrack.sim.scenario_file import load_scenario
+from searchtrack.sim.roads.mission import World
+from searchtrack.sim.roads.record import MissionLog
+from searchtrack.sim.roads.scenario import BELIEFS, Belief, GuidanceSpec, Scenario
+from searchtrack.sim.roads.scenario_file import load_scenario
+from searchtrack.sim.roads.seeds import fly_seeds
 
 DEMO = Path(str(resources.files("searchtrack") / "data" / "scenarios" / "demo.toml"))
 ALTITUDE_M = 914.4

@@ -10,7 +10,7 @@ UAVs; its spread too). exp2 (§6.2): loiter vs search-and-loiter vs search-and-r
 PVT and PVA at the four altitudes for 1 UAV / 4 targets and 3 UAVs / 2 targets (claims: loiter ≥
 search-and-loiter on MOC; PVT ≈ 97 %; MOC ≈ 25 % at ratio 0.25 and ≈ 100 % at 1.5). step: the
 filter-and-plan time of one step on Aguascalientes with 3 UAVs, by number of trackers (< 50 ms).
-The scenarios and per-run scores are :mod:`searchtrack.sim.experiments.road_missions`; this script
+The scenarios and per-run scores are :mod:`searchtrack.sim.roads.experiment`; this script
 loops over them, times and prints.
 """
 
@@ -25,8 +25,8 @@ import numpy as np
 from tables import table
 
 from searchtrack.models.lrt_sensor import THESIS_ALTITUDES_M
-from searchtrack.sim.campaign import estimate, fly_seeds
-from searchtrack.sim.experiments.road_missions import (
+from searchtrack.sim.campaigns.stats import estimate
+from searchtrack.sim.roads.experiment import (
     MAPS,
     TRACKING_FLEETS,
     TRACKING_STRATEGIES,
@@ -40,8 +40,9 @@ from searchtrack.sim.experiments.road_missions import (
     with_fleet,
     with_strategy,
 )
-from searchtrack.sim.mission import World
-from searchtrack.sim.record import PHASES
+from searchtrack.sim.roads.mission import World
+from searchtrack.sim.roads.record import PHASES
+from searchtrack.sim.roads.seeds import fly_seeds
 
 
 def exp1(args: argparse.Namespace) -> None:

@@ -33,7 +33,7 @@ from benchmarks.tables import table
 from searchtrack.models.road_particles import DirectedRoads
 from searchtrack.models.road_synthetic import grid_network
 from searchtrack.plan.road_search import ChainGraph, RoadSearchProblem, RoadSearchSettings, solve
-from searchtrack.sim.experiments.road_missions import MAPS
+from searchtrack.sim.roads.experiment import MAPS
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]

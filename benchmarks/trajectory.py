@@ -44,10 +44,9 @@ from searchtrack.plan.trajectory import (
     waypoint_path,
 )
 from searchtrack.plan.trajectory.symbolic import step_function
-from searchtrack.sim.experiments.flight_e7 import E7Setup, fly_e7
-from searchtrack.sim.flight import FlightConfig, FlightLog, fly
-from searchtrack.sim.mission import Mission
-from searchtrack.sim.route_flights import (
+from searchtrack.sim.flight.e7 import E7Setup, fly_e7
+from searchtrack.sim.flight.loop import FlightConfig, FlightLog, fly
+from searchtrack.sim.flight.routes import (
     fly_optw_route,
     fly_xy_path,
     plan_optw_route,
@@ -55,7 +54,8 @@ from searchtrack.sim.route_flights import (
     route_deviation_m,
     route_waypoints,
 )
-from searchtrack.sim.scenario import GuidanceSpec, MapSpec, Scenario
+from searchtrack.sim.roads.mission import Mission
+from searchtrack.sim.roads.scenario import GuidanceSpec, MapSpec, Scenario
 
 Solver = Callable[[TrackingProblem], Result[ControlPlan]]
 

@@ -5,9 +5,9 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-from searchtrack.sim.mission import Mission, World
-from searchtrack.sim.scenario import GuidanceSpec
-from searchtrack.sim.scenario_file import load_scenario
+from searchtrack.sim.roads.mission import Mission, World
+from searchtrack.sim.roads.scenario import GuidanceSpec
+from searchtrack.sim.roads.scenario_file import load_scenario
 
 DEMO = Path(__file__).resolve().parents[1] / "searchtrack" / "data" / "scenarios" / "demo.toml"
 

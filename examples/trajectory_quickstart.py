@@ -6,7 +6,7 @@ import numpy as np
 
 from searchtrack.models.vehicles import unicycle
 from searchtrack.plan.trajectory import Obstacles, waypoint_path
-from searchtrack.sim.flight import FlightConfig, fly
+from searchtrack.sim.flight.loop import FlightConfig, fly
 
 
 def main() -> None:

@@ -31,7 +31,7 @@ API_OBJECTS = {
     "models": "searchtrack.models.road_particles.DirectedRoads",
     "estimate": "searchtrack.estimate.road_rbpf.RoadRBPF",
     "plan": "searchtrack.plan.road_search.problem.RoadSearchProblem",
-    "sim": "searchtrack.sim.flight.fly",
+    "sim": "searchtrack.sim.flight.loop.fly",
     "cli": "searchtrack.cli.main",
 }
 

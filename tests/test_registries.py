@@ -22,12 +22,12 @@ from searchtrack.plan.radio.solve import BACKENDS as RADIO_BACKENDS
 from searchtrack.plan.road_search import BACKENDS as ROAD_SEARCH_BACKENDS
 from searchtrack.sim import kernels
 from searchtrack.sim.campaigns.experiments import EXPERIMENTS
-from searchtrack.sim.radio_config import STRAIGHT, RadioMissionConfig
-from searchtrack.sim.radio_run import SIMULATORS
-from searchtrack.sim.radio_track_job import FILTERS
-from searchtrack.sim.road_planners import OWN_PLANNERS, PLANNERS, SOLVER_PLANNERS
-from searchtrack.sim.scenario import FilterSpec
-from searchtrack.sim.scenario_file import load_scenario
+from searchtrack.sim.radio.config import STRAIGHT, RadioMissionConfig
+from searchtrack.sim.radio.run import SIMULATORS
+from searchtrack.sim.radio.track_job import FILTERS
+from searchtrack.sim.road_particles.planners import OWN_PLANNERS, PLANNERS, SOLVER_PLANNERS
+from searchtrack.sim.roads.scenario import FilterSpec
+from searchtrack.sim.roads.scenario_file import load_scenario
 
 DEMO = Path(__file__).parents[1] / "searchtrack" / "data" / "scenarios" / "demo.toml"
 

@@ -39,7 +39,7 @@ from searchtrack.plan.fleet import (
 )
 from searchtrack.plan.fleet.entropy_bound import BINNINGS, WINDOW_SIGMAS
 from searchtrack.plan.fleet.mode_split import profile_refusal
-from searchtrack.sim.scenario import BUNDLED_MAPS, MapSpec, bundled_map
+from searchtrack.sim.roads.scenario import BUNDLED_MAPS, MapSpec, bundled_map
 
 #: Most Dijkstra sources for ``S_node`` on a large map (a seeded sample beyond this).
 S_NODE_SOURCES = 2000

@@ -18,11 +18,11 @@ from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import OutputError, output_dir, output_file
 from searchtrack.core.files import write_text_atomic
 from searchtrack.core.interrupt import stop_requested
-from searchtrack.sim.figures import plot_map, plot_moc
 from searchtrack.sim.kernels import road_mission_kernels
-from searchtrack.sim.mission import Mission
-from searchtrack.sim.record import PHASES, MissionLog
-from searchtrack.sim.scenario_file import load_scenario
+from searchtrack.sim.roads.figures import plot_map, plot_moc
+from searchtrack.sim.roads.mission import Mission
+from searchtrack.sim.roads.record import PHASES, MissionLog
+from searchtrack.sim.roads.scenario_file import load_scenario
 
 
 def _pct(x: float | None) -> str:
@@ -60,7 +60,7 @@ def summary_table(log: MissionLog, wall_s: float) -> Table:
 
 def run_mission(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack mission run``."""
-    from searchtrack.sim.replay_page import write_replay  # plotly: only when a page is drawn
+    from searchtrack.sim.roads.replay_page import write_replay  # plotly: only when a page is drawn
 
     scenario = load_scenario(Path(args.scenario))
     if args.seed is not None:
@@ -96,7 +96,7 @@ def run_mission(args: argparse.Namespace, console: Console) -> int:
 def view_mission(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack mission view``: MISSION.json's replay page, by default
     ``replay.html`` beside it."""
-    from searchtrack.sim.replay_page import load_record, write_replay
+    from searchtrack.sim.roads.replay_page import load_record, write_replay
 
     source = Path(args.mission)
     out = output_file("--out", args.out if args.out is not None

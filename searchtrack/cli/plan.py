@@ -1,7 +1,7 @@
 """``searchtrack plan FAMILY PROBLEM.json --out PLAN.json``: one planning problem read from JSON,
 solved by a backend of its family, summarised in a table and written as PLAN.json.
 
-Families live in :mod:`searchtrack.sim.plan_jobs` (one module each, imported only when its
+Families live in :mod:`searchtrack.sim.jobs` (one module each, imported only when its
 command runs); their formats are in each module's docstring. PLAN.json has the top-level fields
 of ``searchtrack optw solve --json`` (``instance``, ``backend``, ``status``, ``objective``,
 ``bound``, ``gap``, ``runtime_s``, ``message``) plus ``family`` and the family's ``plan``
@@ -29,13 +29,13 @@ from searchtrack.core.files import write_text_atomic
 from searchtrack.core.registry import MAX_SEED, Registry
 from searchtrack.core.result import Result, Status
 
-#: Family name → module implementing the interface of :mod:`searchtrack.sim.plan_jobs`.
+#: Family name → module implementing the interface of :mod:`searchtrack.sim.jobs`.
 FAMILIES: dict[str, str] = {
-    "assign": "searchtrack.sim.plan_jobs.assign",
-    "associate": "searchtrack.sim.plan_jobs.associate",
-    "route": "searchtrack.sim.plan_jobs.route",
-    "search": "searchtrack.sim.plan_jobs.search",
-    "trajectory": "searchtrack.sim.plan_jobs.trajectory",
+    "assign": "searchtrack.sim.jobs.assign",
+    "associate": "searchtrack.sim.jobs.associate",
+    "route": "searchtrack.sim.jobs.route",
+    "search": "searchtrack.sim.jobs.search",
+    "trajectory": "searchtrack.sim.jobs.trajectory",
 }
 
 

@@ -5,7 +5,7 @@
 (RUN.npz, the truth written apart); ``track`` runs the TBD-LMB or the detection-then-track
 filter over a recorded run (EST.json); ``mission`` flies the closed loop (filter + planner) and
 writes its log, the map and the OSPA-against-time figures. File formats:
-:mod:`searchtrack.sim.radio_run` and :mod:`searchtrack.sim.radio_track_job`.
+:mod:`searchtrack.sim.radio.run` and :mod:`searchtrack.sim.radio.track_job`.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.radio.signal import MAX_NOISE_VAR_V2
 from searchtrack.plan.radio import RadioPlanSettings
 from searchtrack.sim.kernels import RADIO_KERNELS
-from searchtrack.sim.radio_config import (
+from searchtrack.sim.radio.config import (
     FILTERS,
     MEASUREMENTS,
     PLAN_BACKENDS,
@@ -87,7 +87,7 @@ def _bar(console: Console, what: str) -> Progress:
 def simulate(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack radio simulate``."""
     from searchtrack.core.interrupt import stop_requested
-    from searchtrack.sim.radio_run import check_run_size, simulate_run, write_run, write_truth
+    from searchtrack.sim.radio.run import check_run_size, simulate_run, write_run, write_truth
 
     out = output_file("--out", args.out)
     truth_out = output_file("--truth", args.truth) if args.truth else None
@@ -109,8 +109,8 @@ def simulate(args: argparse.Namespace, console: Console) -> int:
 
 def track(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack radio track``."""
-    from searchtrack.sim.radio_run import read_run
-    from searchtrack.sim.radio_track_job import run_radio_track, write_radio_estimates
+    from searchtrack.sim.radio.run import read_run
+    from searchtrack.sim.radio.track_job import run_radio_track, write_radio_estimates
 
     particles = _particles(args)
     out = output_file("--out", args.out)
@@ -133,8 +133,8 @@ def track(args: argparse.Namespace, console: Console) -> int:
 def mission(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack radio mission``."""
     from searchtrack.core.files import write_text_atomic
-    from searchtrack.sim.radio_figures import plot_radio_map, plot_radio_ospa
-    from searchtrack.sim.radio_mission import run_radio_mission
+    from searchtrack.sim.radio.figures import plot_radio_map, plot_radio_ospa
+    from searchtrack.sim.radio.mission import run_radio_mission
 
     particles = _particles(args)
     folder = output_dir("--out", args.out)

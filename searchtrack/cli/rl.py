@@ -23,7 +23,7 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.interrupt import stop_requested
 
 if TYPE_CHECKING:
-    from searchtrack.sim.road_tracking import RoadTrackingConfig
+    from searchtrack.sim.road_particles.episode import RoadTrackingConfig
 
 
 def _episode(base: RoadTrackingConfig, duration_s: float) -> RoadTrackingConfig:
@@ -37,8 +37,8 @@ def _episode(base: RoadTrackingConfig, duration_s: float) -> RoadTrackingConfig:
 
 def train(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack rl train``."""
-    from searchtrack.sim.rl_training import TrainingConfig, train_policy
-    from searchtrack.sim.road_search_env import TRAINING_CONFIG
+    from searchtrack.sim.road_particles.env import TRAINING_CONFIG
+    from searchtrack.sim.road_particles.rl_training import TrainingConfig, train_policy
 
     out = output_file("--out", args.out)
     training = TrainingConfig(timesteps=args.timesteps)
@@ -58,8 +58,12 @@ def train(args: argparse.Namespace, console: Console) -> int:
 def evaluate(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack rl evaluate``."""
     from searchtrack.models.road_particles import DirectedRoads
-    from searchtrack.sim.road_planners import flyable_policy
-    from searchtrack.sim.road_tracking import PAPER_GRID, RoadTrackingConfig, run_road_tracking
+    from searchtrack.sim.road_particles.episode import (
+        PAPER_GRID,
+        RoadTrackingConfig,
+        run_road_tracking,
+    )
+    from searchtrack.sim.road_particles.planners import flyable_policy
 
     base = _episode(RoadTrackingConfig(policy=args.policy or ""), args.duration)
     roads = DirectedRoads(PAPER_GRID.build())

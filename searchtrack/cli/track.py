@@ -1,6 +1,6 @@
 """``searchtrack track SCANS.json``: run the SMC-PHD filter on recorded 2-D detections.
 
-The file formats are described in :mod:`searchtrack.sim.track_job`.
+The file formats are described in :mod:`searchtrack.sim.particles.track_job`.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from searchtrack.cli.common import int_at_least, seed_arg
 from searchtrack.cli.output import output_file
-from searchtrack.sim.track_job import run_track_file
+from searchtrack.sim.particles.track_job import run_track_file
 
 
 def track_command(args: argparse.Namespace, console: Console) -> int:

@@ -1,7 +1,7 @@
 """``searchtrack track-roads DETECTIONS.json``: the Rao-Blackwellized road filter (Moore et al.
 2021) on recorded UAV detections of targets on roads.
 
-The file formats are described in :mod:`searchtrack.sim.road_track_job`.
+The file formats are described in :mod:`searchtrack.sim.road_particles.track_job`.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from searchtrack.cli.common import seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
 from searchtrack.sim.kernels import ROAD_FILTER_KERNELS
-from searchtrack.sim.road_track_job import (
+from searchtrack.sim.road_particles.track_job import (
     read_road_job,
     run_road_track_job,
     write_road_estimates,

@@ -1,24 +1,22 @@
-"""searchtrack.sim: scenarios, closed-loop missions and flights, and the papers' experiments.
+"""searchtrack.sim: the closed loops, one subpackage per domain, and the jobs behind the commands.
 
-* Road missions (thesis 001): a :class:`Scenario` (from a TOML file with :func:`load_scenario`)
-  flown by :class:`Mission` on a :class:`World` (the map and its operators, built once) into a
-  :class:`MissionLog` with the thesis's scores (:mod:`.metrics`, (6.8)–(6.9)); :func:`fly_seeds`
-  flies one scenario over many seeds; :mod:`.figures` draws the map and MOC.
-* Flights: :func:`fly` runs a trajectory controller closed loop with wind and noise
-  (:class:`FlightConfig`, :class:`FlightLog`); :mod:`.route_flights` flies planner routes
-  (:func:`fly_optw_route`, :func:`fly_xy_path`).
-* Particle filters: :func:`standard_scenario` is the SMC-PHD test scenario; :mod:`.track_job`
-  filters recorded detections offline (:func:`run_track_file`).
-* Road tracking with particle filters (000): :mod:`.road_tracking` flies the RBPF and a road
-  planner closed loop (:mod:`.road_planners`), :mod:`.road_search_env` and :mod:`.rl_training`
-  train the RL planner, :mod:`.road_track_job` filters recorded detections.
-* Radio-tagged objects (002): :mod:`.radio_mission` flies the TBD-LMB or DTT filter and a
-  Rényi / Cauchy–Schwarz / straight planner closed loop, :mod:`.radio_keep_out` keeps r_min in
-  the flown trajectory, :mod:`.radio_run` and :mod:`.radio_track_job` record and filter runs.
+* :mod:`.roads`: thesis 001's road missions. A :class:`Scenario` (from a TOML file with
+  :func:`load_scenario`) flown by :class:`Mission` on a :class:`World` (the map and its operators,
+  built once) into a :class:`MissionLog` with the thesis's scores ((6.8)–(6.9)); :func:`fly_seeds`
+  flies one scenario over many seeds; figures, the replay page and the campaign experiment.
+* :mod:`.road_particles`: paper 000's RBPF episodes, road planners, Gymnasium environment, RL
+  training and the offline road-detection filter.
+* :mod:`.radio`: paper 002's radio-tagged objects: the TBD-LMB or DTT filter and a Rényi /
+  Cauchy–Schwarz / straight planner closed loop, the r_min keep-out, recorded runs.
+* :mod:`.particles`: particles in open space (003's tracking loop, 004's 3-D search episodes,
+  :func:`standard_scenario` and the offline SMC-PHD filter of recorded detections).
+* :mod:`.flight`: trajectory controllers flown closed loop with wind and noise (:func:`fly`),
+  planner routes flown (:func:`fly_optw_route`, :func:`fly_xy_path`), 004's E7.
+* :mod:`.jobs`: the ``searchtrack plan FAMILY`` jobs, each a :class:`~.jobs.PlanJob`.
 * :mod:`.campaigns`: Monte Carlo campaigns (experiment × grid × seeds on Dask, DuckDB results,
-  reports with figures).
-* :mod:`.experiments`: the papers' experiments as functions of a seed: the thesis's road
-  missions, 003's tracking loop, 004's search episodes and its E7 flight, 002's closed loop.
+  reports with figures); each domain's experiments register themselves there.
+* :mod:`.figure_style`: the one PNG writer and figure style; :mod:`.toml_fields`: typed TOML
+  reads; :mod:`.kernels`: the compiled kernels and their warm-up.
 
 The names below are imported on first use, so ``import searchtrack.sim`` stays cheap (a mission
 loads SciPy and Numba, a flight CasADi).
@@ -30,31 +28,31 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from searchtrack.sim.campaign import fly_seeds
-    from searchtrack.sim.flight import FlightConfig, FlightLog, fly
-    from searchtrack.sim.mission import Mission, World
-    from searchtrack.sim.phd_scenario import standard_scenario
-    from searchtrack.sim.record import MissionLog
-    from searchtrack.sim.route_flights import fly_optw_route, fly_xy_path
-    from searchtrack.sim.scenario import Scenario
-    from searchtrack.sim.scenario_file import load_scenario
-    from searchtrack.sim.track_job import read_scans, run_track_file
+    from searchtrack.sim.flight.loop import FlightConfig, FlightLog, fly
+    from searchtrack.sim.flight.routes import fly_optw_route, fly_xy_path
+    from searchtrack.sim.particles.scenario import standard_scenario
+    from searchtrack.sim.particles.track_job import read_scans, run_track_file
+    from searchtrack.sim.roads.mission import Mission, World
+    from searchtrack.sim.roads.record import MissionLog
+    from searchtrack.sim.roads.scenario import Scenario
+    from searchtrack.sim.roads.scenario_file import load_scenario
+    from searchtrack.sim.roads.seeds import fly_seeds
 
 _HOME = {
-    "FlightConfig": "flight",
-    "FlightLog": "flight",
-    "Mission": "mission",
-    "MissionLog": "record",
-    "Scenario": "scenario",
-    "World": "mission",
-    "fly": "flight",
-    "fly_optw_route": "route_flights",
-    "fly_seeds": "campaign",
-    "fly_xy_path": "route_flights",
-    "load_scenario": "scenario_file",
-    "read_scans": "track_job",
-    "run_track_file": "track_job",
-    "standard_scenario": "phd_scenario",
+    "FlightConfig": "flight.loop",
+    "FlightLog": "flight.loop",
+    "Mission": "roads.mission",
+    "MissionLog": "roads.record",
+    "Scenario": "roads.scenario",
+    "World": "roads.mission",
+    "fly": "flight.loop",
+    "fly_optw_route": "flight.routes",
+    "fly_seeds": "roads.seeds",
+    "fly_xy_path": "flight.routes",
+    "load_scenario": "roads.scenario_file",
+    "read_scans": "particles.track_job",
+    "run_track_file": "particles.track_job",
+    "standard_scenario": "particles.scenario",
 }
 
 __all__ = [

@@ -69,8 +69,8 @@ def _warm_radio() -> None:
     """Two seconds of each radio filter, with one planning call, on the paper's scenario."""
     from searchtrack.models.radio import RadioScenario
     from searchtrack.plan.radio import RadioPlanSettings
-    from searchtrack.sim.radio_config import RadioMissionConfig
-    from searchtrack.sim.radio_mission import run_radio_mission
+    from searchtrack.sim.radio.config import RadioMissionConfig
+    from searchtrack.sim.radio.mission import run_radio_mission
 
     scenario = dataclasses.replace(RadioScenario.paper(), duration_s=2.0)
     plan = RadioPlanSettings(horizon=1, plan_particles=20)

@@ -11,7 +11,7 @@ import pytest
 from rich.console import Console
 
 from searchtrack.cli import fleet
-from searchtrack.sim.scenario import MapSpec
+from searchtrack.sim.roads.scenario import MapSpec
 
 
 def _console() -> tuple[Console, io.StringIO]:

@@ -34,7 +34,7 @@ def test_run_size_is_bounded() -> None:
     """A run of more spectrogram cells than a run may hold is refused before it is simulated,
     naming ``duration_s`` and the scenario's file."""
     from searchtrack.models.radio import RadioScenario
-    from searchtrack.sim.radio_run import check_run_size
+    from searchtrack.sim.radio.run import check_run_size
 
     long = RadioScenario.from_dict({"duration_s": 90_000.0})
     with pytest.raises(InvalidInputError, match=r"duration_s.*a run may hold.*\(in s\.toml\)"):
@@ -232,7 +232,7 @@ def test_ctrl_c_keeps_the_intervals_simulated(tmp_path: Path,
                                               monkeypatch: pytest.MonkeyPatch) -> None:
     """A stop request during ``radio simulate`` ends it after the interval in progress: status
     130, a readable run of the intervals done and their truth."""
-    import searchtrack.sim.radio_run as radio_run
+    import searchtrack.sim.radio.run as radio_run
 
     spectrogram = radio_run.spectrogram
 
@@ -293,7 +293,7 @@ def test_sigint_stops_a_long_simulation(tmp_path: Path) -> None:
     """A real Ctrl-C (SIGINT) to ``radio simulate`` of 4500 intervals: status 130 within
     seconds (not after the whole run), no traceback, and a readable run of the intervals done
     (none written when the press came before the first)."""
-    from searchtrack.sim.radio_run import read_run
+    from searchtrack.sim.radio.run import read_run
 
     scenario = tmp_path / "long.toml"
     scenario.write_text("duration_s = 4500.0\n", encoding="utf-8")

@@ -103,7 +103,7 @@ def test_ipopt_stops_at_its_next_iteration() -> None:
     """A stop request ends an NMPC solve inside Ipopt (its iteration callback): INTERRUPTED
     after no iteration, with the feasible starting iterate as the plan."""
     from searchtrack.plan.trajectory import TrackingProblem, solve_nmpc
-    from searchtrack.sim.plan_jobs.trajectory import read_problem
+    from searchtrack.sim.jobs.trajectory import read_problem
 
     job = read_problem(EXAMPLES / "trajectory.json")
     problem = TrackingProblem(job.model, job.start, job.reference, obstacles=job.obstacles,

@@ -11,7 +11,7 @@ import pytest
 
 from searchtrack.cli import main
 from searchtrack.estimate.metrics import ospa
-from tests.sim.track_files import mutated, scans_document, write_json
+from tests.sim.particles.track_files import mutated, scans_document, write_json
 
 
 def test_cli_track_writes_estimates(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

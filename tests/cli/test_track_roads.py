@@ -15,7 +15,7 @@ import searchtrack.cli as cli
 from searchtrack.cli import track_roads
 from searchtrack.core.interrupt import clear_stop, request_stop
 from searchtrack.estimate.road_rbpf import RoadRBPF
-from tests.sim.test_road_track_job import BAD_INPUTS, EXAMPLE, GOOD, mutated, write_json
+from tests.sim.road_particles.test_track_job import BAD_INPUTS, EXAMPLE, GOOD, mutated, write_json
 
 Main = Callable[[list[str]], int]
 

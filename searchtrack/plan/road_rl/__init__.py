@@ -3,7 +3,7 @@
 :class:`RoadFeatures` builds the policy's observation (Eq. 22–26) from any
 :class:`~searchtrack.estimate.belief.RoadParticleBelief`; :class:`RoadPolicy` is the trained
 actor network as NumPy arrays (``.npz``), choosing the next road at a node. Training lives in
-:mod:`searchtrack.sim.rl_training` (the ``rl`` extra).
+:mod:`searchtrack.sim.road_particles.rl_training` (the ``rl`` extra).
 """
 
 from __future__ import annotations

@@ -26,19 +26,20 @@ from searchtrack.models.road_particles import DirectedRoads
 from searchtrack.plan.optw import BACKENDS as OPTW_BACKENDS
 from searchtrack.plan.optw import read_optw, solve
 from searchtrack.plan.search import CentreProbability, EmptyHorizonMI, lawnmower_3d
-from searchtrack.sim import scenario as sc
 from searchtrack.sim.campaigns import series
-from searchtrack.sim.experiments import radio_tracking, road_missions
-from searchtrack.sim.experiments.phd_search import PLANNERS, SearchConfig, run_search_episode
-from searchtrack.sim.experiments.phd_tracking import (
+from searchtrack.sim.particles.scenario import STANDARD_AREA, standard_scenario
+from searchtrack.sim.particles.search import PLANNERS, SearchConfig, run_search_episode
+from searchtrack.sim.particles.tracking import (
     TRACK_PLANNERS,
     TrackConfig,
     run_track_episode,
     taxi_world,
 )
-from searchtrack.sim.phd_scenario import STANDARD_AREA, standard_scenario
-from searchtrack.sim.road_planners import PLANNERS as ROAD_PLANNERS
-from searchtrack.sim.road_tracking import RoadTrackingConfig
+from searchtrack.sim.radio import experiment as radio_tracking
+from searchtrack.sim.road_particles.episode import RoadTrackingConfig
+from searchtrack.sim.road_particles.planners import PLANNERS as ROAD_PLANNERS
+from searchtrack.sim.roads import experiment as road_missions
+from searchtrack.sim.roads import scenario as sc
 
 ParamValue = bool | int | float | str
 """A parameter value: what TOML gives and a DuckDB column holds."""
@@ -206,7 +207,7 @@ def _search(params: Params, seed: int) -> Metrics:
 
     ``adaptive_birth = true`` switches the filter to
     ``PHDConfig(adaptive_birth=True, birth_mass=1)`` with the found-target mass ``T_m = 1``
-    derived for that birth (see :mod:`searchtrack.sim.experiments.phd_search`);
+    derived for that birth (see :mod:`searchtrack.sim.particles.search`);
     ``found_gate_sigmas`` is ``FoundConfig.gate_sigmas`` (4, the loop's innovation gate, by
     default; 0: 004's printed ball of ``T_z = 5`` m); ``fov = "squared"`` gives the sensor the
     Gaussian field of view ``exp(−‖ζ‖²/2)`` instead of 004's printed ``exp(−‖ζ‖/2)``
@@ -296,7 +297,7 @@ def _roads(map_name: str) -> DirectedRoads:
 def _road_tracking(params: Params, seed: int) -> Metrics:
     """One closed-loop paper-000 episode: the entropy over time (JSON, one value per scan) and
     its means over the whole run, its first and last thirds."""
-    from searchtrack.sim.road_tracking import run_road_tracking
+    from searchtrack.sim.road_particles.episode import run_road_tracking
 
     map_name = str(params["map"])
     config = RoadTrackingConfig(

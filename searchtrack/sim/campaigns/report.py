@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from searchtrack.core.files import atomic_path
-from searchtrack.sim.campaign import Estimate, estimate
+from searchtrack.sim.campaigns.stats import Estimate, estimate
 
 Row = Mapping[str, Any]
 

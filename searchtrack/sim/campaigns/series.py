@@ -18,8 +18,8 @@ from typing import Any
 import numpy as np
 
 from searchtrack.core.types import FloatArray
-from searchtrack.sim.campaign import t_half_width
 from searchtrack.sim.campaigns.report import group_order, save_png
+from searchtrack.sim.campaigns.stats import t_half_width
 
 Row = Mapping[str, Any]
 

@@ -17,7 +17,7 @@ from searchtrack.estimate.phd import (
 )
 from searchtrack.models.motion import ConstantVelocity
 from searchtrack.models.position_sensor import PositionSensor
-from searchtrack.sim.phd_scenario import standard_scenario
+from searchtrack.sim.particles.scenario import standard_scenario
 
 from .helpers import AREA, POSE
 

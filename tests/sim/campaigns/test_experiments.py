@@ -86,7 +86,7 @@ def test_search_episode_matches_the_direct_call(planner: str, refinement: str) -
     """A few steps of 004's closed-loop search give what ``run_search_episode`` gives for the
     same configuration and seed (what the benchmark script builds)."""
     from searchtrack.plan.search import CentreProbability, EmptyHorizonMI
-    from searchtrack.sim.experiments.phd_search import SearchConfig, run_search_episode
+    from searchtrack.sim.particles.search import SearchConfig, run_search_episode
 
     metrics = _run("phd_search_episode", {"planner": planner, "refinement": refinement,
                                           "horizon": 2, "max_steps": 3}, seed=2)
@@ -145,7 +145,7 @@ def test_search_birth_and_gate_options_reach_the_loop(monkeypatch: pytest.Monkey
     from dataclasses import replace
 
     from searchtrack.sim.campaigns import experiments
-    from searchtrack.sim.experiments.phd_search import SearchConfig, run_search_episode
+    from searchtrack.sim.particles.search import SearchConfig, run_search_episode
 
     seen: list[SearchConfig] = []
     real = run_search_episode
@@ -175,7 +175,7 @@ def test_search_birth_and_gate_options_reach_the_loop(monkeypatch: pytest.Monkey
 def test_tracking_episode_matches_the_direct_call(planner: str, motion: str) -> None:
     """A few steps of 003's closed loop give the tail means ``run_track_episode`` gives on
     ``taxi_world`` for the same configuration and seed."""
-    from searchtrack.sim.experiments.phd_tracking import (
+    from searchtrack.sim.particles.tracking import (
         TrackConfig,
         run_track_episode,
         taxi_world,
@@ -203,7 +203,11 @@ def test_road_tracking_episode_matches_the_direct_call() -> None:
 
     import numpy as np
 
-    from searchtrack.sim.road_tracking import PAPER_GRID, RoadTrackingConfig, run_road_tracking
+    from searchtrack.sim.road_particles.episode import (
+        PAPER_GRID,
+        RoadTrackingConfig,
+        run_road_tracking,
+    )
 
     params = {"planner": "exhaustive", "duration_s": 20.0, "histories": 2, "particles": 100}
     out = _run("road_tracking_episode", params, seed=3)

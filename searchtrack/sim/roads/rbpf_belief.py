@@ -1,0 +1,329 @@
+"""Paper 000's Rao-Blackwellized particle filter (Moore et al. 2021) as the belief of a thesis 001
+road mission: the thesis's couriers and sensor mapped onto the RBPF's models, and the RBPF read
+through the belief protocols the Ch. 5 guidance laws take
+(:mod:`searchtrack.estimate.belief`).
+
+The filter (:class:`~searchtrack.estimate.road_rbpf.RoadRBPF`) holds ``M`` = the scenario's
+number of targets (known, as the paper assumes), ``H`` histories of ``N`` particles per target
+on :class:`~searchtrack.models.road_particles.DirectedRoads` of the mission's map, starting
+uniform (Eq. 1). Each step: one update per UAV (its position measurements as detections, its
+position as the scan centre; Eq. 10–11, 15–16), then the localisation below, the guidance, and
+one prediction over ``Δt`` (Eq. 9), last as in the thesis's mission.
+
+Models (the thesis's settings turned into the paper's; :func:`courier_motion`,
+:func:`thesis_disc_sensor`):
+
+- Motion (Eq. 9): the couriers' mean speed over drives *and* stops, and as ``σ_ν`` the standard
+  deviation of the courier's speed (0 while stopped, uniform in ``[f·V_max, V_max]`` while
+  driving), so that the particles' spread covers the stops. Eq. 9 draws the noise afresh every
+  step, so the spread grows like ``σ_ν √(Δt·t)``: slower than a stop of many seconds displaces a
+  courier; the detections re-localise the target.
+- Sensor (Eq. 10–11): the field of view is the footprint disc ``ρ`` (the thesis sensor reports
+  every target within ``ρ``), ``σ² = s²`` (position noise), ``P_FN = 1 − P_d``, and ``P_FA =
+  1 − e^{−λ}``, the chance of at least one of the ``Poisson(λ)`` false alarms per footprint and
+  step (capped at 0.999). The negative update covers the whole footprint (``negative_radius_factor``
+  1: the thesis's disc has no image-edge margin), and the clutter density is per metre of road
+  in view (``"view"``), since the thesis's false alarms fall in the footprint.
+- Associations within one scan are one-to-one (``"joint"``): a footprint sees a target once.
+  A scan with no road in view keeps only its negative information: its detections (false
+  alarms: the targets are on the roads) would have likelihood 0 under every history.
+
+Reading the filter (the best history, as the paper's planner does):
+
+- A target is *localised* while its node belief (each particle's weight on the nearer end node)
+  has a peak probability ``≥ P_min``, the thesis's dissolution threshold (§4.2). The
+  :class:`~searchtrack.estimate.belief.BeliefBank` is the node beliefs of the localised targets
+  (``track_id`` = the target's index in the filter): a target becoming localised is a tracker
+  birth, one spreading below ``P_min`` is dissolved. In ``detect`` mode the bank stays empty, as
+  the thesis's detect-mode trackers are dropped at birth.
+- The :class:`~searchtrack.estimate.belief.SearchField` is :class:`ParticleSearchField`: per node
+  ``v``, the log ratio of the pooled mass of the targets not localised around ``v`` (a
+  neighbourhood the size of the footprint disc) to what the uniform prior puts there, floored
+  at :data:`SCORE_FLOOR` (see :class:`ParticleFieldBuilder`). Like the LRT's ``φ`` (3.3) it is
+  0 under the prior, falls where the UAVs looked and found nothing, and rises where an unseen
+  target's mass gathers.
+- Scoring (thesis 001 §6.2): the trackers' peaks are the RBPF's MAP positions (densest 5 m road
+  bin) of the localised targets; an association is a detection the best history gives to a
+  target that was in the bank at the start of the step, valid when it came from the target
+  that tracker was matched to. The recorded tracks keep the node beliefs' peak nodes.
+
+Guidance re-plans reacquisition routes with the thesis's tracker prediction (4.2) on these node
+beliefs (the mission's tracker diffusion).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from numpy.typing import NDArray
+
+from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate.lrt import LikelihoodField
+from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
+from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
+from searchtrack.models import CourierModel, RoadNetwork, SensorModel, UavState
+from searchtrack.models.disc_sensor import DiscSensor
+from searchtrack.models.measurements import FALSE_ALARM, PositionScan
+from searchtrack.models.road_particles import DirectedRoads, RoadMotion
+from searchtrack.plan.guidance import GuidanceView
+from searchtrack.sim.roads.guidance_setup import view
+from searchtrack.sim.roads.metrics import match_trackers
+from searchtrack.sim.roads.record import PairRecord, Recorder, StepTimes
+from searchtrack.sim.roads.scenario import Scenario
+
+#: Lowest search score: where the particles left no mass (the LRT's default ``llr_floor``, so the
+#: gradient force (5.7) keeps the scale its spring constants were chosen for).
+SCORE_FLOOR = -20.0
+
+#: Largest ``P_FA`` of the disc sensor (Eq. 10 needs ``P_FA < 1``).
+MAX_P_FA = 0.999
+
+#: First word of the RBPF's random stream, apart from the mission's world: ``(stream, seed)``.
+RBPF_STREAM = 1
+
+
+def courier_motion(courier: CourierModel) -> RoadMotion:
+    """Eq. 9 for the thesis's couriers: the mean speed over drives and stops, and the standard
+    deviation of the speed (see the module docstring)."""
+    lo, hi = courier.min_speed_fraction * courier.max_speed_mps, courier.max_speed_mps
+    dwell = 0.5 * (courier.dwell_min_s + courier.dwell_max_s)
+    driving = courier.mean_drive_s / (courier.mean_drive_s + dwell)
+    mean = driving * 0.5 * (lo + hi)
+    square = driving * (lo * lo + lo * hi + hi * hi) / 3.0
+    return RoadMotion(speed_mps=mean, sigma_mps=math.sqrt(max(square - mean * mean, 0.0)))
+
+
+def thesis_disc_sensor(sensor: SensorModel) -> DiscSensor:
+    """The disc sensor (Eq. 10–11) of the thesis's sensor: view ``ρ``, ``σ² = s²``,
+    ``P_FN = 1 − P_d``, ``P_FA = 1 − e^{−λ}`` (see the module docstring).
+
+    Raises
+    ------
+    InvalidInputError
+        ``position_noise_m`` is 0 (the paper's likelihood needs a positive variance).
+    """
+    if sensor.position_noise_m <= 0.0:
+        raise InvalidInputError("sensor.position_noise_m", sensor.position_noise_m,
+                                "the RBPF needs a positive position noise")
+    return DiscSensor(fov_radius_m=sensor.footprint_radius_m,
+                      sigma2_m2=sensor.position_noise_m ** 2,
+                      p_fa=min(-math.expm1(-sensor.false_alarm_mean), MAX_P_FA),
+                      p_fn=1.0 - sensor.pd, negative_radius_factor=1.0, clutter="view")
+
+
+def rbpf_config(scenario: Scenario) -> RBPFConfig:
+    """The RBPF of ``scenario``: ``M`` = its targets, ``H`` and ``N`` from its filter spec, the
+    couriers' motion and the thesis sensor's disc."""
+    f = scenario.filter
+    return RBPFConfig(n_targets=scenario.target_count, n_histories=f.histories,
+                      n_particles=f.particles, motion=courier_motion(scenario.courier),
+                      sensor=thesis_disc_sensor(scenario.sensor), association="joint")
+
+
+class ParticleSearchField:
+    """A :class:`~searchtrack.estimate.belief.SearchField` holding a finite score per node.
+
+    Parameters
+    ----------
+    score
+        ``(n,)`` finite scores (copied, read-only).
+    """
+
+    def __init__(self, score: FloatArray) -> None:
+        self.score = checks.node_vector("score", score)
+
+    @property
+    def n_nodes(self) -> int:
+        """Number of road nodes ``n``."""
+        return int(self.score.size)
+
+    def node_score(self) -> FloatArray:
+        """The ``(n,)`` score (read-only, not a copy)."""
+        return self.score
+
+    def as_likelihood_field(self) -> LikelihoodField:
+        """The score as a :class:`~searchtrack.estimate.lrt.LikelihoodField` (for the log and its
+        map figure, which draw the LRT's ``φ``)."""
+        return LikelihoodField(np.array(self.score))
+
+
+class ParticleFieldBuilder:
+    """Turns node masses into a :class:`ParticleSearchField` on one network.
+
+    The score of node ``v`` is ``log(max(S q / (k · S u), e^floor))``: ``q`` the pooled node
+    mass of ``k`` targets, ``u`` the node mass of the uniform prior (each node holds half the
+    length of its edges, as the nearer-end-node beliefs count), and ``S`` the sum over a
+    neighbourhood of ``v`` the size of a disc of radius ``radius_m``: the plane is cut into
+    square cells of side ``√π · radius_m / 3`` and ``S`` sums the 3 × 3 block of cells around
+    ``v``'s cell (area ``π · radius_m²``). The ratio is 1 in expectation under the prior; summing
+    over a neighbourhood tames the sampling noise of particles that sit on few of the nodes. The
+    cells make a step cost linear in the nodes whatever the radius (summing over the exact disc
+    costs one term per pair of nodes within it: 8 million on the bundled Aguascalientes map at
+    ``ρ`` = 374 m).
+
+    Parameters
+    ----------
+    network
+        The road network.
+    radius_m
+        Radius (m) of the disc the neighbourhood stands for, > 0 (a mission uses the footprint
+        ``ρ``: the score is then about the mass a UAV over ``v`` would see).
+    floor
+        The lowest score, finite and < 0.
+    """
+
+    def __init__(self, network: RoadNetwork, radius_m: float,
+                 floor: float = SCORE_FLOOR) -> None:
+        if not (math.isfinite(radius_m) and radius_m > 0.0):
+            raise InvalidInputError("radius_m", radius_m, "must be finite and > 0 (m)")
+        if not (math.isfinite(floor) and floor < 0.0):
+            raise InvalidInputError("floor", floor, "must be finite and < 0")
+        xy = network.coords
+        cell = math.sqrt(math.pi) * radius_m / 3.0
+        ij = np.floor((xy - xy.min(axis=0)) / cell)
+        cells, node_cell = np.unique(ij, axis=0, return_inverse=True)
+        index = {(a, b): k for k, (a, b) in enumerate(cells.tolist())}
+        blank = len(cells)  # an always-empty cell for the neighbours no node falls in
+        self._cell = np.asarray(node_cell, dtype=np.int64).ravel()
+        self._block = np.array([[index.get((a + da, b + db), blank)
+                                 for da in (-1.0, 0.0, 1.0) for db in (-1.0, 0.0, 1.0)]
+                                for a, b in cells.tolist()], dtype=np.int64).reshape(-1, 9)
+        half = 0.5 * np.asarray(network.lengths_m, dtype=np.float64)
+        share = np.bincount(network.edges.ravel(), weights=np.repeat(half, 2),
+                            minlength=network.n_nodes)
+        self.uniform: FloatArray = self.neighbourhood_sum(share / share.sum())
+        self.n_nodes = network.n_nodes
+        self.floor = float(floor)
+
+    def neighbourhood_sum(self, values: FloatArray) -> FloatArray:
+        """``S values``: per node, the sum of ``values`` ``(n,)`` over its neighbourhood."""
+        sums = np.bincount(self._cell, weights=values, minlength=self._block.shape[0] + 1)
+        return np.asarray(sums[self._block].sum(axis=1)[self._cell], dtype=np.float64)
+
+    def field(self, mass: FloatArray, n_targets: int) -> ParticleSearchField:
+        """The field of ``n_targets`` targets' pooled node ``mass`` ``(n,)`` (summing to
+        ``n_targets``); all 0 (the prior's value) when ``n_targets`` is 0."""
+        if n_targets <= 0:
+            return ParticleSearchField(np.zeros(self.n_nodes))
+        near = self.neighbourhood_sum(np.asarray(mass, dtype=np.float64))
+        ratio = near / (n_targets * self.uniform)
+        return ParticleSearchField(np.log(np.maximum(ratio, math.exp(self.floor))))
+
+
+class RBPFMissionBelief:
+    """A mission's RBPF and what the guidance and the scores read from it (module docstring).
+
+    Parameters
+    ----------
+    scenario
+        The mission (``filter.belief`` need not be ``"rbpf"``: sizes come from its filter spec).
+    network
+        Its road network.
+    roads
+        The directed view of ``network`` (built when ``None``).
+
+    Attributes
+    ----------
+    rbpf
+        The filter.
+    bank, field
+        The localised targets' node beliefs and the search field, as of the last
+        :meth:`filter`.
+    peaks_xy
+        ``(len(bank), 2)`` MAP positions of the bank's targets.
+    """
+
+    def __init__(self, scenario: Scenario, network: RoadNetwork,
+                 roads: DirectedRoads | None = None) -> None:
+        self.scenario = scenario
+        self.network = network
+        directed = roads if roads is not None else DirectedRoads(network)
+        if directed.network is not network:
+            raise InvalidInputError("roads", roads, "must be the directed view of network")
+        self.rng = np.random.default_rng([RBPF_STREAM, scenario.seed])
+        self.rbpf = RoadRBPF(directed, rbpf_config(scenario), self.rng)
+        self.fields = ParticleFieldBuilder(network, scenario.sensor.footprint_radius_m)
+        m = scenario.target_count
+        self.localised = np.zeros(m, dtype=bool)
+        self.bank = TrackerBank(network.n_nodes, (), m)
+        self.field = self.fields.field(np.zeros(network.n_nodes), 0)
+        self.peaks_xy: FloatArray = np.empty((0, 2))
+
+    def filter(self, scan: PositionScan, scan_target: IntArray, uav_xy: FloatArray,
+               truth_xy: FloatArray, time_s: float, detected: NDArray[np.bool_],
+               first_detection: FloatArray, record: Recorder,
+               times: StepTimes) -> tuple[list[PairRecord], int, int]:
+        """One step's updates (one scan per UAV) and localisation.
+
+        ``scan_target`` is each measurement's true target (−1: false alarm), ``truth_xy`` the
+        targets' positions. Births go to ``record``; in ``detect`` mode a birth credited to a
+        target marks it in ``detected`` and ``first_detection``. Returns the step's associations
+        and the numbers of valid and false ones; sets ``times.update`` and ``times.initiate``.
+        """
+        sc = self.scenario
+        match = match_trackers(self.peaks_xy, truth_xy, sc.valid_distance_m)
+        slot = {t.track_id: i for i, t in enumerate(self.bank)}
+        pairs: list[PairRecord] = []
+        n_valid = n_false = 0
+        tic = time.perf_counter()
+        for j in range(uav_xy.shape[0]):
+            rows = np.flatnonzero(scan.uav == j)
+            self.rbpf.update(scan.xy_m[rows], uav_xy[j], self.rng)
+            for q, c in zip(rows.tolist(), self.rbpf.best_association().tolist(), strict=True):
+                if c not in slot:
+                    continue  # clutter, or a target not tracked at the start of the step
+                truth = int(scan_target[q])
+                pairs.append((j, c, truth))
+                if truth != FALSE_ALARM and match[slot[c]] == truth:
+                    n_valid += 1
+                else:
+                    n_false += 1
+        times.update = time.perf_counter() - tic
+        tic = time.perf_counter()
+        self._localise(truth_xy, time_s, detected, first_detection, record)
+        times.initiate = time.perf_counter() - tic
+        return pairs, n_valid, n_false
+
+    def _localise(self, truth_xy: FloatArray, time_s: float, detected: NDArray[np.bool_],
+                  first_detection: FloatArray, record: Recorder) -> None:
+        """Refresh the bank, the MAP peaks and the field; record the births."""
+        sc = self.scenario
+        beliefs: tuple[NodeTracker, ...] = self.rbpf.node_beliefs()
+        now = np.array([b.peak_probability >= sc.filter.p_min for b in beliefs])
+        map_xy = self.rbpf.map_positions()
+        detect = sc.mode == "detect"
+        for m in np.flatnonzero(now & ~self.localised).tolist():
+            dist = np.linalg.norm(truth_xy - map_xy[m], axis=1)
+            if detect:
+                dist[detected] = np.inf
+                if detected.all():
+                    break  # nothing left to find: the mission ends with this step
+            target = int(np.argmin(dist))
+            hit = bool(dist[target] < sc.valid_distance_m)
+            record.birth(time_s, m, target if hit else -1, float(dist[target]))
+            if hit and detect:
+                detected[target] = True
+                first_detection[target] = time_s
+        self.localised = now
+        tracked = np.flatnonzero(now) if not detect else np.empty(0, dtype=np.int64)
+        self.bank = TrackerBank(self.network.n_nodes, tuple(beliefs[m] for m in tracked),
+                                sc.target_count)
+        self.peaks_xy = map_xy[tracked]
+        free = np.flatnonzero(~now)
+        mass = (np.sum([beliefs[m].probability for m in free], axis=0) if free.size
+                else np.zeros(self.network.n_nodes))
+        self.field = self.fields.field(mass, int(free.size))
+
+    def predict(self, dt_s: float) -> None:
+        """Eq. 9 over ``dt_s`` seconds."""
+        self.rbpf.predict(dt_s, self.rng)
+
+    def view(self, uavs: UavState, time_s: float,
+             coverage: FloatArray | None = None) -> GuidanceView:
+        """What the guidance sees: the particle search field and the localised targets (and
+        the road coverage, when kept)."""
+        return view(self.network, uavs, self.field, self.bank, time_s, coverage)

@@ -1,0 +1,187 @@
+"""The RBPF of Moore et al. 2021 as a thesis mission's belief: the models mapped from the thesis's
+couriers and sensor, the particle search field, and the bank and field the guidance reads."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.estimate.belief import BeliefBank, SearchField, TrackBelief
+from searchtrack.models import CourierModel, RoadNetwork, SensorModel, UavState, grid_network
+from searchtrack.models.measurements import PositionScan
+from searchtrack.models.road_particles import DirectedRoads
+from searchtrack.plan.guidance import GuidanceView
+from searchtrack.sim.roads.rbpf_belief import (
+    MAX_P_FA,
+    SCORE_FLOOR,
+    ParticleFieldBuilder,
+    ParticleSearchField,
+    RBPFMissionBelief,
+    courier_motion,
+    rbpf_config,
+    thesis_disc_sensor,
+)
+from searchtrack.sim.roads.record import Recorder, StepTimes
+from searchtrack.sim.roads.scenario import FilterSpec, MapSpec, Scenario
+
+SENSOR = SensorModel(pd=0.95, pf=0.05, footprint_radius_m=120.0, position_noise_m=5.0)
+
+
+@pytest.fixture(scope="module")
+def network() -> RoadNetwork:
+    """A 4 × 4 grid of 100 m blocks, nodes every 10 m."""
+    return grid_network(4, 4, 100.0, 10.0)
+
+
+def scenario(**changes: object) -> Scenario:
+    """Two targets on the 4 × 4 grid, an RBPF of 3 histories × 200 particles."""
+    base = Scenario("rbpf", MapSpec("grid", rows=4, cols=4, block_m=100.0), uav_count=1,
+                    target_count=2, sensor=SENSOR, altitude_m=None, seed=5,
+                    filter=FilterSpec(belief="rbpf", histories=3, particles=200))
+    return dataclasses.replace(base, **changes)  # type: ignore[arg-type]
+
+
+def test_courier_motion_is_the_mean_speed_with_its_spread() -> None:
+    """Eq. 9's speed is the couriers' mean over drives and stops; σ their speed's s.d.; without
+    stops and with one drive speed the motion is exact."""
+    c = CourierModel(max_speed_mps=20.0, min_speed_fraction=0.5, mean_drive_s=60.0,
+                     dwell_min_s=10.0, dwell_max_s=30.0)
+    m = courier_motion(c)
+    driving = 60.0 / 80.0
+    assert m.speed_mps == pytest.approx(driving * 15.0)
+    square = driving * (100.0 + 200.0 + 400.0) / 3.0
+    assert m.sigma_mps == pytest.approx(math.sqrt(square - m.speed_mps ** 2))
+    steady = courier_motion(CourierModel(max_speed_mps=12.0, min_speed_fraction=1.0,
+                                         dwell_min_s=0.0, dwell_max_s=0.0))
+    assert steady.speed_mps == pytest.approx(12.0)
+    assert steady.sigma_mps == pytest.approx(0.0, abs=1e-6)
+
+
+def test_disc_sensor_is_the_thesis_sensor() -> None:
+    """View ρ, σ² = s², P_FN = 1 − P_d, P_FA = P(at least one Poisson false alarm), the negative
+    update over the whole footprint; P_FA is capped below 1 and a noiseless sensor refused."""
+    d = thesis_disc_sensor(SENSOR)
+    assert (d.fov_radius_m, d.sigma2_m2) == (120.0, 25.0)
+    assert d.p_fn == pytest.approx(0.05)
+    assert d.p_fa == pytest.approx(1.0 - math.exp(-0.05))
+    assert d.negative_radius_m == 120.0 and d.clutter == "view"
+    noisy = thesis_disc_sensor(dataclasses.replace(SENSOR, false_alarms_per_scan=100.0))
+    assert noisy.p_fa == MAX_P_FA
+    with pytest.raises(InvalidInputError) as info:
+        thesis_disc_sensor(dataclasses.replace(SENSOR, position_noise_m=0.0))
+    assert info.value.field == "sensor.position_noise_m"
+
+
+def test_config_takes_the_sizes_from_the_scenario() -> None:
+    """M = the scenario's targets, H and N from its filter spec, one-to-one scans."""
+    cfg = rbpf_config(scenario(target_count=3))
+    assert (cfg.n_targets, cfg.n_histories, cfg.n_particles) == (3, 3, 200)
+    assert cfg.association == "joint"
+
+
+def test_field_scores_follow_the_mass(network: RoadNetwork) -> None:
+    """The uniform prior scores 0 everywhere; mass piled on one node scores above the prior
+    there and the floor far from it; no target leaves the field neutral."""
+    builder = ParticleFieldBuilder(network, 50.0)
+    share = np.zeros(network.n_nodes)
+    np.add.at(share, network.edges.ravel(), np.repeat(0.5 * network.lengths_m, 2))
+    uniform = builder.field(2.0 * share / share.sum(), 2)
+    np.testing.assert_allclose(uniform.node_score(), 0.0, atol=1e-9)
+    piled = np.zeros(network.n_nodes)
+    v = int(network.nearest_nodes(np.array([[150.0, 100.0]]))[0])
+    piled[v] = 1.0
+    score = builder.field(piled, 1).node_score()
+    far = int(network.nearest_nodes(np.array([[300.0, 300.0]]))[0])
+    assert score[v] > 0.0 and np.count_nonzero(score > SCORE_FLOOR) < network.n_nodes / 2
+    assert score[far] == SCORE_FLOOR
+    assert np.all(np.isfinite(score))
+    np.testing.assert_array_equal(builder.field(piled, 0).node_score(), 0.0)
+
+
+def test_field_is_a_search_field_and_read_only(network: RoadNetwork) -> None:
+    """The adapter satisfies the SearchField protocol, cannot be written through, and turns
+    into a LikelihoodField for the log."""
+    field = ParticleFieldBuilder(network, 50.0).field(np.ones(network.n_nodes), 1)
+    assert isinstance(field, SearchField)
+    assert field.n_nodes == network.n_nodes
+    with pytest.raises(ValueError, match="read-only"):
+        field.node_score()[0] = 1.0
+    np.testing.assert_array_equal(field.as_likelihood_field().llr, field.node_score())
+
+
+@pytest.mark.parametrize(("make", "name"), [
+    (lambda net: ParticleFieldBuilder(net, 0.0), "radius_m"),
+    (lambda net: ParticleFieldBuilder(net, math.inf), "radius_m"),
+    (lambda net: ParticleFieldBuilder(net, 50.0, floor=0.0), "floor"),
+    (lambda net: ParticleSearchField(np.array([0.0, math.nan])), "score"),
+    (lambda net: ParticleSearchField(np.zeros((2, 2))), "score"),
+    (lambda net: RBPFMissionBelief(scenario(), net, DirectedRoads(grid_network(2, 2))),
+     "roads"),
+])
+def test_bad_inputs_name_the_field(network: RoadNetwork, make: object, name: str) -> None:
+    """Bad radii, floors, scores and a directed view of another map are refused by name."""
+    with pytest.raises(InvalidInputError) as info:
+        make(network)  # type: ignore[operator]
+    assert info.value.field == name
+
+
+def _scan(xy: list[list[float]], target: list[int]) -> tuple[PositionScan, np.ndarray]:
+    pts = np.array(xy, dtype=float).reshape(-1, 2)
+    tgt = np.array(target, dtype=np.int64)
+    return PositionScan(np.zeros(len(tgt), dtype=np.int64), pts, tgt), tgt
+
+
+def test_detections_localise_a_target_for_the_guidance(network: RoadNetwork) -> None:
+    """Repeated fixes of a target under the UAV make one filter target a live track (a birth
+    credited to the true target, its MAP peak on it, an association counted valid); the bank is
+    a BeliefBank the guidance view accepts, and the searched footprint scores below the rest."""
+    sc = scenario()
+    belief = RBPFMissionBelief(sc, network)
+    assert len(belief.bank) == 0 and isinstance(belief.bank, BeliefBank)
+    np.testing.assert_allclose(belief.field.node_score(), 0.0)
+    truth = np.array([[150.0, 100.0], [300.0, 300.0]])
+    uav = np.array([[150.0, 110.0]])
+    record = Recorder(sc, network, uav, truth)
+    detected = np.zeros(2, dtype=bool)
+    first = np.full(2, np.nan)
+    valid = 0
+    for k in range(6):
+        scan, target = _scan([[151.0, 100.0 + k]], [0])
+        pairs, n_valid, n_false = belief.filter(scan, target, uav, truth, 0.3 * (k + 1),
+                                                detected, first, record, StepTimes())
+        valid += n_valid
+        assert len(pairs) == n_valid + n_false
+        belief.predict(0.3)
+    assert len(belief.bank) == 1 and isinstance(belief.bank[0], TrackBelief)
+    assert np.linalg.norm(belief.peaks_xy[0] - truth[0]) < sc.valid_distance_m
+    assert valid >= 1
+    births = record.finish(belief.field.as_likelihood_field(), belief.bank, first).births
+    assert [b.target for b in births] == [0]
+    score = belief.field.node_score()
+    under = network.nodes_within(uav, 60.0)[1]
+    assert score[under].max() < np.median(score)
+    uavs = UavState(uav[:, 0], uav[:, 1], np.zeros(1), np.full(1, 30.0))
+    seen = belief.view(uavs, 1.8)
+    assert isinstance(seen, GuidanceView) and len(seen.bank) == 1
+
+
+def test_detect_mode_keeps_no_tracks_and_credits_the_target(network: RoadNetwork) -> None:
+    """In detect mode a localised target is credited (detected, first detection time) and the
+    bank stays empty, as the thesis's detect-mode trackers are dropped at birth."""
+    sc = scenario(mode="detect")
+    belief = RBPFMissionBelief(sc, network)
+    truth = np.array([[150.0, 100.0], [300.0, 300.0]])
+    uav = np.array([[150.0, 110.0]])
+    record = Recorder(sc, network, uav, truth)
+    detected = np.zeros(2, dtype=bool)
+    first = np.full(2, np.nan)
+    for k in range(4):
+        scan, target = _scan([[150.0, 101.0]], [0])
+        belief.filter(scan, target, uav, truth, 0.3 * (k + 1), detected, first, record,
+                      StepTimes())
+    assert detected.tolist() == [True, False] and math.isfinite(first[0])
+    assert len(belief.bank) == 0 and belief.peaks_xy.shape == (0, 2)
