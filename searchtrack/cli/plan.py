@@ -1,21 +1,18 @@
 """``searchtrack plan FAMILY PROBLEM.json --out PLAN.json``: one planning problem read from JSON,
 solved by a backend of its family, summarised in a table and written as PLAN.json.
 
-Families live in :mod:`searchtrack.sim.jobs` (one module each, imported only when its
-command runs); their formats are in each module's docstring. PLAN.json has the top-level fields
-of ``searchtrack optw solve --json`` (``instance``, ``backend``, ``status``, ``objective``,
-``bound``, ``gap``, ``runtime_s``, ``message``) plus ``family`` and the family's ``plan``
-object (``null`` without a plan).
+Families are the modules of :mod:`searchtrack.sim.jobs` (each a
+:class:`~searchtrack.sim.jobs.PlanJob`); their formats are in each module's docstring. PLAN.json has
+the top-level fields of ``searchtrack optw solve --json`` (``instance``, ``backend``, ``status``,
+``objective``, ``bound``, ``gap``, ``runtime_s``, ``message``) plus ``family`` and the family's
+``plan`` object (``null`` without a plan).
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib
-import importlib.util
 import json
 from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 from rich.console import Console
@@ -28,30 +25,20 @@ from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.files import write_text_atomic
 from searchtrack.core.registry import MAX_SEED, Registry
 from searchtrack.core.result import Result, Status
-
-#: Family name → module implementing the interface of :mod:`searchtrack.sim.jobs`.
-FAMILIES: dict[str, str] = {
-    "assign": "searchtrack.sim.jobs.assign",
-    "associate": "searchtrack.sim.jobs.associate",
-    "route": "searchtrack.sim.jobs.route",
-    "search": "searchtrack.sim.jobs.search",
-    "trajectory": "searchtrack.sim.jobs.trajectory",
-}
-
+from searchtrack.sim import jobs
 
 #: The rows of the result table, as ``optw solve`` prints them.
 SUMMARY_KEYS = ("backend", "status", "objective", "bound", "gap", "runtime_s")
 
 
 def available_families() -> list[str]:
-    """The registered families whose module is installed."""
-    return [name for name, module in FAMILIES.items()
-            if importlib.util.find_spec(module) is not None]
+    """The families: the modules of :mod:`searchtrack.sim.jobs`."""
+    return jobs.families()
 
 
-def family_module(name: str) -> ModuleType:
+def family_module(name: str) -> jobs.PlanJob:
     """The module of family ``name``, imported now."""
-    return importlib.import_module(FAMILIES[name])
+    return jobs.load(name)
 
 
 #: One-line help of each installed family: its module's ``DESCRIPTION``.
@@ -130,7 +117,7 @@ def plan_command(args: argparse.Namespace, console: Console) -> int:
         raise SearchtrackError(f"--backend {args.backend!r}: unknown {args.family} backend; "
                                f"choose one of {names}")
     problem = module.read_problem(Path(args.problem))
-    ready_kernels(console, getattr(module, "KERNELS", ()))
+    ready_kernels(console, module.KERNELS)
     with console.status(f"solving {args.family} problem {Path(args.problem).name} with "
                         f"{args.backend} ({args.time_limit:g} s)"):
         result: Result[Any] = module.solve(problem, backend=args.backend,
@@ -156,7 +143,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     for name in available_families():
         p = psub.add_parser(name, help=HELP.get(name, name),
                             description=f"{name}: {HELP.get(name, name)} (format: module "
-                            f"{FAMILIES[name]})")
+                            f"searchtrack.sim.jobs.{name})")
         p.add_argument("problem", metavar="PROBLEM.json",
                        help=f"the problem (example: examples/problems/{name}.json)")
         p.add_argument("--out", required=True, metavar="PLAN.json", help="where to write the plan")

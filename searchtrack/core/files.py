@@ -145,16 +145,27 @@ def read_text(path: str | Path, *, max_bytes: int = MAX_INPUT_BYTES) -> str:
                          f"{data[exc.start:exc.start + 1]!r})") from None
 
 
+def _umask() -> int:
+    """The process's file-creation mask (read by setting it and restoring it at once)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | Path) -> Iterator[Path]:
-    """A temporary path beside ``path`` to write to (its folder made if missing); renamed onto
-    ``path`` (atomically, on the same file system) when the block ends, removed if it raises.
+    """A temporary path beside ``path`` to write to (its folder made if missing), with the mode a
+    new file gets under the user's umask; renamed onto ``path`` (atomically, on the same file
+    system) when the block ends, removed if it raises.
     A reader never sees a half-written file; an interrupted write leaves the old file (or none).
     """
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
     fd, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=target.parent)
-    os.close(fd)
+    try:
+        os.fchmod(fd, 0o666 & ~_umask())   # mkstemp's 0600 would leak into the output
+    finally:
+        os.close(fd)
     temp = Path(name)
     try:
         yield temp

@@ -10,7 +10,7 @@ from typing import Any
 import pytest
 
 from searchtrack.cli import main
-from searchtrack.cli.plan import FAMILIES, available_families
+from searchtrack.cli.plan import available_families
 
 EXAMPLES = Path(__file__).parents[2] / "examples" / "problems"
 FIELDS = ("family", "instance", "backend", "status", "objective", "bound", "gap", "runtime_s",
@@ -25,9 +25,10 @@ BREAK: dict[str, tuple[str, Any]] = {
 PRESENT = available_families()
 
 
-def test_assign_is_registered() -> None:
-    """The assign family is present, and every present family is in the registry."""
-    assert "assign" in PRESENT and set(PRESENT) <= set(FAMILIES)
+def test_every_family_is_present() -> None:
+    """The families are the modules of searchtrack.sim.jobs, each with an example problem."""
+    assert PRESENT == ["assign", "associate", "route", "search", "trajectory"]
+    assert all((EXAMPLES / f"{family}.json").is_file() for family in PRESENT)
 
 
 @pytest.mark.parametrize("family", PRESENT)

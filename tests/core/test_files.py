@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import bz2
+import os
 from pathlib import Path
 
 import pytest
 
 from searchtrack.core.errors import ParseError
-from searchtrack.core.files import open_input, read_json, read_text
+from searchtrack.core.files import open_input, read_json, read_text, write_text_atomic
 
 
 def test_plain_and_bzip2_text_read_alike(tmp_path: Path) -> None:
@@ -70,3 +71,17 @@ def test_read_json_reads_a_value(tmp_path: Path) -> None:
     path = tmp_path / "good.json"
     path.write_text('{"a": [1, 2.5]}', encoding="utf-8")
     assert read_json(path) == {"a": [1, 2.5]}
+
+
+@pytest.mark.parametrize("mask", [0o022, 0o077, 0o002])
+def test_atomic_writes_follow_the_umask(tmp_path: Path, mask: int) -> None:
+    """An output gets the mode of any new file under the user's umask, not mkstemp's 0600; the
+    umask itself is left as it was."""
+    old = os.umask(mask)
+    try:
+        out = write_text_atomic(tmp_path / "sub" / "out.txt", "x")
+        assert os.umask(mask) == mask
+    finally:
+        os.umask(old)
+    assert out.stat().st_mode & 0o777 == 0o666 & ~mask
+    assert out.read_text() == "x" and [p.name for p in out.parent.iterdir()] == ["out.txt"]

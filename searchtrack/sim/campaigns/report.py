@@ -14,8 +14,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from searchtrack.core.files import atomic_path
 from searchtrack.sim.campaigns.stats import Estimate, estimate
+from searchtrack.sim.figure_style import DPI, pyplot, save_png
 
 Row = Mapping[str, Any]
 
@@ -81,17 +81,14 @@ def plot_metric(summaries: Sequence[GroupSummary], metric: str, path: Path, *,
                 x_key: str, unit: str = "", title: str = "") -> Path:
     """``metric`` (mean with its 95 % CI band) against the parameter ``x_key``, one line per
     value of the other parameters; written atomically as PNG."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     lines: dict[str, list[tuple[Any, Estimate]]] = {}
     for s in summaries:
         params = dict(s.params)
         rest = ", ".join(f"{k}={v}" for k, v in s.params if k != x_key) or metric
         lines.setdefault(rest, []).append((params.get(x_key), s.metrics[metric]))
-    fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=110)
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=DPI)
     for label, points in lines.items():
         points = [(x, e) for x, e in points if e.n > 0]
         if not points:
@@ -110,17 +107,6 @@ def plot_metric(summaries: Sequence[GroupSummary], metric: str, path: Path, *,
     if len(lines) > 1:
         ax.legend(fontsize=7)
     return save_png(fig, path)
-
-
-def save_png(fig: Any, path: Path) -> Path:
-    """Lay out ``fig``, write it to ``path`` as PNG (atomically) and close it."""
-    import matplotlib.pyplot as plt
-
-    fig.tight_layout()
-    with atomic_path(path) as temp:
-        fig.savefig(temp, format="png")
-    plt.close(fig)
-    return path
 
 
 #: What the papers claim, by experiment (and mode): printed beside the measured table.

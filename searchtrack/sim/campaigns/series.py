@@ -18,8 +18,9 @@ from typing import Any
 import numpy as np
 
 from searchtrack.core.types import FloatArray
-from searchtrack.sim.campaigns.report import group_order, save_png
+from searchtrack.sim.campaigns.report import group_order
 from searchtrack.sim.campaigns.stats import t_half_width
+from searchtrack.sim.figure_style import DPI, pyplot, save_png
 
 Row = Mapping[str, Any]
 
@@ -93,12 +94,9 @@ def plot_series(summaries: Sequence[SeriesSummary], path: Path, *, step: float =
                 references: Mapping[str, float] | None = None) -> Path:
     """Each group's mean with its 95 % band against time (sample ``i`` at ``(i + 1)·step``),
     with horizontal reference lines; written atomically as PNG."""
-    import matplotlib
+    plt = pyplot()
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=110)
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=DPI)
     for s in summaries:
         t = step * (np.arange(s.mean.size) + 1)
         ax.plot(t, s.mean, label=f"{s.label} ({s.runs} runs)")

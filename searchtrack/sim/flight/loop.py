@@ -14,7 +14,6 @@ from __future__ import annotations
 import logging
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -33,6 +32,7 @@ from searchtrack.plan.trajectory import (
     TrackingWeights,
     solve,
 )
+from searchtrack.sim.figure_style import pyplot, save_png
 
 log = logging.getLogger("searchtrack.sim.flight.loop")
 
@@ -253,20 +253,11 @@ def _vector(name: str, value: tuple[float, ...] | None, size: int) -> FloatArray
     return np.asarray(arr, dtype=np.float64)
 
 
-def _pyplot() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def plot_flight(flight: FlightLog, path: str | Path, obstacles: Obstacles | None = None,
                 *, title: str = "") -> Path:
     """Top view of the flown path beside the reference (obstacles as circles), saved as a PNG;
     a 3-D flight gets a second panel, altitude against time (``−down`` for the NED ``uav7``)."""
-    plt = _pyplot()
+    plt = pyplot()
     out = Path(path)
     pos = flight.states[:, list(flight.model.position_indices)]
     three_d = pos.shape[1] == 3
@@ -293,8 +284,7 @@ def plot_flight(flight: FlightLog, path: str | Path, obstacles: Obstacles | None
             side.set_xlabel("time (s)")
             side.set_ylabel("altitude (m)")
             side.legend(loc="best")
-        fig.tight_layout()
-        fig.savefig(out, dpi=100)
-    finally:
+    except BaseException:
         plt.close(fig)
-    return out
+        raise
+    return save_png(fig, out, dpi=100)

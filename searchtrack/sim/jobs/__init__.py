@@ -1,13 +1,87 @@
-"""Plan families of ``searchtrack plan FAMILY PROBLEM.json``: one module per family.
+"""Plan families of ``searchtrack plan FAMILY PROBLEM.json``: one module per family, each a
+:class:`PlanJob`.
 
-Each module exposes the same small interface, which :mod:`searchtrack.cli.plan` calls:
-
-- ``FAMILY`` (the name on the command line) and ``DESCRIPTION`` (one line for ``--help``);
-- ``backends() -> list[str]``: the backend names of the family's registry, ``"auto"`` first;
-- ``read_problem(path)``: the validated problem, or a
-  :class:`~searchtrack.core.errors.ParseError` naming the file and the dotted JSON key;
-- ``solve(problem, *, backend, time_limit_s, seed) -> Result``;
-- ``plan_json(problem, result) -> dict``: the family's ``"plan"`` object of PLAN.json (called
-  only when the result carries a plan);
-- ``figure(problem, result, path) -> Path | None``: an optional PNG of the plan.
+A family is a module of this package; its name is the module's name (``assign``, ``associate``,
+``route``, ``search``, ``trajectory``). :func:`families` lists them, :func:`load` imports one and
+checks that it has the interface :mod:`searchtrack.cli.plan` calls. Adding a family is one module
+here (and its solver family under :mod:`searchtrack.plan`): the command line, its ``--help`` and
+backend choices follow from the module.
 """
+
+from __future__ import annotations
+
+import importlib
+import pkgutil
+from pathlib import Path
+from types import ModuleType
+from typing import Any, Protocol, cast, runtime_checkable
+
+from searchtrack.core.registry import Registry
+from searchtrack.core.result import Result
+
+
+@runtime_checkable
+class PlanJob(Protocol):
+    """What a ``plan`` family module provides (a module satisfies this protocol).
+
+    Attributes
+    ----------
+    DESCRIPTION
+        One line for ``--help``.
+    BACKENDS
+        The family's solver registry (its validator checks every answer).
+    KERNELS
+        The compiled kernel sets a solve may need (:mod:`searchtrack.sim.kernels`), warmed up
+        before solving.
+    """
+
+    DESCRIPTION: str
+    BACKENDS: Registry[Any, Any]
+    KERNELS: tuple[str, ...]
+
+    def backends(self) -> list[str]:
+        """The backend names of :attr:`BACKENDS` as ``--backend`` offers them, ``"auto"`` first."""
+        ...
+
+    def read_problem(self, path: str | Path) -> Any:
+        """The validated problem, or a :class:`~searchtrack.core.errors.ParseError` naming the
+        file and the dotted JSON key."""
+        ...
+
+    def solve(self, problem: Any, *, backend: str, time_limit_s: float,
+              seed: int) -> Result[Any]:
+        """The problem solved by ``backend`` within ``time_limit_s``."""
+        ...
+
+    def plan_json(self, problem: Any, result: Result[Any]) -> dict[str, Any]:
+        """The family's ``"plan"`` object of PLAN.json (called only when there is a plan)."""
+        ...
+
+    def figure(self, problem: Any, result: Result[Any], path: Path) -> Path | None:
+        """A PNG of the plan at ``path``, or ``None`` when there is nothing to draw."""
+        ...
+
+
+def families() -> list[str]:
+    """The family names: the modules of this package, sorted."""
+    return sorted(m.name for m in pkgutil.iter_modules(__path__) if not m.name.startswith("_"))
+
+
+def load(name: str) -> PlanJob:
+    """The module of family ``name``, imported now.
+
+    Raises
+    ------
+    KeyError
+        ``name`` is not a family.
+    TypeError
+        The module lacks part of the :class:`PlanJob` interface.
+    """
+    if name not in families():
+        raise KeyError(name)
+    module: ModuleType = importlib.import_module(f"{__name__}.{name}")
+    if not isinstance(module, PlanJob):
+        missing = [a for a in ("DESCRIPTION", "BACKENDS", "KERNELS", "backends", "read_problem",
+                               "solve", "plan_json", "figure") if not hasattr(module, a)]
+        raise TypeError(f"plan family module {module.__name__} lacks {missing}")
+    return cast(PlanJob, module)

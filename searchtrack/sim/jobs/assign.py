@@ -39,7 +39,9 @@ from searchtrack.core.result import Result
 from searchtrack.estimate.particle_belief import WeightedParticles
 from searchtrack.models.footprint import GaussianFieldOfView
 from searchtrack.plan.assign import (
-    BACKENDS,
+    BACKENDS as BACKENDS,
+)
+from searchtrack.plan.assign import (
     Assignment,
     AssignmentProblem,
     ExpectedDetections,
@@ -47,9 +49,10 @@ from searchtrack.plan.assign import (
     Objective,
 )
 from searchtrack.plan.assign import solve as solve_assignment
+from searchtrack.sim.kernels import kernels_of
 
-FAMILY = "assign"
 DESCRIPTION = "one candidate action per UAV on a particle belief (paper 003)"
+KERNELS = kernels_of(BACKENDS)
 
 #: Largest PROBLEM.json read (bytes).
 MAX_PROBLEM_BYTES = 32 * 2**20
@@ -222,12 +225,9 @@ def plan_json(problem: AssignJob, result: Result[Assignment]) -> dict[str, Any]:
 def figure(problem: AssignJob, result: Result[Assignment], path: Path) -> Path | None:
     """PNG of the particles (area ∝ weight), the UAVs, every candidate action (faint) and the
     chosen ones."""
-    import matplotlib
+    from searchtrack.sim.figure_style import pyplot, save_png
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from searchtrack.sim.campaigns.report import save_png
+    plt = pyplot()
 
     prob = problem.problem
     fig, ax = plt.subplots(figsize=(6.0, 6.0))

@@ -42,7 +42,8 @@ import numpy as np
 from searchtrack.core.files import read_json
 from searchtrack.core.result import Result
 from searchtrack.core.types import FloatArray
-from searchtrack.estimate.association import BACKENDS, Association
+from searchtrack.estimate.association import BACKENDS as BACKENDS
+from searchtrack.estimate.association import Association
 from searchtrack.estimate.emd_association import EMDAssociator
 from searchtrack.estimate.emd_matrix import EMD_MATRIX_BACKENDS
 from searchtrack.estimate.node_tracker import (
@@ -54,7 +55,6 @@ from searchtrack.models.roads import RoadNetwork
 from searchtrack.sim.kernels import kernels_of
 from searchtrack.sim.road_particles.track_job import FieldReader, read_map
 
-FAMILY = "associate"
 DESCRIPTION = "pair trackers with detections on a road map by gated EMD (thesis 001)"
 
 KERNELS = kernels_of(EMD_MATRIX_BACKENDS)
@@ -240,12 +240,9 @@ def plan_json(problem: AssociateJob, result: Result[AssociationPlan]) -> dict[st
 def figure(problem: AssociateJob, result: Result[AssociationPlan], path: Path) -> Path | None:
     """PNG of the roads, each tracker's node masses (area ∝ probability), the detections and a
     line from each paired tracker's peak node to its detection, labelled with the EMD."""
-    import matplotlib
+    from searchtrack.sim.figure_style import pyplot, save_png
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from searchtrack.sim.campaigns.report import save_png
+    plt = pyplot()
 
     if result.plan is None:
         return None

@@ -46,14 +46,14 @@ from searchtrack.core.result import Result
 from searchtrack.core.types import FloatArray
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.guidance.reacquire import reacquisition_instance
-from searchtrack.plan.optw import BACKENDS, OPTWInstance, Routes
+from searchtrack.plan.optw import BACKENDS as BACKENDS
+from searchtrack.plan.optw import OPTWInstance, Routes
 from searchtrack.plan.optw import solve as solve_optw
 from searchtrack.plan.optw.routes import schedule
 from searchtrack.sim.kernels import kernels_of
 from searchtrack.sim.particles.track_job import MAX_DISTANCE_M
 from searchtrack.sim.road_particles.track_job import FieldReader, read_map
 
-FAMILY = "route"
 DESCRIPTION = "one UAV's OPTW route over tracker beliefs on roads, as reacquisition (thesis 001)"
 
 KERNELS = kernels_of(BACKENDS)
@@ -217,12 +217,9 @@ def plan_json(problem: RouteJob, result: Result[Routes]) -> dict[str, Any]:
 
 def figure(problem: RouteJob, result: Result[Routes], path: Path) -> Path | None:
     """PNG of the roads, the nodes' scores (area ∝ score), the OPTW candidates and the route."""
-    import matplotlib
+    from searchtrack.sim.figure_style import pyplot, save_png
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from searchtrack.sim.campaigns.report import save_png
+    plt = pyplot()
 
     net = problem.network
     plan = plan_json(problem, result)

@@ -49,7 +49,9 @@ import numpy as np
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.result import Result
 from searchtrack.plan.search import (
-    BACKENDS,
+    BACKENDS as BACKENDS,
+)
+from searchtrack.plan.search import (
     CentreProbability,
     EmptyHorizonMI,
     ExplorationBonus,
@@ -66,9 +68,10 @@ from searchtrack.sim.jobs.assign import (
     read_belief,
     read_sensor,
 )
+from searchtrack.sim.kernels import kernels_of
 
-FAMILY = "search"
 DESCRIPTION = "one exploration + refinement receding-horizon search step (paper 004)"
+KERNELS = kernels_of(BACKENDS)
 
 #: Largest exploration grid (points) a problem may ask for.
 MAX_GRID_POINTS = 2_000_000
@@ -219,12 +222,9 @@ def plan_json(problem: SearchJob, result: Result[SearchPlan]) -> dict[str, Any]:
 def figure(problem: SearchJob, result: Result[SearchPlan], path: Path) -> Path | None:
     """PNG, top view: the exploration bonus at the UAV's altitude (shaded), the particles (area ∝
     weight), the centres, the poses visited and the planned sequence."""
-    import matplotlib
+    from searchtrack.sim.figure_style import pyplot, save_png
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from searchtrack.sim.campaigns.report import save_png
+    plt = pyplot()
 
     prob = problem.problem
     fig, ax = plt.subplots(figsize=(6.0, 6.0))

@@ -58,12 +58,14 @@ from searchtrack.core.registry import check_seed
 from searchtrack.core.result import Result, Sense, Status
 from searchtrack.core.types import FloatArray
 from searchtrack.models.vehicles import VehicleModel, fixed_wing, uav7, unicycle
-from searchtrack.plan.trajectory import BACKENDS, Obstacles, SampledPath, waypoint_path
+from searchtrack.plan.trajectory import BACKENDS as BACKENDS
+from searchtrack.plan.trajectory import Obstacles, SampledPath, waypoint_path
 from searchtrack.sim.flight.loop import FlightConfig, FlightLog, fly
+from searchtrack.sim.kernels import kernels_of
 from searchtrack.sim.toml_fields import MAX_MAGNITUDE, Table
 
-FAMILY = "trajectory"
 DESCRIPTION = "fly a waypoint course past obstacles in closed loop (NMPC / LTV-MPC / closed form)"
+KERNELS = kernels_of(BACKENDS)
 
 VEHICLES: dict[str, Callable[[], VehicleModel]] = {
     "unicycle": unicycle, "fixed_wing": fixed_wing, "uav7": uav7}
@@ -335,13 +337,11 @@ def figure(problem: TrajectoryProblem, result: Result[FlightLog], path: Path) ->
     flight = result.plan
     if flight is None:
         return None
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.patches import Circle
 
-    from searchtrack.sim.campaigns.report import save_png
+    from searchtrack.sim.figure_style import pyplot, save_png
+
+    plt = pyplot()
 
     fig, ax = plt.subplots(figsize=(7, 6))
     try:

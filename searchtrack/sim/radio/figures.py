@@ -6,31 +6,21 @@ cardinality mean ± 3σ against the truth)."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from searchtrack.sim.campaigns.report import save_png
+from searchtrack.sim.figure_style import DPI, pyplot, save_png
 from searchtrack.sim.radio.mission import RadioMissionLog
-
-
-def _pyplot() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def plot_radio_map(log: RadioMissionLog, path: Path) -> Path:
     """The area with the UAV path, each object's true track (solid) and estimates (dots, same
     colour per label) and the r_min discs around the estimates at every planning instant."""
-    plt = _pyplot()
+    plt = pyplot()
     from matplotlib.patches import Circle
 
     sc = log.scenario
-    fig, ax = plt.subplots(figsize=(7.5, 7.0), dpi=110)
+    fig, ax = plt.subplots(figsize=(7.5, 7.0), dpi=DPI)
     colours = plt.get_cmap("tab10")
     truth = log.truth
     k = log.steps
@@ -66,8 +56,8 @@ def plot_radio_map(log: RadioMissionLog, path: Path) -> Path:
 
 def plot_radio_ospa(log: RadioMissionLog, path: Path) -> Path:
     """OSPA (p, c) and its parts against time; below, the cardinality mean ± 3σ and the truth."""
-    plt = _pyplot()
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.5, 6.0), dpi=110, sharex=True)
+    plt = pyplot()
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.5, 6.0), dpi=DPI, sharex=True)
     t = log.times_s
     c = log.config
     for col, name in enumerate(("OSPA", "localisation", "cardinality")):

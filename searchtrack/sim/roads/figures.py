@@ -4,32 +4,22 @@ paths (thesis Figs. 3.1, 4.2, 6.1), and MOC over time (Fig. 6.5)."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from searchtrack.core.files import atomic_path
+from searchtrack.sim.figure_style import DPI, pyplot, save_png
 from searchtrack.sim.roads.record import MissionLog
-
-
-def _pyplot() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def plot_map(mission: MissionLog, path: Path) -> Path:
     """Roads coloured by the final LRT field, tracker mass as heat, UAV and target paths."""
-    plt = _pyplot()
+    plt = pyplot()
     from matplotlib.collections import LineCollection
     from matplotlib.colors import TwoSlopeNorm
 
     net = mission.network
     xy = net.coords
-    fig, ax = plt.subplots(figsize=(9, 8), dpi=110)
+    fig, ax = plt.subplots(figsize=(9, 8), dpi=DPI)
     segments = xy[net.edges]
     ax.add_collection(LineCollection(list(segments), colors="0.8", linewidths=0.6, zorder=1))
     llr = mission.final_llr
@@ -70,17 +60,13 @@ def plot_map(mission: MissionLog, path: Path) -> Path:
         title += f", t = {mission.time_s[-1]:.1f} s"
     ax.set_title(title)
     ax.legend(loc="upper right", fontsize=7)
-    fig.tight_layout()
-    with atomic_path(path) as temp:
-        fig.savefig(temp, format="png", bbox_inches="tight")
-    plt.close(fig)
-    return path
+    return save_png(fig, path, tight_bbox=True)
 
 
 def plot_moc(mission: MissionLog, path: Path) -> Path:
     """MOC and the number of trackers over time."""
-    plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(7, 3.5), dpi=110)
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(7, 3.5), dpi=DPI)
     ax.plot(mission.time_s, mission.moc, label="MOC (valid trackers / targets)")
     ax.set_ylim(-0.02, 1.02)
     ax.set_xlabel("time (s)")
@@ -93,8 +79,4 @@ def plot_moc(mission: MissionLog, path: Path) -> Path:
     ax.set_title(f"{mission.scenario.name}: measure of completeness")
     handles = ax.get_legend_handles_labels()[0] + ax2.get_legend_handles_labels()[0]
     ax.legend(handles=handles, loc="best", fontsize=7)   # inside the axes: off the ticks
-    fig.tight_layout()
-    with atomic_path(path) as temp:
-        fig.savefig(temp, format="png")
-    plt.close(fig)
-    return path
+    return save_png(fig, path)

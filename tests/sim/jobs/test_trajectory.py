@@ -44,8 +44,8 @@ def _example() -> dict[str, Any]:
 
 
 def test_module_interface() -> None:
-    """The family exposes its name, a description and the controllers, ``auto`` first."""
-    assert trajectory.FAMILY == "trajectory" and trajectory.DESCRIPTION
+    """The family exposes a description and the controllers, ``auto`` first."""
+    assert trajectory.DESCRIPTION
     assert trajectory.backends()[0] == "auto"
     assert {"nmpc", "ltv_mpc", "closed_form"} <= set(trajectory.backends())
 
