@@ -26,6 +26,7 @@ from searchtrack.models import (
     random_network,
     read_osm,
 )
+from searchtrack.models.lrt_sensor import THESIS_ALTITUDES_M
 from searchtrack.plan.guidance.solve import BACKENDS as GUIDANCE_BACKENDS
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
 
@@ -327,8 +328,9 @@ class Scenario:
     map: MapSpec
     uav_count: int = 3
     target_count: int = 4
-    sensor: SensorModel = field(default_factory=lambda: SensorModel.at_altitude(457.2))
-    altitude_m: float | None = 457.2
+    sensor: SensorModel = field(
+        default_factory=lambda: SensorModel.at_altitude(THESIS_ALTITUDES_M[0]))
+    altitude_m: float | None = THESIS_ALTITUDES_M[0]
     limits: DubinsLimits = field(default_factory=DubinsLimits)
     uav_start: str = "random"
     courier: CourierModel = field(default_factory=CourierModel)

@@ -10,7 +10,7 @@ from pathlib import Path
 from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.core.files import read_text
 from searchtrack.models import CourierModel, DubinsLimits, SensorModel
-from searchtrack.models.lrt_sensor import AltitudeModel
+from searchtrack.models.lrt_sensor import THESIS_ALTITUDES_M, AltitudeModel
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
 from searchtrack.sim.roads.scenario import (
     ASSOCIATORS,
@@ -26,8 +26,6 @@ from searchtrack.sim.roads.scenario import (
     bundled_map,
 )
 from searchtrack.sim.toml_fields import Table
-
-MPS_PER_MPH = 0.44704
 
 #: Largest scenario file read (bytes).
 MAX_SCENARIO_BYTES = 2**20
@@ -49,20 +47,21 @@ def load_scenario(path: str | Path) -> Scenario:
     except tomllib.TOMLDecodeError as exc:
         raise ParseError(p, None, None, f"not valid TOML: {exc}") from None
     top = Table(data, p)
+    d = Scenario  # the defaults: the dataclass's own
     section = ""
     try:
         section = "map"
         map_spec = _map(top.table("map", required=True), p.parent)
         section = "uavs"
         uavs = top.table("uavs")
-        uav_count = uavs.integer("count", 3, minimum=1)
-        uav_start = uavs.string("start", "random", choices=STARTS)
+        uav_count = uavs.integer("count", d.uav_count, minimum=1)
+        uav_start = uavs.string("start", d.uav_start, choices=STARTS)
         limits = _limits(uavs)
         section = "sensor"
         sensor, altitude = _sensor(top.table("sensor"))
         section = "targets"
         targets = top.table("targets")
-        target_count = targets.integer("count", 4, minimum=1)
+        target_count = targets.integer("count", d.target_count, minimum=1)
         courier = _courier(targets)
         section = "filter"
         filt = _filter(top.table("filter"))
@@ -81,11 +80,11 @@ def load_scenario(path: str | Path) -> Scenario:
             courier=courier,
             filter=filt,
             guidance=guidance,
-            mode=top.string("mode", "track", choices=MODES),  # type: ignore[arg-type]
-            duration_s=top.number("duration_s", 60.0),
-            dt_s=top.number("dt_s", 0.3),
-            seed=top.integer("seed", 0),
-            valid_distance_m=top.number("valid_distance_m", 100.0),
+            mode=top.string("mode", d.mode, choices=MODES),  # type: ignore[arg-type]
+            duration_s=top.number("duration_s", d.duration_s),
+            dt_s=top.number("dt_s", d.dt_s),
+            seed=top.integer("seed", d.seed),
+            valid_distance_m=top.number("valid_distance_m", d.valid_distance_m),
         )
         top.done()
     except InvalidInputError as exc:
@@ -95,7 +94,7 @@ def load_scenario(path: str | Path) -> Scenario:
 
 
 def _map(t: Table, base: Path) -> MapSpec:
-    spacing = t.number("spacing_m", 10.0)
+    spacing = t.number("spacing_m", MapSpec.spacing_m)
     kinds = [k for k in ("osm", "grid", "random") if t.has(k)]
     if len(kinds) != 1:
         raise t.fail("osm", "give exactly one of 'osm', 'grid' or 'random'")
@@ -110,21 +109,25 @@ def _map(t: Table, base: Path) -> MapSpec:
     sub = t.table(kind)
     if kind == "grid":
         spec = MapSpec("grid", None, spacing, rows=sub.integer("rows", minimum=2),
-                       cols=sub.integer("cols", minimum=2), block_m=sub.number("block_m", 100.0))
+                       cols=sub.integer("cols", minimum=2),
+                       block_m=sub.number("block_m", MapSpec.block_m))
     else:
         spec = MapSpec("random", None, spacing, junctions=sub.integer("junctions", minimum=2),
-                       extent_m=sub.number("extent_m", 2000.0), map_seed=sub.integer("seed", 0))
+                       extent_m=sub.number("extent_m", MapSpec.extent_m),
+                       map_seed=sub.integer("seed", MapSpec.map_seed))
     sub.done()
     t.done()
     return spec
 
 
 def _limits(t: Table) -> DubinsLimits:
-    speed = t.number("speed_mps", 80.0 * MPS_PER_MPH)
+    d = DubinsLimits  # the defaults: the dataclass's own
+    speed = t.number("speed_mps", d.speed_max_mps)
     limits = DubinsLimits(
         speed_max_mps=speed,
         speed_min_mps=t.number("min_speed_mps", speed),
-        turn_rate_max_rps=math.radians(t.number("turn_rate_deg_s", 70.0)),
+        turn_rate_max_rps=math.radians(t.number("turn_rate_deg_s",
+                                                   math.degrees(d.turn_rate_max_rps))),
     )
     t.done()
     return limits
@@ -133,7 +136,7 @@ def _limits(t: Table) -> DubinsLimits:
 def _sensor(t: Table) -> tuple[SensorModel, float | None]:
     altitude = t.optional_number("altitude_m")
     fa = t.optional_number("false_alarms_per_scan")
-    cell = t.number("cell_radius_m", 20.0, minimum=0.0)
+    cell = t.number("cell_radius_m", SensorModel.cell_radius_m, minimum=0.0)
     if altitude is not None:
         for name in ("pd", "pf", "footprint_radius_m", "position_noise_m"):
             if t.has(name):
@@ -142,7 +145,7 @@ def _sensor(t: Table) -> tuple[SensorModel, float | None]:
         sensor = AltitudeModel().sensor(altitude, fa)
     elif not t.has("pd"):
         t.done()
-        altitude = 457.2
+        altitude = THESIS_ALTITUDES_M[0]   # the scenario default (1500 ft)
         sensor = AltitudeModel().sensor(altitude, fa)
     else:
         sensor = SensorModel(
@@ -157,12 +160,13 @@ def _sensor(t: Table) -> tuple[SensorModel, float | None]:
 
 
 def _courier(t: Table) -> CourierModel:
+    d = CourierModel  # the defaults: the dataclass's own
     model = CourierModel(
-        max_speed_mps=t.number("max_speed_mps", 50.0 * MPS_PER_MPH),
-        min_speed_fraction=t.number("min_speed_fraction", 0.5),
-        mean_drive_s=t.number("mean_drive_s", 60.0),
-        dwell_min_s=t.number("dwell_min_s", 5.0),
-        dwell_max_s=t.number("dwell_max_s", 30.0),
+        max_speed_mps=t.number("max_speed_mps", d.max_speed_mps),
+        min_speed_fraction=t.number("min_speed_fraction", d.min_speed_fraction),
+        mean_drive_s=t.number("mean_drive_s", d.mean_drive_s),
+        dwell_min_s=t.number("dwell_min_s", d.dwell_min_s),
+        dwell_max_s=t.number("dwell_max_s", d.dwell_max_s),
     )
     t.done()
     return model

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from searchtrack.core.errors import ParseError
-from searchtrack.sim.roads.scenario import FilterSpec, GuidanceSpec, bundled_map
+from searchtrack.sim.roads.scenario import FilterSpec, GuidanceSpec, MapSpec, Scenario, bundled_map
 from searchtrack.sim.roads.scenario_file import load_scenario
 from tests.sim.roads.scenario_text import GRID, write
 
@@ -211,3 +211,10 @@ def test_options_of_this_library_read_from_toml(tmp_path: Path) -> None:
     sc = load_scenario(write(tmp_path, text))
     assert (sc.filter.tracker_alpha, sc.filter.handover) == (0.894, True)
     assert sc.guidance.coverage_weight == 2.0
+
+
+def test_an_empty_file_gives_the_dataclass_defaults(tmp_path: Path) -> None:
+    """A file with only its map is the Scenario of that map with every default its own: the
+    reader states no default of its own (UAVs, targets, sensor, filter, guidance, timing)."""
+    s = load_scenario(write(tmp_path, 'name = "x"\n[map]\ngrid = { rows = 3, cols = 3 }\n'))
+    assert s == Scenario("x", MapSpec("grid", None, rows=3, cols=3))
