@@ -142,3 +142,18 @@ def test_importing_the_planners_loads_only_the_belief_seam() -> None:
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]
+
+
+def test_no_module_imports_another_modules_private_names() -> None:
+    """``from searchtrack.x import _name`` nowhere in the package: what one module shares with
+    another is public (a leading underscore means "this module only")."""
+    offenders = []
+    for path in SOURCES:
+        tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and (node.level or (node.module or "")
+                                                    .startswith("searchtrack")):
+                offenders += [f"{path.relative_to(PACKAGE.parent)}:{node.lineno} {a.name}"
+                              for a in node.names
+                              if a.name.startswith("_") and not a.name.startswith("__")]
+    assert not offenders, offenders
