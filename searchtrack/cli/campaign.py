@@ -132,8 +132,7 @@ def report(args: argparse.Namespace, console: Console) -> int:
         definition = store.experiment
         name = store.campaign
         metrics = store.metrics
-    result = build_report(name, definition.name, [p.name for p in definition.params],
-                          list(metrics), rows)
+    result = build_report(name, definition, list(metrics), rows)
     table = Table(title=f"{name} ({definition.name}): mean ± 95 % CI over seeds")
     cells = table_rows(list(result.groups), list(result.metrics))
     for col in cells[0]:
@@ -145,7 +144,7 @@ def report(args: argparse.Namespace, console: Console) -> int:
         console.print(f"claim: {result.claim}")
     if folder is not None:
         written = write_figures(result, folder) + write_series_figures(
-            name, definition.name, result.group_keys, rows, list(metrics), folder)
+            name, definition, result.group_keys, rows, list(metrics), folder)
         console.print("wrote " + (", ".join(str(p) for p in written) or "no figure (nothing "
                                   "varies)"))
     return 0

@@ -1,5 +1,5 @@
-"""Campaign reports: mean ± 95 % CI of every metric by group, the paper's claim beside it, and
-figures with CI bands.
+"""Campaign reports: mean ± 95 % CI of every metric by group, the paper's claim beside it (as
+its experiment states it), and figures with CI bands.
 
 Works on plain rows (one ``dict`` per run, as the results store returns them): the group of a row
 is its parameter values (every grid key), the seeds are the samples. Only rows with status
@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from searchtrack.sim.campaigns.experiments import Experiment
 from searchtrack.sim.campaigns.stats import Estimate, estimate
 from searchtrack.sim.figure_style import DPI, pyplot, save_png
 
@@ -109,28 +110,6 @@ def plot_metric(summaries: Sequence[GroupSummary], metric: str, path: Path, *,
     return save_png(fig, path)
 
 
-#: What the papers claim, by experiment (and mode): printed beside the measured table.
-CLAIMS: dict[str, str] = {
-    "mission/detect": "thesis §6.1, Fig. 6.3: the time to detect all targets falls as UAVs are "
-                      "added",
-    "mission/track": "thesis §6.2, Figs. 6.6–6.13: loiter ≥ search-and-loiter on MOC; PVT ≈ 97 %; "
-                     "MOC ≈ 25 % at 1 UAV / 4 targets, ≈ 100 % at 3 UAVs / 2 targets",
-    "phd_tracking_scenario": "SMC-PHD on the standard scenario: OSPA (p = 1, c = 100 m) well "
-                             "below the cut-off once the targets are born",
-    "phd_tracking_episode": "paper 003: greedy END tracks the most targets with the lowest "
-                            "entropy per target; MI the fewest; the lawnmower the highest entropy",
-    "road_tracking_episode": "paper 000, Fig. 11: the exhaustive RHC cuts the mean combined "
-                             "entropy to about 1/3 of the random planner's, RL to about 1/2; "
-                             "the ideal planner approaches the lower bound; RL beats the RHC "
-                             "early",
-    "radio_tracking_episode": "paper 002, Fig. 8: TBD below DTT in mean OSPA, the gap growing "
-                              "with noise; DTT's deficit mostly cardinality; Rényi and CS "
-                              "planning below the straight path; Rényi ≤ CS",
-    "phd_search_episode": "paper 004: exploration + refinement finds every target sooner than "
-                          "the lawnmower; refinement alone does not find them all",
-}
-
-
 @dataclass(frozen=True)
 class Report:
     """A campaign's report: what varies, the metrics, the grouped estimates and the claim."""
@@ -143,19 +122,18 @@ class Report:
     claim: str | None
 
 
-def build_report(name: str, experiment: str, param_names: Sequence[str],
-                 metric_names: Sequence[str], rows: Sequence[Row]) -> Report:
-    """Group ``rows`` by the parameters that take more than one value (the grid keys) and
-    estimate every numeric metric; the claim is looked up by experiment (and mode)."""
-    varying = tuple(p for p in param_names if len({_key(r.get(p)) for r in rows}) > 1)
+def build_report(name: str, experiment: Experiment, metric_names: Sequence[str],
+                 rows: Sequence[Row]) -> Report:
+    """Group ``rows`` by the parameters of ``experiment`` that take more than one value (the
+    grid keys) and estimate every numeric metric; the claim is the experiment's for these rows
+    (:meth:`~searchtrack.sim.campaigns.experiments.Experiment.claim_for`)."""
+    varying = tuple(p.name for p in experiment.params
+                    if len({_key(r.get(p.name)) for r in rows}) > 1)
     numeric = tuple(m for m in metric_names
                     if any(isinstance(r.get(m), (int, float)) and not isinstance(r.get(m), bool)
                            for r in rows))
-    modes = {r.get("mode") for r in rows}
-    claim = CLAIMS.get(f"{experiment}/{modes.pop()}" if len(modes) == 1 and None not in modes
-                       else experiment, CLAIMS.get(experiment))
-    return Report(name, experiment, varying, numeric,
-                  tuple(summarise(rows, varying, numeric)), claim)
+    return Report(name, experiment.name, varying, numeric,
+                  tuple(summarise(rows, varying, numeric)), experiment.claim_for(rows))
 
 
 def _key(value: Any) -> Any:

@@ -10,7 +10,7 @@ horizontal reference lines (a lower bound) where the experiment gives them.
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from searchtrack.core.types import FloatArray
+from searchtrack.sim.campaigns.experiments import Experiment
 from searchtrack.sim.campaigns.report import group_order
 from searchtrack.sim.campaigns.stats import t_half_width
 from searchtrack.sim.figure_style import DPI, pyplot, save_png
@@ -25,17 +26,6 @@ from searchtrack.sim.figure_style import DPI, pyplot, save_png
 Row = Mapping[str, Any]
 
 SERIES_SUFFIX = "_series"
-
-#: Sample spacing and axis label of each experiment's series.
-TIME_AXES: dict[str, tuple[float, str]] = {
-    "road_tracking_episode": (1.0, "time (s)"),
-}
-
-Reference = Callable[[Mapping[str, Any]], dict[str, float]]
-"""Given a group's parameters, the reference lines to draw (label → value)."""
-
-#: Reference lines by experiment (filled in by the modules that know them).
-REFERENCES: dict[str, Reference] = {}
 
 
 @dataclass(frozen=True)
@@ -112,25 +102,25 @@ def plot_series(summaries: Sequence[SeriesSummary], path: Path, *, step: float =
     return save_png(fig, path)
 
 
-def write_series_figures(name: str, experiment: str, group_keys: Sequence[str],
+def write_series_figures(name: str, experiment: Experiment, group_keys: Sequence[str],
                          rows: Sequence[Row], metrics: Sequence[str], folder: Path) -> list[Path]:
-    """One PNG per series metric of ``rows``: every group's mean and band over time, with the
-    experiment's reference lines (those of the first group; they are drawn when all groups
-    share them)."""
-    step, x_label = TIME_AXES.get(experiment, (1.0, "sample"))
+    """One PNG per series metric of ``rows``: every group's mean and band over the experiment's
+    time axis, with its reference lines (those of the first group; they are drawn when all
+    groups share them)."""
+    axis = experiment.time_axis
     out = []
     for metric in series_metrics(rows, metrics):
         summaries = summarise_series(rows, group_keys, metric)
         if not summaries:
             continue
         refs: dict[str, float] = {}
-        if experiment in REFERENCES:
-            per_group = [REFERENCES[experiment](_fixed(rows, group_keys) | dict(s.params))
+        if experiment.references is not None:
+            per_group = [experiment.reference_lines(_fixed(rows, group_keys) | dict(s.params))
                          for s in summaries]
             refs = per_group[0] if all(r == per_group[0] for r in per_group) else {}
         label = metric.removesuffix(SERIES_SUFFIX)
-        out.append(plot_series(summaries, folder / f"{name}-{metric}.png", step=step,
-                               x_label=x_label, y_label=label, references=refs,
+        out.append(plot_series(summaries, folder / f"{name}-{metric}.png", step=axis.step,
+                               x_label=axis.label, y_label=label, references=refs,
                                title=f"{name}: {label} over time (mean, 95 % CI)"))
     return out
 

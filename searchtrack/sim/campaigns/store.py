@@ -21,7 +21,8 @@ import duckdb
 
 from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.files import atomic_path, write_text_atomic
-from searchtrack.sim.campaigns.experiments import EXPERIMENTS, Experiment
+from searchtrack.sim.campaigns import experiments
+from searchtrack.sim.campaigns.experiments import Experiment
 
 log = logging.getLogger("searchtrack.sim.campaigns.store")
 
@@ -265,9 +266,9 @@ def open_existing(path: str | Path) -> ResultStore:
         Missing file, not a campaign database, or an experiment no longer registered.
     """
     name, experiment, _ = describe(path)
-    if experiment not in EXPERIMENTS:
+    if experiment not in experiments.EXPERIMENTS:
         raise StoreError(Path(path), f"experiment {experiment!r} is not registered")
-    return ResultStore(path, name, EXPERIMENTS[experiment])
+    return ResultStore(path, name, experiments.EXPERIMENTS[experiment])
 
 
 def utc_naive(moment: datetime) -> datetime:

@@ -1,23 +1,107 @@
-"""The registered experiments: typed parameters, declared metrics, runs that return them."""
+"""The experiment registry: typed parameters and defaults read from the configs, claims, and the
+discovery of every domain's experiment modules (a new experiment is one module and one TOML)."""
 
 from __future__ import annotations
 
-import math
+import importlib
+import subprocess
+import sys
+import textwrap
+from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 import pytest
 
-from searchtrack.core.errors import InvalidInputError, ParseError
-from searchtrack.sim.campaigns.experiments import EXPERIMENTS, Experiment, Param, get
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.sim.campaigns import experiments
+from searchtrack.sim.campaigns.experiments import (
+    EXPERIMENTS,
+    ClaimsBy,
+    Experiment,
+    ExperimentRegistry,
+    Param,
+    declared_default,
+    discover,
+    experiment_modules,
+    get,
+    is_experiment_module,
+)
+from searchtrack.sim.campaigns.report import build_report
+from searchtrack.sim.campaigns.runner import run_campaign
 from searchtrack.sim.campaigns.spec import read_spec
 
+#: Every experiment's parameters (name, type, default, minimum) and metrics: the columns and
+#: defaults of the campaign store's rows, which moving an experiment must not change.
+COLUMNS = {
+    "toy": ([("sleep_s", float, 0.0, None), ("fail", bool, False, None),
+             ("value", float, 1.0, None)], {"result": float, "seed_echo": int}),
+    "mission": ([("map", str, "grid-small", None), ("mode", str, "track", None),
+                 ("uavs", int, 3, None), ("targets", int, 4, None),
+                 ("strategy", str, "search_and_loiter", None), ("altitude_m", float, 457.2, None),
+                 ("duration_s", float, 60.0, None), ("tracker_alpha", float, 0.0, 0.0),
+                 ("handover", bool, True, None), ("coverage_weight", float, 0.0, 0.0)],
+                {"detected": int, "time_to_detect_all_s": float, "moc_mean": float,
+                 "moc_after_detection": float, "pvt": float, "pva": float}),
+    "phd_tracking_scenario": ([("n_targets", int, 10, None), ("n_scans", int, 100, None),
+                               ("burn_in", int, 20, None),
+                               ("particles_per_target", int, 400, None),
+                               ("clutter_rate", float, 10.0, None)],
+                              {"ospa_mean": float, "estimates_mean": float}),
+    "optw_instance": ([("instance", str, "c101", None), ("backend", str, "ils", None),
+                       ("time_limit_s", float, 1.0, None), ("vehicles", int, 1, None)],
+                      {"objective": float, "bound": float, "solve_status": str,
+                       "solve_s": float}),
+    "phd_search_episode": ([("planner", str, "proposed", None), ("horizon", int, 1, None),
+                            ("refinement", str, "centre", None), ("alpha", float, 1.0, None),
+                            ("max_steps", int, 0, None), ("adaptive_birth", bool, False, None),
+                            ("found_gate_sigmas", float, 4.0, 0.0), ("fov", str, "printed", None)],
+                           {"steps_to_find_all": int, "steps_capped": int, "targets_found": int,
+                            "found_by_step_250": int, "false_found": int, "rmse_m": float,
+                            "planner_ms": float, "filter_ms": float}),
+    "phd_tracking_episode": ([("planner", str, "end", None), ("motion", str, "gp", None),
+                              ("robots", int, 2, None), ("horizon", int, 2, None),
+                              ("steps", int, 60, None)],
+                             {"count_ratio": float, "entropy": float, "in_view": float,
+                              "ospa_m": float, "altitude_m": float, "planner_ms": float,
+                              "filter_ms": float}),
+    "road_tracking_episode": ([("planner", str, "exhaustive", None), ("map", str, "grid-3x3", None),
+                               ("targets", int, 2, None), ("uavs", int, 1, None),
+                               ("duration_s", float, 120.0, None), ("histories", int, 10, None),
+                               ("particles", int, 500, None), ("lookahead", int, 3, None),
+                               ("normalization", str, "sum", None)],
+                              {"mean_entropy": float, "early_entropy": float,
+                               "late_entropy": float, "error_m": float, "all_detected_s": float,
+                               "planner_ms": float, "filter_ms": float, "entropy_series": str}),
+    "radio_tracking_episode": ([("filter", str, "tbd", None), ("planner", str, "renyi", None),
+                                ("noise_std_v", float, 0.025, None), ("particles", int, 1000, None),
+                                ("plan_particles", int, 300, None), ("horizon", int, 3, None),
+                                ("headings", int, 8, None), ("backend", str, "exhaustive", None),
+                                ("measurement", str, "stft", None), ("keep_out", bool, False, None),
+                                ("p_void_min", float, 0.9, None),
+                                ("duration_s", float, 400.0, None)],
+                               {"mean_ospa_m": float, "mean_localisation_m": float,
+                                "mean_cardinality_m": float, "unsafe_fraction": float,
+                                "filter_ms": float, "planner_ms": float, "ospa_series": str}),
+}
 
-def _run(name: str, params: dict[str, object], seed: int = 1) -> dict[str, object]:
-    exp = get(name)
-    metrics = exp.run(exp.resolve(params), seed)
-    assert set(metrics) == set(exp.metrics)
-    return dict(metrics)
+#: Fixed choices (those not read from a backend registry).
+CHOICES = {
+    ("mission", "map"): ("aguascalientes", "West-Oakland", "grid-dense", "grid-small"),
+    ("mission", "mode"): ("track", "detect"),
+    ("optw_instance", "instance"): ("c101", "r101", "rc101", "pr01"),
+    ("phd_search_episode", "planner"): ("proposed", "refinement", "lawnmower"),
+    ("phd_search_episode", "horizon"): (1, 2, 3, 4, 5),
+    ("phd_search_episode", "refinement"): ("centre", "mi"),
+    ("phd_search_episode", "fov"): ("printed", "squared"),
+    ("phd_tracking_episode", "planner"): ("end", "mi", "lawnmower"),
+    ("phd_tracking_episode", "motion"): ("gp", "random_walk"),
+    ("road_tracking_episode", "map"): ("grid-3x3", "aguascalientes", "West-Oakland"),
+    ("road_tracking_episode", "normalization"): ("sum", "max"),
+    ("radio_tracking_episode", "filter"): ("tbd", "dtt"),
+    ("radio_tracking_episode", "planner"): ("renyi", "cs", "straight"),
+    ("radio_tracking_episode", "measurement"): ("stft", "time"),
+}
 
 
 def test_get_lists_the_registered_names() -> None:
@@ -25,6 +109,20 @@ def test_get_lists_the_registered_names() -> None:
     with pytest.raises(InvalidInputError, match=r"experiment='nope'.*toy"):
         get("nope")
     assert {"toy", "mission", "phd_tracking_scenario", "optw_instance"} <= set(EXPERIMENTS)
+
+
+def test_every_experiment_keeps_its_columns_and_defaults() -> None:
+    """Each experiment, wherever its module lives, has the parameters (name, type, default,
+    minimum, fixed choices) and metrics its campaign databases were written with."""
+    assert set(EXPERIMENTS) == set(COLUMNS)
+    for name, (params, metrics) in COLUMNS.items():
+        exp = get(name)
+        got = [(p.name, p.kind, p.default, p.minimum) for p in exp.params]
+        assert got == params, name
+        assert [type(p.default) for p in exp.params] == [kind for _, kind, _, _ in params], name
+        assert dict(exp.metrics) == metrics, name
+    for (name, param), choices in CHOICES.items():
+        assert get(name).param(param).choices == choices, (name, param)
 
 
 def test_resolve_checks_names_and_types() -> None:
@@ -47,212 +145,173 @@ def test_reserved_column_names_are_refused() -> None:
         Experiment("bad", (Param("seed", int, 0),), {"x": float}, lambda p, s: {"x": 0.0})
 
 
-def test_toy_returns_its_value_or_raises() -> None:
-    """The toy run returns its value, or raises when asked to fail."""
-    assert _run("toy", {"value": 3.5}, seed=4) == {"result": 3.5, "seed_echo": 4}
-    with pytest.raises(RuntimeError, match="on purpose"):
-        get("toy").run(get("toy").resolve({"fail": True}), 0)
+@dataclass(frozen=True)
+class _Config:
+    count: int = 3
+    rate: float = 0.5
+    label: str = "a"
+    on: bool = True
+    nothing: float | None = None
 
 
-@pytest.mark.parametrize("mode", ["track", "detect"])
-def test_mission_runs_on_the_small_grid(mode: str) -> None:
-    """A short mission on the small grid returns its detections and scores."""
-    metrics = _run("mission", {"mode": mode, "duration_s": 5.0, "uavs": 2, "targets": 2})
-    assert 0 <= int(metrics["detected"]) <= 2  # type: ignore[call-overload]
-    assert 0.0 <= float(metrics["moc_mean"]) <= 1.0  # type: ignore[arg-type]
+def _step(x: int, *, scale: float = 2.0) -> float:
+    return x * scale
 
 
-def test_phd_scenario_gives_a_finite_ospa() -> None:
-    """A short PHD scenario gives a finite mean OSPA within the cut-off."""
-    metrics = _run("phd_tracking_scenario", {"n_targets": 2, "n_scans": 12, "burn_in": 4,
-                                             "particles_per_target": 100})
-    assert 0.0 <= float(metrics["ospa_mean"]) <= 100.0  # type: ignore[arg-type]
-    with pytest.raises(InvalidInputError, match="burn_in"):
-        _run("phd_tracking_scenario", {"n_scans": 5, "burn_in": 5})
-
-
-def test_optw_instance_reports_the_solve() -> None:
-    """An OPTW run reports objective, status and solve time."""
-    metrics = _run("optw_instance", {"instance": "c101", "backend": "ils",
-                                     "time_limit_s": 0.1})
-    assert float(metrics["objective"]) > 0  # type: ignore[arg-type]
-    assert metrics["solve_status"] in ("FEASIBLE", "OPTIMAL")
-    assert math.isfinite(float(metrics["solve_s"]))  # type: ignore[arg-type]
-
-
-@pytest.mark.parametrize(("planner", "refinement"), [("proposed", "centre"),
-                                                     ("refinement", "mi"), ("lawnmower", "centre")])
-def test_search_episode_matches_the_direct_call(planner: str, refinement: str) -> None:
-    """A few steps of 004's closed-loop search give what ``run_search_episode`` gives for the
-    same configuration and seed (what the benchmark script builds)."""
-    from searchtrack.plan.search import CentreProbability, EmptyHorizonMI
-    from searchtrack.sim.particles.search import SearchConfig, run_search_episode
-
-    metrics = _run("phd_search_episode", {"planner": planner, "refinement": refinement,
-                                          "horizon": 2, "max_steps": 3}, seed=2)
-    direct = run_search_episode(SearchConfig(
-        planner=planner, horizon=2, max_steps=3, alpha=1.0,  # type: ignore[arg-type]
-        refinement=CentreProbability() if refinement == "centre" else EmptyHorizonMI()), 2)
-    assert metrics["steps_to_find_all"] is None  # 12 targets are not found in 3 steps
-    assert metrics["steps_capped"] == direct.steps_to_find_all == 4
-    assert metrics["targets_found"] == int(direct.found_per_step[-1])
-    assert metrics["found_by_step_250"] == int(direct.found_per_step[-1])
-    assert metrics["false_found"] == direct.false_found
-    rmse = metrics["rmse_m"]
-    assert (rmse is None and math.isnan(direct.rmse_m)) or rmse == direct.rmse_m
-    assert all(float(metrics[k]) >= 0.0 for k in ("planner_ms", "filter_ms"))  # type: ignore[arg-type]
-
-
-def test_search_episode_defaults_are_the_benchmark_defaults() -> None:
-    """Defaults: proposed planner, τ = 1, centre refinement, α = 1, cap = the lawnmower's
-    length (``max_steps = 0``, as ``benchmarks/phd_search_experiments.py``)."""
-    exp = get("phd_search_episode")
-    assert exp.resolve({}) == {"planner": "proposed", "horizon": 1, "refinement": "centre",
-                               "alpha": 1.0, "max_steps": 0, "adaptive_birth": False,
-                               "found_gate_sigmas": 4.0, "fov": "printed"}
-    with pytest.raises(InvalidInputError, match="horizon=6"):
-        exp.resolve({"horizon": 6})
-
-
-def test_search_birth_and_gate_options_are_checked(tmp_path: Path) -> None:
-    """``adaptive_birth`` must be a bool and ``found_gate_sigmas`` a number ≥ 0: bad values are
-    refused naming the parameter, in Python and in a campaign file (the dotted key)."""
-    exp = get("phd_search_episode")
-    for name, bad in [("adaptive_birth", 1), ("adaptive_birth", "yes"),
-                      ("found_gate_sigmas", -1.0), ("found_gate_sigmas", float("nan")),
-                      ("found_gate_sigmas", True), ("fov", "gaussian"), ("fov", 1)]:
+def test_param_of_takes_the_default_and_its_type_from_the_source() -> None:
+    """``Param.of`` reads a dataclass field's or a keyword's default and types the parameter by
+    it; a source without a plain default is refused naming the argument."""
+    assert Param.of(_Config, "count") == Param("count", int, 3)
+    assert Param.of(_Config, "rate", name="r", minimum=0.0) == Param("r", float, 0.5,
+                                                                       minimum=0.0)
+    assert Param.of(_Config, "label", choices=("a", "b")) == Param("label", str, "a", ("a", "b"))
+    assert Param.of(_Config, "on").kind is bool
+    assert Param.of(_step, "scale") == Param("scale", float, 2.0)
+    assert declared_default(_Config, "rate") == 0.5
+    for source, name in ((_Config, "nothing"), (_Config, "missing"), (_step, "x")):
         with pytest.raises(InvalidInputError) as info:
-            exp.resolve({name: bad})
+            Param.of(source, name)
         assert info.value.field == name
-    path = tmp_path / "bad.toml"
-    path.write_text('name = "b"\nexperiment = "phd_search_episode"\nseeds = [0]\n'
-                    '[settings]\nadaptive_birth = 1\n[grid]\nplanner = ["lawnmower"]\n',
+
+
+def _two_modes(claims: dict[str, str]) -> Experiment:
+    return Experiment("modes", (Param("mode", str, "a", ("a", "b")), Param("n", int, 1)),
+                      {"x": float}, lambda p, s: {"x": 0.0}, claim=ClaimsBy("mode", claims))
+
+
+def test_claims_by_a_parameter_are_the_shared_values() -> None:
+    """A claim per mode is the claim of the mode every row shares; mixed modes, no rows or a
+    mode without a claim give none; a claim keyed by an unknown parameter or value is refused."""
+    exp = _two_modes({"a": "claim A", "b": "claim B"})
+    assert exp.claims() == ("claim A", "claim B")
+    assert exp.claim_for([{"mode": "b", "n": 1}, {"mode": "b", "n": 2}]) == "claim B"
+    assert exp.claim_for([{"mode": "a"}, {"mode": "b"}]) is None
+    assert exp.claim_for([]) is None
+    assert _two_modes({"a": "claim A"}).claim_for([{"mode": "b"}]) is None
+    with pytest.raises(InvalidInputError, match="colour"):
+        Experiment("c", (Param("mode", str, "a"),), {"x": float}, lambda p, s: {"x": 0.0},
+                   claim=ClaimsBy("colour", {"red": "claim"}))
+    with pytest.raises(InvalidInputError, match="mode='c'"):
+        _two_modes({"c": "claim C"})
+    plain = Experiment("p", (), {"x": float}, lambda p, s: {"x": 0.0}, claim="one claim")
+    assert plain.claims() == ("one claim",) and plain.claim_for([]) == "one claim"
+    assert get("toy").claims() == () and get("toy").claim_for([{}]) is None
+
+
+def test_modules_are_named_experiment_experiments_or_experiment_something() -> None:
+    assert all(is_experiment_module(n) for n in ("a.experiment", "a.b.experiments",
+                                                 "a.experiment_toy"))
+    assert not any(is_experiment_module(n) for n in ("a.experimental", "a.my_experiment",
+                                                     "experiment.a"))
+
+
+def test_the_domains_experiment_modules_are_found() -> None:
+    """Every domain's experiment module is found, this registry module is not."""
+    assert experiment_modules("searchtrack.sim") == [
+        "searchtrack.sim.campaigns.experiment_builtin",
+        "searchtrack.sim.particles.experiments",
+        "searchtrack.sim.radio.experiment",
+        "searchtrack.sim.road_particles.experiment",
+        "searchtrack.sim.roads.experiment",
+    ]
+
+
+_NEW_EXPERIMENT = '''
+"""A domain's new experiment."""
+
+from searchtrack.sim.campaigns.experiments import Experiment, Param
+
+
+def doubled(params, seed):
+    return {"twice": 2.0 * params["x"], "seed_plus": seed + params["shift"]}
+
+
+EXPERIMENTS = (Experiment("doubling", (Param("x", float, 1.0), Param("shift", int, 0)),
+                          {"twice": float, "seed_plus": int}, doubled,
+                          claim="the new paper: twice as much"),)
+'''
+
+
+@pytest.fixture
+def new_domain(tmp_path: Path) -> Iterator[tuple[str, Path]]:
+    """A package ``newdomain_<n>`` on ``sys.path`` with a subpackage holding an experiment
+    module and a helper module; removed from ``sys.modules`` afterwards."""
+    root = f"newdomain_{abs(hash(tmp_path)) % 10**8}"
+    folder = tmp_path / root / "sub"
+    folder.mkdir(parents=True)
+    (tmp_path / root / "__init__.py").write_text("", encoding="utf-8")
+    (folder / "__init__.py").write_text("", encoding="utf-8")
+    (folder / "experiment.py").write_text(textwrap.dedent(_NEW_EXPERIMENT), encoding="utf-8")
+    (folder / "helpers.py").write_text("raise RuntimeError('not an experiment module')\n",
+                                       encoding="utf-8")
+    sys.path.insert(0, str(tmp_path))
+    try:
+        yield root, folder
+    finally:
+        sys.path.remove(str(tmp_path))
+        for name in [m for m in sys.modules if m == root or m.startswith(root + ".")]:
+            del sys.modules[name]
+
+
+def test_a_new_experiment_module_is_found(new_domain: tuple[str, Path]) -> None:
+    """A module named ``experiment`` in a new package is found and its experiments listed;
+    the package's other modules are not imported."""
+    root, _ = new_domain
+    assert experiment_modules(root) == [f"{root}.sub.experiment"]
+    registry = ExperimentRegistry((root,))
+    assert list(registry) == ["doubling"] and len(registry) == 1
+    assert registry["doubling"].run({"x": 2.0, "shift": 1}, 4) == {"twice": 4.0, "seed_plus": 5}
+    assert f"{root}.sub.helpers" not in sys.modules
+
+
+def test_a_new_experiment_is_one_module_and_one_toml(new_domain: tuple[str, Path],
+                                                     tmp_path: Path,
+                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    """With the new package searched beside the library's, a campaign file naming its
+    experiment runs into a results database and its report carries the module's claim."""
+    root, _ = new_domain
+    monkeypatch.setattr(experiments, "EXPERIMENTS", ExperimentRegistry((experiments.ROOT, root)))
+    path = tmp_path / "doubling.toml"
+    path.write_text('name = "d"\nexperiment = "doubling"\nseeds = [0, 1]\n[grid]\nx = [1, 3]\n',
                     encoding="utf-8")
-    with pytest.raises(ParseError) as err:
-        read_spec(path)
-    assert err.value.field == "settings.adaptive_birth"
-    path.write_text('name = "b"\nexperiment = "phd_search_episode"\nseeds = [0]\n[grid]\n'
-                    'found_gate_sigmas = [4.0, -2.0]\n', encoding="utf-8")
-    with pytest.raises(ParseError) as err:
-        read_spec(path)
-    assert str(err.value.field).startswith("grid") and "found_gate_sigmas" in str(err.value.field)
+    spec = read_spec(path)
+    summary = run_campaign(spec, tmp_path / "d.duckdb", workers=0)
+    assert (summary.ok, summary.failed) == (4, 0)
+    from searchtrack.sim.campaigns.store import open_existing
+
+    with open_existing(tmp_path / "d.duckdb") as store:
+        rows = store.rows()
+        report = build_report("d", store.experiment, list(store.metrics), rows)
+    assert sorted(r["twice"] for r in rows) == [2.0, 2.0, 6.0, 6.0]
+    assert report.group_keys == ("x",) and report.claim == "the new paper: twice as much"
+    assert "toy" in experiments.EXPERIMENTS
 
 
-def test_search_birth_and_gate_options_reach_the_loop(monkeypatch: pytest.MonkeyPatch) -> None:
-    """``adaptive_birth`` switches the filter to adaptive birth of mass 1 with ``T_m = 1``;
-    ``found_gate_sigmas`` is the found-target gate; ``fov = "squared"`` the Gaussian field of
-    view; the defaults are the loop's defaults."""
-    from dataclasses import replace
-
-    from searchtrack.sim.campaigns import experiments
-    from searchtrack.sim.particles.search import SearchConfig, run_search_episode
-
-    seen: list[SearchConfig] = []
-    real = run_search_episode
-
-    def spy(config: SearchConfig, seed: int):  # type: ignore[no-untyped-def]
-        seen.append(config)
-        return real(replace(config, max_steps=1), seed)
-
-    monkeypatch.setattr(experiments, "run_search_episode", spy)
-    common: dict[str, object] = {"planner": "lawnmower", "max_steps": 2}
-    _run("phd_search_episode", common)
-    _run("phd_search_episode", {**common, "adaptive_birth": True, "found_gate_sigmas": 0,
-                                "fov": "squared"})
-    default, switched = seen
-    loop = SearchConfig()
-    assert (default.phd, default.found) == (loop.phd, loop.found)
-    assert not default.sensor.squared and switched.sensor.squared
-    for sensor in (default.sensor, switched.sensor):  # only the norm changes
-        np.testing.assert_array_equal(sensor.fov_m, loop.sensor.fov_m)
-        assert sensor.gain == loop.sensor.gain
-    assert switched.phd == replace(loop.phd, adaptive_birth=True, birth_mass=1.0)
-    assert switched.found == replace(loop.found, mass=1.0, gate_sigmas=0.0)
+def test_experiment_modules_must_declare_their_experiments(new_domain: tuple[str, Path]) -> None:
+    """An experiment module without ``EXPERIMENTS`` and two experiments of one name are
+    refused naming the module or the name."""
+    root, folder = new_domain
+    (folder / "experiment_other.py").write_text(textwrap.dedent(_NEW_EXPERIMENT),
+                                                encoding="utf-8")
+    with pytest.raises(InvalidInputError, match="'doubling': declared twice"):
+        discover((root,))
+    (folder / "experiment_other.py").write_text("EXPERIMENT = None\n", encoding="utf-8")
+    del sys.modules[f"{root}.sub.experiment_other"]
+    importlib.invalidate_caches()
+    with pytest.raises(InvalidInputError, match=rf"{root}\.sub\.experiment_other\.EXPERIMENTS"):
+        discover((root,))
 
 
-@pytest.mark.parametrize(("planner", "motion"), [("end", "random_walk"), ("mi", "gp"),
-                                                 ("lawnmower", "random_walk")])
-def test_tracking_episode_matches_the_direct_call(planner: str, motion: str) -> None:
-    """A few steps of 003's closed loop give the tail means ``run_track_episode`` gives on
-    ``taxi_world`` for the same configuration and seed."""
-    from searchtrack.sim.particles.tracking import (
-        TrackConfig,
-        run_track_episode,
-        taxi_world,
-    )
-
-    metrics = _run("phd_tracking_episode", {"planner": planner, "motion": motion, "robots": 2,
-                                            "horizon": 1, "steps": 3}, seed=1)
-    cfg = TrackConfig(planner=planner, motion=motion, robots=2,  # type: ignore[arg-type]
-                      horizon=1, steps=3)
-    direct = run_track_episode(cfg, taxi_world(cfg, 1), 1)
-    for name in ("count_ratio", "entropy", "in_view", "ospa_m", "altitude_m"):
-        assert metrics[name] == direct.tail_mean(name), name
-    assert all(isinstance(metrics[k], float) for k in ("planner_ms", "filter_ms"))
-
-
-def test_tracking_episode_defaults_are_the_benchmark_defaults() -> None:
-    """Defaults: END, GP motion, 2 UAVs, T = 2, 60 steps (``phd_tracking_experiments.py``)."""
-    assert get("phd_tracking_episode").resolve({}) == {
-        "planner": "end", "motion": "gp", "robots": 2, "horizon": 2, "steps": 60}
-
-
-def test_road_tracking_episode_matches_the_direct_call() -> None:
-    """The campaign's paper-000 episode is :func:`run_road_tracking` with the same settings."""
-    import json
-
-    import numpy as np
-
-    from searchtrack.sim.road_particles.episode import (
-        PAPER_GRID,
-        RoadTrackingConfig,
-        run_road_tracking,
-    )
-
-    params = {"planner": "exhaustive", "duration_s": 20.0, "histories": 2, "particles": 100}
-    out = _run("road_tracking_episode", params, seed=3)
-    log = run_road_tracking(RoadTrackingConfig(map=PAPER_GRID, planner="exhaustive",
-                                               duration_s=20.0, histories=2, particles=100), 3)
-    assert np.allclose(json.loads(str(out["entropy_series"])), log.entropy, atol=1e-4)
-    assert out["mean_entropy"] == pytest.approx(log.mean_entropy)
-    assert out["error_m"] == pytest.approx(float(log.error_m.mean()))
-
-
-def test_mission_options_defaults_and_checks(tmp_path: Path) -> None:
-    """``tracker_alpha`` and ``coverage_weight`` default to off (0), ``handover`` to on;
-    a negative value is refused naming the parameter, in Python and in a campaign file (the
-    file and the dotted key)."""
-    mission = get("mission")
-    resolved = mission.resolve({})
-    assert (resolved["tracker_alpha"], resolved["handover"], resolved["coverage_weight"]) == (
-        0.0, True, 0.0)
-    assert "moc_after_detection" in mission.metrics
-    for name, bad in [("tracker_alpha", -0.5), ("coverage_weight", -1.0),
-                      ("tracker_alpha", float("inf")), ("handover", 1)]:
-        with pytest.raises(InvalidInputError) as info:
-            mission.resolve({name: bad})
-        assert info.value.field == name
-    path = tmp_path / "bad.toml"
-    path.write_text('name = "b"\nexperiment = "mission"\nseeds = [0]\n[grid]\n'
-                    'cells = [{uavs = 1, tracker_alpha = -1.0}]\n', encoding="utf-8")
-    with pytest.raises(ParseError) as err:
-        read_spec(path)
-    assert err.value.field == "grid.cells[0].tracker_alpha" and "bad.toml" in str(err.value)
-    path.write_text('name = "b"\nexperiment = "mission"\nseeds = [0]\n[settings]\n'
-                    'coverage_weight = -2.0\n[grid]\nuavs = [1]\n', encoding="utf-8")
-    with pytest.raises(ParseError) as err:
-        read_spec(path)
-    assert err.value.field == "settings.coverage_weight"
-
-
-def test_mission_options_reach_the_scenario() -> None:
-    """Switched on, the options change a short grid mission's run; off, the run is the one the
-    scenario without them flies; MOC after detection is reported."""
-    common: dict[str, object] = {"duration_s": 20.0, "uavs": 2, "targets": 2}
-    base = _run("mission", common, seed=6)
-    assert base == _run("mission", {**common, "tracker_alpha": 0.0, "handover": False,
-                                    "coverage_weight": 0.0}, seed=6)
-    after = base["moc_after_detection"]
-    assert after is None or 0.0 <= float(after) <= 1.0  # type: ignore[arg-type]
-    for option in ({"tracker_alpha": 4.47}, {"coverage_weight": 2.0}):
-        assert _run("mission", {**common, **option}, seed=6) != base, option
+def test_registry_is_found_on_first_use() -> None:
+    """Importing the runner imports no domain; the first lookup imports the experiment modules
+    (as a Dask worker does when it takes its first run)."""
+    modules = ("searchtrack.sim.roads.experiment", "searchtrack.sim.particles.experiments",
+               "searchtrack.sim.radio.experiment", "searchtrack.sim.road_particles.experiment")
+    domains = tuple(m.rpartition(".")[0] for m in modules)
+    code = ("import sys\nimport searchtrack.sim.campaigns.runner\n"
+            f"print(any(m.startswith({domains!r}) for m in sys.modules))\n"
+            "from searchtrack.sim.campaigns.experiments import get\nget('toy')\n"
+            f"print(all(m in sys.modules for m in {modules!r}))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.split() == ["False", "True"]

@@ -49,10 +49,39 @@ def test_figure_is_written_as_png(tmp_path: Path) -> None:
 def test_report_groups_by_what_varies_and_finds_the_claim() -> None:
     """The groups are the parameters that take more than one value; the claim of a detect-mode
     mission campaign is the thesis's experiment 1 claim."""
-    from searchtrack.sim.campaigns.report import CLAIMS, build_report
+    from searchtrack.sim.campaigns.experiments import ClaimsBy, get
+    from searchtrack.sim.campaigns.report import build_report
 
+    mission = get("mission")
     rows = [{**r, "mode": "detect", "targets": 8} for r in ROWS]
-    report = build_report("exp1", "mission", ["map", "mode", "uavs", "targets"], ["t"], rows)
+    report = build_report("exp1", mission, ["t"], rows)
     assert report.group_keys == ("uavs",) and report.metrics == ("t",)
-    assert report.claim == CLAIMS["mission/detect"]
+    assert isinstance(mission.claim, ClaimsBy)
+    assert report.claim == mission.claim.claims["detect"]
+    assert report.claim.startswith("thesis §6.1, Fig. 6.3")
     assert [g.label() for g in report.groups] == ["uavs=3", "uavs=6"]
+
+
+def test_every_experiments_claim_reaches_the_report() -> None:
+    """For every registered experiment, a report of runs at its defaults carries its claim
+    (for a claim per value of a parameter, the one of the value the runs share; none when they
+    mix values); the paper experiments all state one."""
+    from searchtrack.sim.campaigns.experiments import EXPERIMENTS, ClaimsBy
+    from searchtrack.sim.campaigns.report import build_report
+
+    stated = set()
+    for exp in EXPERIMENTS.values():
+        base = {**exp.resolve({}), "status": "ok", "seed": 0}
+        if isinstance(exp.claim, ClaimsBy):
+            for value, claim in exp.claim.claims.items():
+                rows = [{**base, exp.claim.param: value}] * 2
+                assert build_report("c", exp, list(exp.metrics), rows).claim == claim
+            mixed = [{**base, exp.claim.param: v} for v in exp.claim.claims]
+            assert build_report("c", exp, [], mixed).claim is None
+        else:
+            expected = exp.claim or None
+            assert build_report("c", exp, list(exp.metrics), [base]).claim == expected
+        if exp.claims():
+            stated.add(exp.name)
+    assert stated == {"mission", "phd_tracking_scenario", "phd_tracking_episode",
+                      "phd_search_episode", "road_tracking_episode", "radio_tracking_episode"}

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from searchtrack.sim.campaigns import series
+from searchtrack.sim.campaigns.experiments import Experiment, Param, Reference, TimeAxis
 from searchtrack.sim.campaigns.series import (
     parse,
     plot_series,
@@ -47,20 +49,75 @@ def test_groups_average_over_their_common_length_and_skip_failures() -> None:
     assert np.allclose(b.mean, [1.0, 1.0]) and np.allclose(b.half_width, 0.0)
 
 
-def test_figures_are_written_with_reference_lines(tmp_path: Path,
-                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+def _series_experiment(reference: Reference | None = None) -> Experiment:
+    return Experiment("toy_series", (Param("planner", str, "a"), Param("map", str, "m")),
+                      {"mean_entropy": float, "entropy_series": str},
+                      lambda p, s: {"mean_entropy": 0.0, "entropy_series": "[]"},
+                      references=reference, time_axis=TimeAxis(2.0, "time (s)"))
+
+
+def test_figures_are_written_with_reference_lines(tmp_path: Path) -> None:
     seen: list[dict[str, object]] = []
 
-    def reference(params: dict[str, object]) -> dict[str, float]:
+    def reference(params: Mapping[str, object]) -> dict[str, float]:
         seen.append(dict(params))
         return {"bound": 0.5}
 
-    monkeypatch.setitem(series.REFERENCES, "toy_series", reference)
-    paths = write_series_figures("c", "toy_series", ["planner"], ROWS,
+    paths = write_series_figures("c", _series_experiment(reference), ["planner"], ROWS,
                                  ["mean_entropy", "entropy_series"], tmp_path)
     assert [p.name for p in paths] == ["c-entropy_series.png"]
     assert paths[0].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert {p["planner"] for p in seen} == {"a", "b"} and all(p["map"] == "m" for p in seen)
+
+
+def test_figures_take_the_experiments_time_axis_and_references(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The figure is drawn on the experiment's time axis with its reference lines, and only
+    with lines all groups share."""
+    drawn: list[dict[str, object]] = []
+
+    def plot(summaries: object, path: Path, **kwargs: object) -> Path:
+        drawn.append(kwargs)
+        return path
+
+    monkeypatch.setattr(series, "plot_series", plot)
+    write_series_figures("c", _series_experiment(lambda p: {"bound": 0.5}), ["planner"], ROWS,
+                         ["entropy_series"], tmp_path)
+    write_series_figures("c", _series_experiment(lambda p: {"b": float(p["planner"] == "a")}),
+                         ["planner"], ROWS, ["entropy_series"], tmp_path)
+    write_series_figures("c", _series_experiment(), ["planner"], ROWS, ["entropy_series"],
+                         tmp_path)
+    assert [(d["step"], d["x_label"], d["references"]) for d in drawn] == [
+        (2.0, "time (s)", {"bound": 0.5}), (2.0, "time (s)", {}), (2.0, "time (s)", {})]
+
+
+def test_every_experiments_references_reach_the_figure(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """For every registered experiment, a series figure of runs at its defaults is drawn on its
+    time axis with the reference lines it gives for them (paper 000's Theorem 1 bound)."""
+    from searchtrack.sim.campaigns.experiments import EXPERIMENTS
+
+    drawn: list[dict[str, object]] = []
+
+    def plot(summaries: object, path: Path, **kwargs: object) -> Path:
+        drawn.append(kwargs)
+        return path
+
+    monkeypatch.setattr(series, "plot_series", plot)
+    with_lines = set()
+    for exp in EXPERIMENTS.values():
+        rows = [{**exp.resolve({}), "status": "ok", "seed": s, "x_series": "[1.0, 2.0]"}
+                for s in (0, 1)]
+        drawn.clear()
+        write_series_figures("c", exp, [], rows, ["x_series"], tmp_path)
+        (kwargs,) = drawn
+        assert (kwargs["step"], kwargs["x_label"]) == (exp.time_axis.step, exp.time_axis.label)
+        assert kwargs["references"] == exp.reference_lines(rows[0])
+        if kwargs["references"]:
+            with_lines.add(exp.name)
+    assert with_lines == {"road_tracking_episode"}
+    road = EXPERIMENTS["road_tracking_episode"]
+    assert (road.time_axis.step, road.time_axis.label) == (1.0, "time (s)")
 
 
 def test_plot_series_without_references(tmp_path: Path) -> None:

@@ -7,18 +7,39 @@ import json
 import pytest
 
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.models.radio import RadioScenario, UavModel
+from searchtrack.plan.radio import RadioPlanSettings
 from searchtrack.sim.campaigns.experiments import get
-from searchtrack.sim.radio.experiment import METRICS, PARAMS, radio_episode
+from searchtrack.sim.radio.config import RadioMissionConfig
+from searchtrack.sim.radio.experiment import EXPERIMENTS, METRICS, PARAMS, radio_episode
 
 
 def test_registered_with_its_parameters_and_metrics() -> None:
     exp = get("radio_tracking_episode")
-    assert [p.name for p in exp.params] == list(PARAMS)
+    assert (exp,) == EXPERIMENTS and exp.run is radio_episode
+    assert exp.params == PARAMS
+    assert [p.name for p in exp.params] == [
+        "filter", "planner", "noise_std_v", "particles", "plan_particles", "horizon", "headings",
+        "backend", "measurement", "keep_out", "p_void_min", "duration_s"]
     assert dict(exp.metrics) == METRICS
+    assert exp.claims()[0].startswith("paper 002, Fig. 8:")
     with pytest.raises(InvalidInputError, match="planner"):
         exp.resolve({"planner": "zigzag"})
     with pytest.raises(InvalidInputError, match="noise_std_v"):
         exp.resolve({"noise_std_v": "loud"})
+
+
+def test_defaults_are_the_settings() -> None:
+    """The parameters that set a mission, planner, UAV or scenario field take its default."""
+    exp = get("radio_tracking_episode")
+    sources = {"filter": RadioMissionConfig.filter, "planner": RadioMissionConfig.planner,
+               "backend": RadioMissionConfig.backend,
+               "measurement": RadioMissionConfig.measurement,
+               "keep_out": RadioMissionConfig.keep_out, "horizon": RadioPlanSettings.horizon,
+               "p_void_min": RadioPlanSettings.p_void_min, "headings": UavModel.n_headings,
+               "duration_s": RadioScenario.duration_s}
+    for name, default in sources.items():
+        assert exp.param(name).default == default, name
 
 
 @pytest.mark.parametrize("planner", ["straight", "cs"])

@@ -1,17 +1,23 @@
 """The thesis's road experiments: each scenario builder sets what its experiment varies, and a
-short run is scored as the benchmark tables report it."""
+short run is scored as the benchmark tables report it; the campaign's ``mission`` experiment."""
 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.models.lrt_sensor import THESIS_ALTITUDES_M, AltitudeModel
+from searchtrack.sim.campaigns.experiments import ClaimsBy, get
+from searchtrack.sim.campaigns.spec import read_spec
 from searchtrack.sim.roads.experiment import (
     DETECTION_SENSOR,
+    EXPERIMENTS,
     MAPS,
+    MISSION_MAPS,
     TRACKING_STRATEGIES,
     detection_scenario,
     detection_time_s,
@@ -24,6 +30,7 @@ from searchtrack.sim.roads.experiment import (
     with_strategy,
 )
 from searchtrack.sim.roads.record import PHASES
+from searchtrack.sim.roads.scenario import MODES, FilterSpec, GuidanceSpec, Scenario
 from searchtrack.sim.roads.seeds import fly_seeds
 
 
@@ -71,3 +78,81 @@ def test_step_scenario_is_three_uavs_at_the_highest_altitude() -> None:
     assert sc.map == MAPS["aguascalientes"] and (sc.uav_count, sc.target_count) == (3, 4)
     assert sc.altitude_m == max(THESIS_ALTITUDES_M) and sc.duration_s == 10.0
     assert sc.guidance.strategy == "search_and_reacquire"
+
+
+def _run(params: dict[str, object], seed: int = 1) -> dict[str, object]:
+    exp = get("mission")
+    metrics = exp.run(exp.resolve(params), seed)
+    assert set(metrics) == set(exp.metrics)
+    return dict(metrics)
+
+
+def test_mission_is_declared_with_a_claim_per_mode() -> None:
+    """The registered ``mission`` is this module's, with experiment 1's claim in detect mode
+    and experiment 2's in track mode."""
+    (exp,) = EXPERIMENTS
+    assert get("mission") is exp
+    assert isinstance(exp.claim, ClaimsBy) and exp.claim.param == "mode"
+    assert set(exp.claim.claims) == set(MODES)
+    assert exp.claim_for([{"mode": "detect"}]).startswith("thesis §6.1")  # type: ignore[union-attr]
+    assert exp.claim_for([{"mode": "track"}]).startswith("thesis §6.2")  # type: ignore[union-attr]
+    assert exp.param("map").choices == tuple(MISSION_MAPS)
+
+
+def test_mission_defaults_are_the_scenarios() -> None:
+    """Each parameter that sets a scenario, filter or guidance field takes its default."""
+    exp = get("mission")
+    sources = {"mode": Scenario.mode, "uavs": Scenario.uav_count,
+               "targets": Scenario.target_count, "altitude_m": Scenario.altitude_m,
+               "duration_s": Scenario.duration_s, "strategy": GuidanceSpec.strategy,
+               "coverage_weight": GuidanceSpec.coverage_weight, "handover": FilterSpec.handover}
+    for name, default in sources.items():
+        assert exp.param(name).default == default, name
+
+
+@pytest.mark.parametrize("mode", ["track", "detect"])
+def test_mission_runs_on_the_small_grid(mode: str) -> None:
+    """A short mission on the small grid returns its detections and scores."""
+    metrics = _run({"mode": mode, "duration_s": 5.0, "uavs": 2, "targets": 2})
+    assert 0 <= int(metrics["detected"]) <= 2  # type: ignore[call-overload]
+    assert 0.0 <= float(metrics["moc_mean"]) <= 1.0  # type: ignore[arg-type]
+
+
+def test_mission_options_defaults_and_checks(tmp_path: Path) -> None:
+    """``tracker_alpha`` and ``coverage_weight`` default to off (0), ``handover`` to on;
+    a negative value is refused naming the parameter, in Python and in a campaign file (the
+    file and the dotted key)."""
+    mission = get("mission")
+    resolved = mission.resolve({})
+    assert (resolved["tracker_alpha"], resolved["handover"], resolved["coverage_weight"]) == (
+        0.0, True, 0.0)
+    assert "moc_after_detection" in mission.metrics
+    for name, bad in [("tracker_alpha", -0.5), ("coverage_weight", -1.0),
+                      ("tracker_alpha", float("inf")), ("handover", 1)]:
+        with pytest.raises(InvalidInputError) as info:
+            mission.resolve({name: bad})
+        assert info.value.field == name
+    path = tmp_path / "bad.toml"
+    path.write_text('name = "b"\nexperiment = "mission"\nseeds = [0]\n[grid]\n'
+                    'cells = [{uavs = 1, tracker_alpha = -1.0}]\n', encoding="utf-8")
+    with pytest.raises(ParseError) as err:
+        read_spec(path)
+    assert err.value.field == "grid.cells[0].tracker_alpha" and "bad.toml" in str(err.value)
+    path.write_text('name = "b"\nexperiment = "mission"\nseeds = [0]\n[settings]\n'
+                    'coverage_weight = -2.0\n[grid]\nuavs = [1]\n', encoding="utf-8")
+    with pytest.raises(ParseError) as err:
+        read_spec(path)
+    assert err.value.field == "settings.coverage_weight"
+
+
+def test_mission_options_reach_the_scenario() -> None:
+    """Switched on, the options change a short grid mission's run; off, the run is the one the
+    scenario without them flies; MOC after detection is reported."""
+    common: dict[str, object] = {"duration_s": 20.0, "uavs": 2, "targets": 2}
+    base = _run(common, seed=6)
+    assert base == _run({**common, "tracker_alpha": 0.0, "handover": False,
+                         "coverage_weight": 0.0}, seed=6)
+    after = base["moc_after_detection"]
+    assert after is None or 0.0 <= float(after) <= 1.0  # type: ignore[arg-type]
+    for option in ({"tracker_alpha": 4.47}, {"coverage_weight": 2.0}):
+        assert _run({**common, **option}, seed=6) != base, option
