@@ -8,7 +8,9 @@ Definitions (the thesis names the metrics but not what makes a track or associat
   pairs taken. A matched tracker is *valid* (NVT), an unmatched one *spurious* (NST).
 - An association (tracker, measurement) is *valid* (NVA) when the measurement came from the target
   the tracker was matched to at the start of the step, otherwise *false* (NFA), false alarms
-  included.
+  included (:func:`count_associations`).
+- A tracker birth is credited to the nearest true target within ``valid_distance_m``
+  (:func:`credit_birth`); in ``detect`` mode that target counts as detected from then on.
 - MOC = NVT / number of targets; PVT = NVT / (NVT + NST) (6.8); PVA = NVA / (NVA + NFA) (6.9).
 - MOC after detection (this library's, to separate tracking from search latency, which the
   whole-run MOC mixes): a target counts as detected from the first step at which a tracker is
@@ -20,12 +22,15 @@ Definitions (the thesis names the metrics but not what makes a track or associat
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.optimize import linear_sum_assignment
 
 from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.models.measurements import FALSE_ALARM
 
 UNMATCHED = -1
 
@@ -42,6 +47,38 @@ def match_trackers(peaks_xy: FloatArray, targets_xy: FloatArray,
     ok = dist[rows, cols] < valid_distance_m
     match[rows[ok]] = cols[ok]
     return match
+
+
+def match_tracks(track_ids: Sequence[int], peaks_xy: FloatArray, targets_xy: FloatArray,
+                 valid_distance_m: float) -> dict[int, int]:
+    """:func:`match_trackers` keyed by the trackers' ``track_ids`` (row ``i`` of ``peaks_xy``
+    is track ``track_ids[i]``): each track's matched target or ``UNMATCHED``."""
+    match = match_trackers(peaks_xy, targets_xy, valid_distance_m)
+    return dict(zip((int(t) for t in track_ids), match.tolist(), strict=True))
+
+
+def count_associations(pairs: Sequence[tuple[int, int, int]],
+                       matched: Mapping[int, int]) -> tuple[int, int]:
+    """NVA and NFA of a step's associations ``(uav, track_id, true target)``: an association is
+    valid when its measurement came from the target its track was matched to at the start of
+    the step (``matched``, from :func:`match_tracks`); false alarms and unmatched or unknown
+    tracks make it false."""
+    valid = sum(1 for _, track, target in pairs
+                if target != FALSE_ALARM and matched.get(track, UNMATCHED) == target)
+    return valid, len(pairs) - valid
+
+
+def credit_birth(xy_m: FloatArray, targets_xy: FloatArray, valid_distance_m: float,
+                 found: NDArray[np.bool_] | None = None) -> tuple[int, float]:
+    """The true target a track born at ``xy_m`` found: the nearest one (the lowest index on
+    ties), or ``UNMATCHED`` when it is not closer than ``valid_distance_m``, and its distance
+    (m). Targets marked in ``found`` (detect mode: already detected) are passed over."""
+    dist = np.linalg.norm(targets_xy - xy_m, axis=1)
+    if found is not None:
+        dist[found] = np.inf
+    target = int(np.argmin(dist))
+    hit = bool(dist[target] < valid_distance_m)
+    return (target if hit else UNMATCHED), float(dist[target])
 
 
 @dataclass(frozen=True)

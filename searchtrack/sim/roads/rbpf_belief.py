@@ -1,7 +1,7 @@
 """Paper 000's Rao-Blackwellized particle filter (Moore et al. 2021) as the belief of a thesis 001
-road mission: the thesis's couriers and sensor mapped onto the RBPF's models, and the RBPF read
-through the belief protocols the Ch. 5 guidance laws take
-(:mod:`searchtrack.estimate.belief`).
+road mission: the thesis's couriers and sensor mapped onto the RBPF's models, and the RBPF
+stepped as a :class:`~searchtrack.estimate.stepping.RoadFilter` and read through the belief
+protocols the Ch. 5 guidance laws take (:mod:`searchtrack.estimate.belief`).
 
 The filter (:class:`~searchtrack.estimate.road_rbpf.RoadRBPF`) holds ``M`` = the scenario's
 number of targets (known, as the paper assumes), ``H`` histories of ``N`` particles per target
@@ -42,10 +42,12 @@ Reading the filter (the best history, as the paper's planner does):
   at :data:`SCORE_FLOOR` (see :class:`ParticleFieldBuilder`). Like the LRT's ``φ`` (3.3) it is
   0 under the prior, falls where the UAVs looked and found nothing, and rises where an unseen
   target's mass gathers.
-- Scoring (thesis 001 §6.2): the trackers' peaks are the RBPF's MAP positions (densest 5 m road
-  bin) of the localised targets; an association is a detection the best history gives to a
-  target that was in the bank at the start of the step, valid when it came from the target
-  that tracker was matched to. The recorded tracks keep the node beliefs' peak nodes.
+- What the mission scores (thesis 001 §6.2): the trackers' positions
+  (:meth:`RBPFMissionBelief.estimates_xy`) are the RBPF's MAP positions (densest 5 m road bin)
+  of the localised targets; an update reports as its associations the detections the best
+  history gives to a target that was in the bank at the start of the step, and as its births
+  the targets that became localised (:class:`~searchtrack.estimate.stepping.RoadUpdate`). The
+  recorded tracks keep the node beliefs' peak nodes.
 
 Guidance re-plans reacquisition routes with the thesis's tracker prediction (4.2) on these node
 beliefs (the mission's tracker diffusion).
@@ -57,23 +59,19 @@ import math
 import time
 
 import numpy as np
-from numpy.typing import NDArray
 
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.core.types import FloatArray
 from searchtrack.estimate.lrt import LikelihoodField
 from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
+from searchtrack.estimate.stepping import RoadScan, RoadUpdate, TrackBirth, TrackPair
 from searchtrack.models import CourierModel, RoadNetwork, SensorModel, UavState
 from searchtrack.models.disc_sensor import DiscSensor
-from searchtrack.models.measurements import FALSE_ALARM, PositionScan
 from searchtrack.models.road_particles import DirectedRoads, RoadMotion
-from searchtrack.plan.guidance import GuidanceView
-from searchtrack.sim.roads.guidance_setup import view
-from searchtrack.sim.roads.metrics import match_trackers
-from searchtrack.sim.roads.record import PairRecord, Recorder, StepTimes
 from searchtrack.sim.roads.scenario import Scenario
+from searchtrack.sim.roads.world import World
 
 #: Lowest search score: where the particles left no mass (the LRT's default ``llr_floor``, so the
 #: gradient force (5.7) keeps the scale its spring constants were chosen for).
@@ -81,10 +79,6 @@ SCORE_FLOOR = -20.0
 
 #: Largest ``P_FA`` of the disc sensor (Eq. 10 needs ``P_FA < 1``).
 MAX_P_FA = 0.999
-
-#: First word of the RBPF's random stream, apart from the mission's world: ``(stream, seed)``.
-RBPF_STREAM = 1
-
 
 def courier_motion(courier: CourierModel) -> RoadMotion:
     """Eq. 9 for the thesis's couriers: the mean speed over drives and stops, and the standard
@@ -215,7 +209,8 @@ class ParticleFieldBuilder:
 
 
 class RBPFMissionBelief:
-    """A mission's RBPF and what the guidance and the scores read from it (module docstring).
+    """A mission's RBPF and what the guidance and the scores read from it (module docstring): a
+    :class:`~searchtrack.estimate.stepping.RoadFilter`.
 
     Parameters
     ----------
@@ -223,6 +218,9 @@ class RBPFMissionBelief:
         The mission (``filter.belief`` need not be ``"rbpf"``: sizes come from its filter spec).
     network
         Its road network.
+    rng
+        The filter's generator: the initial clouds (Eq. 1), the association sampling and the
+        resampling (Eq. 15–16) and the motion noise (Eq. 9) all draw from it.
     roads
         The directed view of ``network`` (built when ``None``).
 
@@ -230,100 +228,85 @@ class RBPFMissionBelief:
     ----------
     rbpf
         The filter.
-    bank, field
-        The localised targets' node beliefs and the search field, as of the last
-        :meth:`filter`.
+    field
+        The search field, as of the last :meth:`update`.
     peaks_xy
         ``(len(bank), 2)`` MAP positions of the bank's targets.
     """
 
-    def __init__(self, scenario: Scenario, network: RoadNetwork,
+    def __init__(self, scenario: Scenario, network: RoadNetwork, rng: np.random.Generator,
                  roads: DirectedRoads | None = None) -> None:
         self.scenario = scenario
         self.network = network
         directed = roads if roads is not None else DirectedRoads(network)
         if directed.network is not network:
             raise InvalidInputError("roads", roads, "must be the directed view of network")
-        self.rng = np.random.default_rng([RBPF_STREAM, scenario.seed])
+        self.rng = checks.generator("rng", rng)
         self.rbpf = RoadRBPF(directed, rbpf_config(scenario), self.rng)
         self.fields = ParticleFieldBuilder(network, scenario.sensor.footprint_radius_m)
         m = scenario.target_count
         self.localised = np.zeros(m, dtype=bool)
-        self.bank = TrackerBank(network.n_nodes, (), m)
+        self._bank = TrackerBank(network.n_nodes, (), m)
         self.field = self.fields.field(np.zeros(network.n_nodes), 0)
         self.peaks_xy: FloatArray = np.empty((0, 2))
 
-    def filter(self, scan: PositionScan, scan_target: IntArray, uav_xy: FloatArray,
-               truth_xy: FloatArray, time_s: float, detected: NDArray[np.bool_],
-               first_detection: FloatArray, record: Recorder,
-               times: StepTimes) -> tuple[list[PairRecord], int, int]:
-        """One step's updates (one scan per UAV) and localisation.
+    @classmethod
+    def for_mission(cls, scenario: Scenario, world: World,
+                    rng: np.random.Generator) -> RBPFMissionBelief:
+        """The filter of ``scenario`` on ``world``'s network, drawing from ``rng``."""
+        return cls(scenario, world.network, rng)
 
-        ``scan_target`` is each measurement's true target (−1: false alarm), ``truth_xy`` the
-        targets' positions. Births go to ``record``; in ``detect`` mode a birth credited to a
-        target marks it in ``detected`` and ``first_detection``. Returns the step's associations
-        and the numbers of valid and false ones; sets ``times.update`` and ``times.initiate``.
-        """
-        sc = self.scenario
-        match = match_trackers(self.peaks_xy, truth_xy, sc.valid_distance_m)
-        slot = {t.track_id: i for i, t in enumerate(self.bank)}
-        pairs: list[PairRecord] = []
-        n_valid = n_false = 0
-        tic = time.perf_counter()
-        for j in range(uav_xy.shape[0]):
-            rows = np.flatnonzero(scan.uav == j)
-            self.rbpf.update(scan.xy_m[rows], uav_xy[j], self.rng)
-            for q, c in zip(rows.tolist(), self.rbpf.best_association().tolist(), strict=True):
-                if c not in slot:
-                    continue  # clutter, or a target not tracked at the start of the step
-                truth = int(scan_target[q])
-                pairs.append((j, c, truth))
-                if truth != FALSE_ALARM and match[slot[c]] == truth:
-                    n_valid += 1
-                else:
-                    n_false += 1
-        times.update = time.perf_counter() - tic
-        tic = time.perf_counter()
-        self._localise(truth_xy, time_s, detected, first_detection, record)
-        times.initiate = time.perf_counter() - tic
-        return pairs, n_valid, n_false
+    @property
+    def search_field(self) -> ParticleSearchField:
+        """The particle search field (module docstring)."""
+        return self.field
 
-    def _localise(self, truth_xy: FloatArray, time_s: float, detected: NDArray[np.bool_],
-                  first_detection: FloatArray, record: Recorder) -> None:
-        """Refresh the bank, the MAP peaks and the field; record the births."""
+    @property
+    def bank(self) -> TrackerBank:
+        """The localised targets' node beliefs (``track_id`` = target index)."""
+        return self._bank
+
+    def estimates_xy(self) -> FloatArray:
+        """``(len(bank), 2)`` MAP positions of the bank's targets (:attr:`peaks_xy`)."""
+        return self.peaks_xy
+
+    def update(self, scan: RoadScan, pose: UavState) -> RoadUpdate:
+        """One update per UAV (its position measurements, its position as the scan centre;
+        Eq. 10–11, 15–16), then the localisation. The pairs are the detections the best
+        history gave to a target localised when the update began; the births are the targets
+        that became localised."""
+        tracked = {t.track_id for t in self._bank}
+        pos, uav_xy = scan.positions, pose.xy_m
+        pairs: list[TrackPair] = []
+        for j in range(pose.n):
+            rows = np.flatnonzero(pos.uav == j)
+            self.rbpf.update(pos.xy_m[rows], uav_xy[j], self.rng)
+            pairs += [(j, c, q) for q, c in
+                      zip(rows.tolist(), self.rbpf.best_association().tolist(), strict=True)
+                      if c in tracked]  # else clutter, or a target not tracked yet
+        tic = time.perf_counter()
+        births = self._localise()
+        return RoadUpdate(tuple(pairs), births, initiate_s=time.perf_counter() - tic)
+
+    def _localise(self) -> tuple[TrackBirth, ...]:
+        """Refresh the bank, the MAP peaks and the field; the targets newly localised."""
         sc = self.scenario
         beliefs: tuple[NodeTracker, ...] = self.rbpf.node_beliefs()
         now = np.array([b.peak_probability >= sc.filter.p_min for b in beliefs])
         map_xy = self.rbpf.map_positions()
-        detect = sc.mode == "detect"
-        for m in np.flatnonzero(now & ~self.localised).tolist():
-            dist = np.linalg.norm(truth_xy - map_xy[m], axis=1)
-            if detect:
-                dist[detected] = np.inf
-                if detected.all():
-                    break  # nothing left to find: the mission ends with this step
-            target = int(np.argmin(dist))
-            hit = bool(dist[target] < sc.valid_distance_m)
-            record.birth(time_s, m, target if hit else -1, float(dist[target]))
-            if hit and detect:
-                detected[target] = True
-                first_detection[target] = time_s
+        births = tuple(TrackBirth(m, map_xy[m])
+                       for m in np.flatnonzero(now & ~self.localised).tolist())
         self.localised = now
-        tracked = np.flatnonzero(now) if not detect else np.empty(0, dtype=np.int64)
-        self.bank = TrackerBank(self.network.n_nodes, tuple(beliefs[m] for m in tracked),
-                                sc.target_count)
+        tracked = np.flatnonzero(now) if sc.mode != "detect" else np.empty(0, dtype=np.int64)
+        self._bank = TrackerBank(self.network.n_nodes, tuple(beliefs[m] for m in tracked),
+                                 sc.target_count)
         self.peaks_xy = map_xy[tracked]
         free = np.flatnonzero(~now)
         mass = (np.sum([beliefs[m].probability for m in free], axis=0) if free.size
                 else np.zeros(self.network.n_nodes))
         self.field = self.fields.field(mass, int(free.size))
+        return births
 
     def predict(self, dt_s: float) -> None:
         """Eq. 9 over ``dt_s`` seconds."""
         self.rbpf.predict(dt_s, self.rng)
-
-    def view(self, uavs: UavState, time_s: float,
-             coverage: FloatArray | None = None) -> GuidanceView:
-        """What the guidance sees: the particle search field and the localised targets (and
-        the road coverage, when kept)."""
-        return view(self.network, uavs, self.field, self.bank, time_s, coverage)

@@ -35,8 +35,6 @@ MODES: tuple[Mode, ...] = ("track", "detect")
 ASSOCIATORS: tuple[str, ...] = tuple(ASSOCIATION_BACKENDS.names())
 STRATEGIES: tuple[str, ...] = tuple(GUIDANCE_BACKENDS.names())
 STARTS = ("random", "center", "edge")
-Belief = Literal["lrt", "rbpf"]
-BELIEFS: tuple[Belief, ...] = ("lrt", "rbpf")
 BUNDLED_MAPS = ("aguascalientes", "West-Oakland")
 
 #: Most road nodes a mission's map may have: the diffusion operators and the per-node fields of a
@@ -214,7 +212,7 @@ class FilterSpec:
     merge_radius_m: float = 100.0
     llr_floor: float = -20.0
     negative_information: bool = True
-    belief: Belief = "lrt"
+    belief: str = "lrt"
     histories: int = 10
     particles: int = 500
     tracker_alpha: float | None = None
@@ -227,8 +225,10 @@ class FilterSpec:
             positive("tracker_alpha", self.tracker_alpha)
         if not isinstance(self.handover, bool):
             raise InvalidInputError("handover", self.handover, "must be true or false")
-        if self.belief not in BELIEFS:
-            raise InvalidInputError("belief", self.belief, f"must be one of {list(BELIEFS)}")
+        from searchtrack.sim.roads.filters import FILTERS  # the registry imports this module
+
+        if self.belief not in FILTERS.names():
+            raise InvalidInputError("belief", self.belief, f"must be one of {FILTERS.names()}")
         for name in ("histories", "particles"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or value < 1:

@@ -12,9 +12,9 @@ from searchtrack.core.files import read_text
 from searchtrack.models import CourierModel, DubinsLimits, SensorModel
 from searchtrack.models.lrt_sensor import THESIS_ALTITUDES_M, AltitudeModel
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
+from searchtrack.sim.roads.filters import FILTERS
 from searchtrack.sim.roads.scenario import (
     ASSOCIATORS,
-    BELIEFS,
     BUNDLED_MAPS,
     MODES,
     STARTS,
@@ -186,7 +186,7 @@ def _filter(t: Table) -> FilterSpec:
         merge_radius_m=t.number("merge_radius_m", d.merge_radius_m, minimum=0.0),
         llr_floor=_floor(t),
         negative_information=t.boolean("negative_information", d.negative_information),
-        belief=t.string("belief", d.belief, choices=BELIEFS),  # type: ignore[arg-type]
+        belief=t.string("belief", d.belief, choices=tuple(FILTERS.names())),
         histories=t.integer("histories", d.histories, minimum=1),
         particles=t.integer("particles", d.particles, minimum=1),
         tracker_alpha=t.optional_number("tracker_alpha"),

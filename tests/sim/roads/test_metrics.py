@@ -1,4 +1,5 @@
-"""Mission metrics: gated one-to-one tracker matching and the MOC/PVT/PVA sums."""
+"""Mission metrics: gated one-to-one tracker matching, association counts, birth credits and the
+MOC/PVT/PVA sums."""
 
 from __future__ import annotations
 
@@ -7,7 +8,10 @@ import numpy as np
 from searchtrack.sim.roads.metrics import (
     UNMATCHED,
     StepScore,
+    count_associations,
+    credit_birth,
     match_trackers,
+    match_tracks,
     moc_after_detection,
     score,
 )
@@ -72,3 +76,32 @@ def test_moc_after_detection_undefined_before_any_detection() -> None:
     assert moc_after_detection([], 2) is None
     steps = [StepScore(0, 0, 0, 0), StepScore(1, 1, 0, 0, (1,)), StepScore(1, 1, 0, 0, (1,))]
     assert moc_after_detection(steps, 2) == 1.0
+
+
+def test_matching_by_track_id() -> None:
+    """The matching keyed by the trackers' identities, in the order of the peaks."""
+    peaks = np.array([[0.0, 0.0], [30.0, 0.0], [1000.0, 0.0]])
+    targets = np.array([[10.0, 0.0], [500.0, 0.0]])
+    assert match_tracks([7, 2, 9], peaks, targets, 100.0) == {7: 0, 2: UNMATCHED, 9: UNMATCHED}
+    assert match_tracks([], np.empty((0, 2)), targets, 100.0) == {}
+
+
+def test_associations_are_valid_only_on_the_matched_target() -> None:
+    """Valid: the measurement came from the target its track was matched to. False: a false
+    alarm, another target, an unmatched track or a track unknown at the start of the step."""
+    matched = {4: 0, 5: 1, 6: UNMATCHED}
+    pairs = [(0, 4, 0), (0, 5, 1), (1, 4, -1), (1, 5, 0), (1, 6, 2), (0, 8, 0)]
+    assert count_associations(pairs, matched) == (2, 4)
+    assert count_associations([], matched) == (0, 0)
+
+
+def test_a_birth_credits_the_nearest_target_within_reach() -> None:
+    """The nearest target (lowest index on ties) when closer than the validity distance, else
+    none; targets already found are passed over (a birth among them only credits another)."""
+    targets = np.array([[0.0, 0.0], [60.0, 0.0], [-60.0, 0.0]])
+    assert credit_birth(np.array([40.0, 0.0]), targets, 100.0) == (1, 20.0)
+    assert credit_birth(np.array([0.0, 0.0]), targets[1:], 100.0) == (0, 60.0)
+    assert credit_birth(np.array([500.0, 0.0]), targets, 100.0) == (UNMATCHED, 440.0)
+    found = np.array([False, True, False])
+    assert credit_birth(np.array([40.0, 0.0]), targets, 100.0, found) == (0, 40.0)
+    assert credit_birth(np.array([40.0, 0.0]), targets, 30.0, found) == (UNMATCHED, 40.0)

@@ -62,7 +62,8 @@ def test_every_associator_flies(world: World, associator: str) -> None:
     """The mission builds its associator by backend name; each one associates fixes."""
     sc = small(filter=dataclasses.replace(small().filter, associator=associator))
     mission = Mission(sc, world)
-    assert mission.associator.inner.backend == associator  # type: ignore[attr-defined]
+    lrt_filter = mission.new_filter()
+    assert lrt_filter.associator.inner.backend == associator  # type: ignore[attr-defined]
     log = mission.run()
     assert log.score.detected >= 1
     assert sum(len(a) for a in log.associations) == log.score.nva + log.score.nfa > 0

@@ -77,8 +77,9 @@ def test_tracker_alpha_sets_the_tracker_diffusion_only(world: World) -> None:
     with pytest.raises(InvalidInputError, match="tracker_alpha") as info:
         Mission(small(filter=FilterSpec(tracker_alpha=0.894)), world)
     assert info.value.field == "world"
-    assert Mission(small(filter=FilterSpec(tracker_alpha=0.894)),
-                   own).tracker_predictor.diffusion is own.tracker_diffusion
+    lrt_filter = Mission(small(filter=FilterSpec(tracker_alpha=0.894)), own).new_filter()
+    predictor = lrt_filter.tracker_predictor  # type: ignore[attr-defined]
+    assert predictor.diffusion is own.tracker_diffusion
 
 
 def test_tracker_alpha_changes_the_mission(world: World) -> None:

@@ -11,10 +11,13 @@ import pytest
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.belief import BeliefBank, SearchField, TrackBelief
+from searchtrack.estimate.stepping import RoadFilter, RoadScan, TrackBirth
 from searchtrack.models import CourierModel, RoadNetwork, SensorModel, UavState, grid_network
 from searchtrack.models.measurements import PositionScan
 from searchtrack.models.road_particles import DirectedRoads
 from searchtrack.plan.guidance import GuidanceView
+from searchtrack.sim.roads.guidance_setup import view
+from searchtrack.sim.roads.metrics import count_associations, credit_birth, match_tracks
 from searchtrack.sim.roads.rbpf_belief import (
     MAX_P_FA,
     SCORE_FLOOR,
@@ -25,7 +28,6 @@ from searchtrack.sim.roads.rbpf_belief import (
     rbpf_config,
     thesis_disc_sensor,
 )
-from searchtrack.sim.roads.record import Recorder, StepTimes
 from searchtrack.sim.roads.scenario import FilterSpec, MapSpec, Scenario
 
 SENSOR = SensorModel(pd=0.95, pf=0.05, footprint_radius_m=120.0, position_noise_m=5.0)
@@ -119,69 +121,90 @@ def test_field_is_a_search_field_and_read_only(network: RoadNetwork) -> None:
     (lambda net: ParticleFieldBuilder(net, 50.0, floor=0.0), "floor"),
     (lambda net: ParticleSearchField(np.array([0.0, math.nan])), "score"),
     (lambda net: ParticleSearchField(np.zeros((2, 2))), "score"),
-    (lambda net: RBPFMissionBelief(scenario(), net, DirectedRoads(grid_network(2, 2))),
-     "roads"),
+    (lambda net: RBPFMissionBelief(scenario(), net, np.random.default_rng(0),
+                                   DirectedRoads(grid_network(2, 2))), "roads"),
+    (lambda net: RBPFMissionBelief(scenario(), net, 5), "rng"),  # type: ignore[arg-type]
 ])
 def test_bad_inputs_name_the_field(network: RoadNetwork, make: object, name: str) -> None:
-    """Bad radii, floors, scores and a directed view of another map are refused by name."""
+    """Bad radii, floors, scores, a directed view of another map and a seed where the filter's
+    generator belongs are refused by name."""
     with pytest.raises(InvalidInputError) as info:
         make(network)  # type: ignore[operator]
     assert info.value.field == name
 
 
-def _scan(xy: list[list[float]], target: list[int]) -> tuple[PositionScan, np.ndarray]:
+UAV = UavState(np.array([150.0]), np.array([110.0]), np.zeros(1), np.full(1, 30.0))
+TRUTH = np.array([[150.0, 100.0], [300.0, 300.0]])
+
+
+def _scan(xy: list[list[float]], target: list[int], time_s: float) -> RoadScan:
     pts = np.array(xy, dtype=float).reshape(-1, 2)
     tgt = np.array(target, dtype=np.int64)
-    return PositionScan(np.zeros(len(tgt), dtype=np.int64), pts, tgt), tgt
+    return RoadScan(time_s, PositionScan(np.zeros(len(tgt), dtype=np.int64), pts, tgt))
 
 
 def test_detections_localise_a_target_for_the_guidance(network: RoadNetwork) -> None:
     """Repeated fixes of a target under the UAV make one filter target a live track (a birth
-    credited to the true target, its MAP peak on it, an association counted valid); the bank is
+    credited to the true target, its MAP peak on it, an association scored valid); the bank is
     a BeliefBank the guidance view accepts, and the searched footprint scores below the rest."""
     sc = scenario()
-    belief = RBPFMissionBelief(sc, network)
+    belief = RBPFMissionBelief(sc, network, np.random.default_rng(5))
+    assert isinstance(belief, RoadFilter)
     assert len(belief.bank) == 0 and isinstance(belief.bank, BeliefBank)
-    np.testing.assert_allclose(belief.field.node_score(), 0.0)
-    truth = np.array([[150.0, 100.0], [300.0, 300.0]])
-    uav = np.array([[150.0, 110.0]])
-    record = Recorder(sc, network, uav, truth)
-    detected = np.zeros(2, dtype=bool)
-    first = np.full(2, np.nan)
+    np.testing.assert_allclose(belief.search_field.node_score(), 0.0)
+    births: list[TrackBirth] = []
     valid = 0
     for k in range(6):
-        scan, target = _scan([[151.0, 100.0 + k]], [0])
-        pairs, n_valid, n_false = belief.filter(scan, target, uav, truth, 0.3 * (k + 1),
-                                                detected, first, record, StepTimes())
+        scan = _scan([[151.0, 100.0 + k]], [0], 0.3 * (k + 1))
+        matched = match_tracks([t.track_id for t in belief.bank], belief.estimates_xy(), TRUTH,
+                               sc.valid_distance_m)
+        found = belief.update(scan, UAV)
+        pairs = [(j, track, int(scan.positions.target[q])) for j, track, q in found.pairs]
+        n_valid, n_false = count_associations(pairs, matched)
         valid += n_valid
         assert len(pairs) == n_valid + n_false
+        births += found.births
         belief.predict(0.3)
     assert len(belief.bank) == 1 and isinstance(belief.bank[0], TrackBelief)
-    assert np.linalg.norm(belief.peaks_xy[0] - truth[0]) < sc.valid_distance_m
+    assert np.linalg.norm(belief.estimates_xy()[0] - TRUTH[0]) < sc.valid_distance_m
     assert valid >= 1
-    births = record.finish(belief.field.as_likelihood_field(), belief.bank, first).births
-    assert [b.target for b in births] == [0]
-    score = belief.field.node_score()
-    under = network.nodes_within(uav, 60.0)[1]
+    assert [credit_birth(b.xy_m, TRUTH, sc.valid_distance_m)[0] for b in births] == [0]
+    assert [b.track_id for b in births] == [belief.bank[0].track_id]
+    score = belief.search_field.node_score()
+    under = network.nodes_within(UAV.xy_m, 60.0)[1]
     assert score[under].max() < np.median(score)
-    uavs = UavState(uav[:, 0], uav[:, 1], np.zeros(1), np.full(1, 30.0))
-    seen = belief.view(uavs, 1.8)
+    seen = view(network, UAV, belief.search_field, belief.bank, 1.8)
     assert isinstance(seen, GuidanceView) and len(seen.bank) == 1
 
 
-def test_detect_mode_keeps_no_tracks_and_credits_the_target(network: RoadNetwork) -> None:
-    """In detect mode a localised target is credited (detected, first detection time) and the
-    bank stays empty, as the thesis's detect-mode trackers are dropped at birth."""
+def test_detect_mode_keeps_no_tracks_and_reports_the_birth(network: RoadNetwork) -> None:
+    """In detect mode a localised target is reported as a birth (credited to the true target
+    it is on, the other never) and the bank stays empty, as the thesis's detect-mode trackers
+    are dropped at birth."""
     sc = scenario(mode="detect")
-    belief = RBPFMissionBelief(sc, network)
-    truth = np.array([[150.0, 100.0], [300.0, 300.0]])
-    uav = np.array([[150.0, 110.0]])
-    record = Recorder(sc, network, uav, truth)
-    detected = np.zeros(2, dtype=bool)
-    first = np.full(2, np.nan)
+    belief = RBPFMissionBelief(sc, network, np.random.default_rng(5))
+    found = np.zeros(2, dtype=bool)
     for k in range(4):
-        scan, target = _scan([[150.0, 101.0]], [0])
-        belief.filter(scan, target, uav, truth, 0.3 * (k + 1), detected, first, record,
-                      StepTimes())
-    assert detected.tolist() == [True, False] and math.isfinite(first[0])
-    assert len(belief.bank) == 0 and belief.peaks_xy.shape == (0, 2)
+        births = belief.update(_scan([[150.0, 101.0]], [0], 0.3 * (k + 1)), UAV).births
+        for b in births:
+            target, _ = credit_birth(b.xy_m, TRUTH, sc.valid_distance_m, found)
+            if target >= 0:
+                found[target] = True
+    assert found.tolist() == [True, False]
+    assert len(belief.bank) == 0 and belief.estimates_xy().shape == (0, 2)
+
+
+def test_the_filter_owns_its_draws(network: RoadNetwork) -> None:
+    """Two filters given generators of one seed step identically (no call takes a generator);
+    another seed starts from other clouds."""
+    sc = scenario()
+    runs = []
+    for seed in (5, 5, 6):
+        belief = RBPFMissionBelief(sc, network, np.random.default_rng(seed))
+        for k in range(3):
+            belief.update(_scan([[151.0, 100.0]], [0], 0.3 * (k + 1)), UAV)
+            belief.predict(0.3)
+        runs.append(belief.rbpf.target_particles())
+    for a, b in zip(runs[0], runs[1], strict=True):
+        np.testing.assert_array_equal(a, b)
+    assert not np.array_equal(runs[0][1], runs[2][1])

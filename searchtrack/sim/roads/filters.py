@@ -1,0 +1,102 @@
+"""The filters a thesis 001 road mission can fly, by the name a scenario gives as
+``filter.belief``.
+
+Each registration names the filter, how to build it for a scenario on a world, and what its
+updates read from the sensors; the mission steps whatever it builds through the
+:class:`~searchtrack.estimate.stepping.RoadFilter` protocol. A new filter is its own module (a
+class with the protocol's verbs and views, and a builder) plus one ``FILTERS.register`` line
+below.
+
+- ``"lrt"``: the thesis's likelihood-ratio field and node trackers
+  (:mod:`searchtrack.sim.roads.lrt_belief`); reads the footprints' ``ζ`` and the position fixes.
+- ``"rbpf"``: paper 000's Rao-Blackwellized particle filter
+  (:mod:`searchtrack.sim.roads.rbpf_belief`); reads the position fixes only.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.estimate.stepping import RoadFilter
+from searchtrack.sim.roads.lrt_belief import LRTMissionBelief
+from searchtrack.sim.roads.rbpf_belief import RBPFMissionBelief
+from searchtrack.sim.roads.scenario import Scenario
+from searchtrack.sim.roads.world import World
+
+#: First word of a mission filter's random stream ``(FILTER_STREAM, seed)``: apart from the
+#: stream of the mission's world (the targets, the sensors, the guidance seeds).
+FILTER_STREAM = 1
+
+
+@dataclass(frozen=True)
+class MissionFilter:
+    """One filter a road mission can fly.
+
+    Parameters
+    ----------
+    name
+        The ``filter.belief`` of the scenarios that fly it.
+    build
+        ``build(scenario, world, rng)``: a fresh filter for one mission, owning ``rng``.
+    reads_lrt
+        Its updates read the per-node ``ζ`` of the footprints (:class:`~searchtrack.models.
+        measurements.LrtScan`) besides the position fixes; when ``False`` the sensors do not
+        draw them.
+    description
+        One line for listings.
+    """
+
+    name: str
+    build: Callable[[Scenario, World, np.random.Generator], RoadFilter]
+    reads_lrt: bool
+    description: str
+
+    def filter_for(self, scenario: Scenario, world: World) -> RoadFilter:
+        """A fresh filter for a mission of ``scenario``, drawing from the stream
+        ``(FILTER_STREAM, scenario.seed)``."""
+        return self.build(scenario, world, np.random.default_rng([FILTER_STREAM, scenario.seed]))
+
+
+class MissionFilters:
+    """A name → :class:`MissionFilter` table."""
+
+    def __init__(self) -> None:
+        self._entries: dict[str, MissionFilter] = {}
+
+    def register(self, entry: MissionFilter) -> MissionFilter:
+        """Add ``entry``; names are unique."""
+        if entry.name in self._entries:
+            raise ValueError(f"road mission filter {entry.name!r} is already registered")
+        self._entries[entry.name] = entry
+        return entry
+
+    def unregister(self, name: str) -> MissionFilter:
+        """Remove and return the filter called ``name``."""
+        entry = self.get(name)
+        del self._entries[name]
+        return entry
+
+    def names(self) -> list[str]:
+        """Registered names, in registration order."""
+        return list(self._entries)
+
+    def get(self, name: str) -> MissionFilter:
+        """The filter called ``name``; an error lists the registered names."""
+        try:
+            return self._entries[name]
+        except KeyError:
+            raise InvalidInputError("filter.belief", name, f"unknown road mission filter; "
+                                    f"choose one of {self.names()}") from None
+
+
+FILTERS = MissionFilters()
+"""The filters of road missions."""
+
+FILTERS.register(MissionFilter("lrt", LRTMissionBelief.for_mission, reads_lrt=True,
+                               description="thesis 001: LRT field and node trackers"))
+FILTERS.register(MissionFilter("rbpf", RBPFMissionBelief.for_mission, reads_lrt=False,
+                               description="paper 000: Rao-Blackwellized particle filter"))
