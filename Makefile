@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 TORCH ?= 2.13.0
 
-.PHONY: demo test lint typecheck browser docs bench bench-all campaigns clean
+.PHONY: demo test lint typecheck browser docs bench bench-fast bench-all campaigns clean
 
 $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -49,6 +49,11 @@ TEST_WORKERS ?= 2
 
 test: lint typecheck browser
 	$(BIN)/pytest -q -n $(TEST_WORKERS)
+
+# The fast subset (about 5 minutes): every family's table at reduced size and one campaign cell
+# per paper; run it on two trees to compare them (see benchmarks/fast.sh).
+bench-fast: $(STAMP)
+	sh benchmarks/fast.sh $(BIN)/python out/bench-fast
 
 bench: $(STAMP)
 	$(BIN)/python -m pip install -q -e '.[test,bench]'

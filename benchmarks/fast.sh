@@ -1,5 +1,5 @@
 #!/bin/sh
-# The fast benchmark subset (about 4 minutes on 2 cores): OPTW, EMD, SMC-PHD, assignment,
+# The fast benchmark subset (about 5 minutes on 2 cores): OPTW, EMD, SMC-PHD, assignment,
 # trajectory, RBPF and radio-filter tables at reduced sizes, then one campaign cell of each
 # paper (benchmarks/cells/*.toml, in-process). Run on an idle machine to compare two trees:
 #     sh benchmarks/fast.sh [PYTHON] [OUT]        (defaults: .venv/bin/python, out/bench-fast)
