@@ -31,6 +31,7 @@ import time
 import numpy as np
 from numpy.typing import NDArray
 
+from searchtrack.estimate.road_jumps import TargetJumps
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
 from searchtrack.models.road_particles import DirectedRoads, RoadMotion
 from searchtrack.models.road_synthetic import grid_network
@@ -40,10 +41,12 @@ FloatArray = NDArray[np.float64]
 
 
 def _time(roads: DirectedRoads, h: int, m: int, n: int, dt_s: float,
-          repeats: int) -> tuple[float, float, float]:
-    """Mean ms of predict, update without and with one detection."""
+          repeats: int, jump_rate: float = 0.0) -> tuple[float, float, float]:
+    """Mean ms of predict, update without and with one detection (``jump_rate > 0``: with the
+    robust prior's jump draws at every update)."""
     rng = np.random.default_rng(0)
-    f = RoadRBPF(roads, RBPFConfig(n_targets=m, n_histories=h, n_particles=n), rng)
+    jumps = TargetJumps(rate_per_s=jump_rate) if jump_rate > 0.0 else None
+    f = RoadRBPF(roads, RBPFConfig(n_targets=m, n_histories=h, n_particles=n, jumps=jumps), rng)
     te, ts = roads.uniform(m, rng)
     truth = roads.point(te, ts)
     for _ in range(3):  # warm-up: compile and reach a tracked state
@@ -101,18 +104,22 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=200)
     parser.add_argument("--seeds", type=int, default=5)
     parser.add_argument("--duration", type=float, default=120.0)
+    parser.add_argument("--jump-rates", type=float, nargs="+", default=[0.0, 0.1],
+                        help="timing rows per jump rate λ (1/s) of the robust prior (0: paper)")
     args = parser.parse_args()
     grid = DirectedRoads(grid_network(3, 3, 100.0, spacing_m=100.0))
     agu = DirectedRoads(MAPS["aguascalientes"].build())
     cases = [("3x3 grid, H=10 M=2 N=500, dt 0.1 s", grid, 10, 2, 500, 0.1, 1.0),
              ("Aguascalientes, H=20 M=10 N=500, dt 0.1 s", agu, 20, 10, 500, 0.1, 15.0),
              ("Aguascalientes, H=20 M=10 N=500, dt 1 s", agu, 20, 10, 500, 1.0, 15.0)]
-    print(f"{'case':44s} {'particles':>9s} {'predict':>8s} {'upd miss':>8s} {'upd det':>8s} "
+    print(f"{'case':52s} {'particles':>9s} {'predict':>8s} {'upd miss':>8s} {'upd det':>8s} "
           f"{'total':>8s} {'target':>7s}   (ms per step)")
     for name, roads, h, m, n, dt, target in cases:
-        p, miss, det = _time(roads, h, m, n, dt, args.repeats)
-        print(f"{name:44s} {h * m * n:9d} {p:8.3f} {miss:8.3f} {det:8.3f} {p + det:8.3f} "
-              f"{target:7.1f}")
+        for rate in args.jump_rates:
+            p, miss, det = _time(roads, h, m, n, dt, args.repeats, rate)
+            label = name + (f", λ {rate:g}/s" if rate > 0.0 else "")
+            print(f"{label:52s} {h * m * n:9d} {p:8.3f} {miss:8.3f} {det:8.3f} "
+                  f"{p + det:8.3f} {target:7.1f}")
     print()
     print(f"association on the 3x3 map ({args.duration:g} s per run, scans at 1 Hz):")
     total_ok = total = 0

@@ -3,7 +3,7 @@ trackers (``lrt``) and the Rao-Blackwellized particle filter of Moore et al. 202
 
     python benchmarks/road_beliefs.py [--seeds 3] [--scenarios demo grid-dense]
         [--strategies loiter search_and_loiter search_and_reacquire] [--duration S]
-        [--histories 10] [--particles 500]
+        [--histories 10] [--particles 500] [--jump-rates 0 0.02]
 
 Scenarios: ``demo`` is the shipped demo (``searchtrack/data/scenarios/demo.toml``: 3 UAVs,
 4 targets, 914.4 m, Aguascalientes, 240 s); ``grid-dense`` is the thesis's experiment-2 cell on
@@ -41,9 +41,10 @@ from searchtrack.sim.roads.experiment import (
     tracking_base,
     tracking_scenario,
 )
+from searchtrack.sim.roads.filters import FILTERS
 from searchtrack.sim.roads.mission import World
 from searchtrack.sim.roads.record import MissionLog
-from searchtrack.sim.roads.scenario import BELIEFS, Belief, GuidanceSpec, Scenario
+from searchtrack.sim.roads.scenario import GuidanceSpec, Scenario
 from searchtrack.sim.roads.scenario_file import load_scenario
 from searchtrack.sim.roads.seeds import fly_seeds
 
@@ -64,12 +65,12 @@ def scenarios(names: list[str], duration_s: float | None) -> dict[str, Scenario]
     return out
 
 
-def variant(base: Scenario, belief: Belief, strategy: str, histories: int,
-            particles: int) -> Scenario:
+def variant(base: Scenario, belief: str, strategy: str, histories: int,
+            particles: int, jump_rate_per_s: float = 0.0) -> Scenario:
     """``base`` estimated with ``belief`` and guided by ``strategy`` (its other guidance
     settings kept)."""
     f = dataclasses.replace(base.filter, belief=belief, histories=histories,
-                            particles=particles)
+                            particles=particles, jump_rate_per_s=jump_rate_per_s)
     g: GuidanceSpec = dataclasses.replace(base.guidance, strategy=strategy)
     return dataclasses.replace(base, filter=f, guidance=g)
 
@@ -103,6 +104,8 @@ def main() -> None:
                         help="seconds per run (default: each scenario's own)")
     parser.add_argument("--histories", type=int, default=10)
     parser.add_argument("--particles", type=int, default=500)
+    parser.add_argument("--jump-rates", type=float, nargs="+", default=[0.0],
+                        help="RBPF rows for each jump rate λ (1/s) of its robust prior")
     args = parser.parse_args()
     header = ["scenario", "belief", "strategy", "runs", "MOC", "PVT %", "first det. s", "found",
               "detected", "ms/step", "wall s"]
@@ -111,12 +114,14 @@ def main() -> None:
         world = World.build(base)
         seeds = range(base.seed, base.seed + args.seeds)
         for strategy in args.strategies:
-            for belief in BELIEFS:
-                started = time.perf_counter()
-                sc = variant(base, belief, strategy, args.histories, args.particles)
-                logs = fly_seeds(sc, seeds, world)
-                rows.append(row(name, belief, strategy, logs, time.perf_counter() - started))
-                print(f"  done {name} {strategy} {belief}", file=sys.stderr, flush=True)
+            for belief in FILTERS.names():
+                for rate in (args.jump_rates if belief == "rbpf" else [0.0]):
+                    started = time.perf_counter()
+                    sc = variant(base, belief, strategy, args.histories, args.particles, rate)
+                    logs = fly_seeds(sc, seeds, world)
+                    label = f"rbpf λ={rate:g}" if belief == "rbpf" and rate > 0.0 else belief
+                    rows.append(row(name, label, strategy, logs, time.perf_counter() - started))
+                    print(f"  done {name} {strategy} {label}", file=sys.stderr, flush=True)
     print(f"\nThesis 001 road missions on two beliefs: lrt (thesis) and rbpf (Moore et al. 2021, "
           f"H = {args.histories}, N = {args.particles}); mean ± 95 % half-width over "
           f"{args.seeds} seeds")

@@ -43,8 +43,6 @@ The planner and metrics use the best history, the one of highest weight at the l
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field
-from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -61,77 +59,18 @@ from searchtrack.estimate.road_entropy import (
     map_positions,
     summary,
 )
+from searchtrack.estimate.road_jumps import (
+    detection_prior_likelihood,
+    jump_detection,
+    jump_miss,
+    miss_prior_likelihood,
+)
 from searchtrack.estimate.road_pf import RoadClouds, node_trackers
-from searchtrack.estimate.road_resampling import ResamplePolicy, systematic_indices
-from searchtrack.models.disc_sensor import DiscSensor
-from searchtrack.models.road_particles import DirectedRoads, RoadMotion
+from searchtrack.estimate.road_rbpf_config import RBPFConfig as RBPFConfig
+from searchtrack.estimate.road_resampling import systematic_indices
+from searchtrack.models.road_particles import DirectedRoads
 
 log = logging.getLogger("searchtrack.estimate.road_rbpf")
-
-
-@dataclass(frozen=True)
-class RBPFConfig:
-    """Sizes and models of a :class:`RoadRBPF`.
-
-    Parameters
-    ----------
-    n_targets
-        ``M ≥ 1``, known and fixed (paper §1).
-    n_histories
-        ``H ≥ 1`` top-level (association history) particles (10 in the paper).
-    n_particles
-        ``N ≥ 1`` particles per target filter (500).
-    motion, sensor
-        Target motion (Eq. 9) and measurement model (Eq. 10–11).
-    resample, history_resample
-        When the target filters and the histories resample (default: every update).
-    association
-        ``"sequential"`` (one DAS draw per detection, duplicates allowed) or ``"joint"``
-        (one-to-one within a scan).
-    history_weight
-        ``"marginal"`` (``(1/M) Σ_m L_m``) or ``"sampled"`` (``L_c``).
-    weigh_misses
-        Multiply the history weights by the no-detection likelihood of negative updates.
-    miss_undetected
-        Negative update on the filters without a detection in a scan that had detections.
-    bin_m
-        Bin length (m) of the entropies and MAP positions.
-    keep_history
-        Keep every history's full association sequence (:meth:`RoadRBPF.association_history`).
-    break_symmetry
-        Give the first detection to target 0 in every history (for exchangeable priors; turn it
-        off when the initial clouds tell the targets apart).
-    """
-
-    n_targets: int
-    n_histories: int = 10
-    n_particles: int = 500
-    motion: RoadMotion = field(default_factory=RoadMotion)
-    sensor: DiscSensor = field(default_factory=DiscSensor)
-    resample: ResamplePolicy = field(default_factory=ResamplePolicy)
-    history_resample: ResamplePolicy = field(default_factory=ResamplePolicy)
-    association: Literal["sequential", "joint"] = "sequential"
-    history_weight: Literal["marginal", "sampled"] = "marginal"
-    weigh_misses: bool = True
-    miss_undetected: bool = True
-    bin_m: float = 5.0
-    keep_history: bool = False
-    break_symmetry: bool = True
-
-    def __post_init__(self) -> None:
-        for name in ("n_targets", "n_histories", "n_particles"):
-            object.__setattr__(self, name, checks.count(name, getattr(self, name), 1))
-        for name, kind in (("motion", RoadMotion), ("sensor", DiscSensor),
-                           ("resample", ResamplePolicy), ("history_resample", ResamplePolicy)):
-            if not isinstance(getattr(self, name), kind):
-                raise InvalidInputError(name, getattr(self, name), f"must be a {kind.__name__}")
-        if self.association not in ("sequential", "joint"):
-            raise InvalidInputError("association", self.association,
-                                    "must be 'sequential' or 'joint'")
-        if self.history_weight not in ("marginal", "sampled"):
-            raise InvalidInputError("history_weight", self.history_weight,
-                                    "must be 'marginal' or 'sampled'")
-        object.__setattr__(self, "bin_m", checks.positive("bin_m", self.bin_m))
 
 
 class RoadRBPF:
@@ -165,6 +104,8 @@ class RoadRBPF:
         self.last_association = np.empty((h, 0), dtype=np.int64)
         self._history = np.empty((h, 0), dtype=np.int64)
         self._detected_before = not config.break_symmetry
+        self._since_update_s = 0.0   # time predicted since the last update (for the jumps)
+        self._jump = 0.0             # ε of the update under way
 
     @classmethod
     def from_particles(cls, roads: DirectedRoads, config: RBPFConfig, edge: ArrayLike,
@@ -207,8 +148,11 @@ class RoadRBPF:
     # -- the cycle ------------------------------------------------------------------------------
 
     def predict(self, dt_s: float, rng: np.random.Generator) -> None:
-        """Move every particle of every filter ``dt_s`` seconds on (Eq. 2, Eq. 9)."""
+        """Move every particle of every filter ``dt_s`` seconds on (Eq. 2, Eq. 9); with
+        ``config.jumps`` the next update also weighs a jump anywhere on the roads, with chance
+        ``1 − exp(−λ t)`` for the time ``t`` predicted since the last update."""
         self.clouds.predict(self.config.motion, dt_s, checks.generator("rng", rng))
+        self._since_update_s += dt_s
 
     def step(self, dt_s: float, detections: ArrayLike, uav_xy: ArrayLike,
              rng: np.random.Generator) -> None:
@@ -229,6 +173,9 @@ class RoadRBPF:
         uav = checks.finite_array("uav_xy", uav_xy, (2,))
         checks.generator("rng", rng)
         density = self.config.sensor.clutter_density(self.roads, uav) if ys.shape[0] else 0.0
+        jumps = self.config.jumps
+        self._jump = jumps.probability(self._since_update_s) if jumps is not None else 0.0
+        self._since_update_s = 0.0
         if ys.shape[0] and density == 0.0:
             # No road in view: no target and no clutter can be there (Eq. 10 is 0 for every
             # history); the scan is read as seeing nothing.
@@ -245,6 +192,11 @@ class RoadRBPF:
 
     def _miss(self, uav: FloatArray, rows: IntArray, rng: np.random.Generator) -> None:
         sums = self.clouds.miss(uav, rows, rng)
+        eps, jumps = self._jump, self.config.jumps
+        if eps > 0.0 and jumps is not None and rows.size:
+            jump_miss(self.clouds, jumps, eps, rows, sums, uav, rng)
+            sums = (1.0 - eps) * sums + eps * miss_prior_likelihood(self.roads,
+                                                                    self.config.sensor, uav)
         if self.config.weigh_misses:
             factor = np.ones(self.n_histories * self.n_targets)
             factor[rows] = sums
@@ -257,8 +209,13 @@ class RoadRBPF:
         used = np.zeros((h, m), dtype=bool)
         assigned = np.full((h, ys.shape[0]), -1, dtype=np.int64)
         hist = np.arange(h)
+        eps, jumps = self._jump, self.config.jumps
         for j, y in enumerate(ys):
-            lik = self.clouds.detection_sums(y, density).reshape(h, m)
+            sums = self.clouds.detection_sums(y, density)
+            lik = sums.reshape(h, m)
+            if eps > 0.0:   # the robust prior: a target anywhere on the roads may explain y
+                lik = (1.0 - eps) * lik + eps * detection_prior_likelihood(
+                    self.roads, self.config.sensor, y, density)
             avail = ~used if joint else np.ones((h, m), dtype=bool)
             if not self._detected_before:
                 c = np.zeros(h, dtype=np.int64)
@@ -270,6 +227,8 @@ class RoadRBPF:
             self.weights[live] *= factor[live]
             rows = hist[live] * m + c[live]
             self.clouds.weigh(rows, rng)
+            if eps > 0.0 and jumps is not None and rows.size:
+                jump_detection(self.clouds, jumps, eps, rows, sums[rows], y, density, rng)
             used[hist[live], c[live]] = True
             assigned[:, j] = c
         self.last_association = assigned

@@ -39,6 +39,7 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.registry import check_seed
 from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate.road_jumps import TargetJumps
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
 from searchtrack.models.disc_sensor import DiscSensor
 from searchtrack.models.road_particles import DirectedRoads, RoadMotion
@@ -70,6 +71,10 @@ class RoadTrackingConfig:
         The downward disc sensor (30 m view, ``R`` = 5 m²).
     histories, particles
         ``H`` (10) and ``N`` (500) of the filter.
+    jump_rate_per_s
+        ``λ`` of the filter's robust prior (:mod:`searchtrack.estimate.road_jumps`, beyond the
+        paper): the rate at which a target may leave its predicted cloud; 0 (the paper's
+        prior) by default.
     dt_s, scan_period_s, duration_s
         Filter step (0.1 s), time between scans (1 s) and episode length (s).
     planner
@@ -94,6 +99,7 @@ class RoadTrackingConfig:
     sensor: DiscSensor = field(default_factory=DiscSensor)
     histories: int = 10
     particles: int = 500
+    jump_rate_per_s: float = 0.0
     dt_s: float = 0.1
     scan_period_s: float = 1.0
     duration_s: float = 120.0
@@ -111,7 +117,7 @@ class RoadTrackingConfig:
         for name in ("uav_speed_mps", "target_speed_mps", "dt_s", "scan_period_s",
                      "duration_s", "gain", "time_limit_s"):
             checks.positive(name, getattr(self, name))
-        for name in ("truth_sigma_mps", "filter_sigma_mps"):
+        for name in ("truth_sigma_mps", "filter_sigma_mps", "jump_rate_per_s"):
             checks.non_negative(name, getattr(self, name))
         checks.real("discount", self.discount, low=0.0, high=1.0, low_open=True)
         checks.choice("normalization", self.normalization, NORMALIZATIONS)
@@ -142,7 +148,9 @@ class RoadTrackingConfig:
         return RBPFConfig(n_targets=self.targets, n_histories=self.histories,
                           n_particles=self.particles,
                           motion=RoadMotion(self.target_speed_mps, self.filter_sigma_mps),
-                          sensor=self.sensor)
+                          sensor=self.sensor,
+                          jumps=(TargetJumps(rate_per_s=self.jump_rate_per_s)
+                                 if self.jump_rate_per_s > 0.0 else None))
 
 
 @dataclass(frozen=True)

@@ -76,7 +76,8 @@ def road_tracking_run(params: Params, seed: int) -> Metrics:
         targets=int(params["targets"]), uavs=int(params["uavs"]),
         duration_s=float(params["duration_s"]), histories=int(params["histories"]),
         particles=int(params["particles"]), lookahead=int(params["lookahead"]),
-        normalization="max" if params["normalization"] == "max" else "sum")
+        normalization="max" if params["normalization"] == "max" else "sum",
+        jump_rate_per_s=float(params["jump_rate_per_s"]))
     log = run_road_tracking(config, seed, _roads(map_name))
     third = max(1, log.entropy.size // 3)
     found = log.detected
@@ -95,7 +96,8 @@ EXPERIMENTS = (
         Param("map", str, DEFAULT_MAP, tuple(ROAD_MAPS)),
         *(Param.of(RoadTrackingConfig, name) for name in (
             "targets", "uavs", "duration_s", "histories", "particles", "lookahead")),
-        Param.of(RoadTrackingConfig, "normalization", choices=NORMALIZATIONS)),
+        Param.of(RoadTrackingConfig, "normalization", choices=NORMALIZATIONS),
+        Param.of(RoadTrackingConfig, "jump_rate_per_s", minimum=0.0)),
         {"mean_entropy": float, "early_entropy": float, "late_entropy": float,
          "error_m": float, "all_detected_s": float, "planner_ms": float, "filter_ms": float,
          "entropy_series": str},

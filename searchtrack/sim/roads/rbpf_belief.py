@@ -65,6 +65,7 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.lrt import LikelihoodField
 from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
+from searchtrack.estimate.road_jumps import TargetJumps
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
 from searchtrack.estimate.stepping import RoadScan, RoadUpdate, TrackBirth, TrackPair
 from searchtrack.models import CourierModel, RoadNetwork, SensorModel, UavState
@@ -110,12 +111,14 @@ def thesis_disc_sensor(sensor: SensorModel) -> DiscSensor:
 
 
 def rbpf_config(scenario: Scenario) -> RBPFConfig:
-    """The RBPF of ``scenario``: ``M`` = its targets, ``H`` and ``N`` from its filter spec, the
-    couriers' motion and the thesis sensor's disc."""
+    """The RBPF of ``scenario``: ``M`` = its targets, ``H``, ``N`` and the jump rate from its
+    filter spec, the couriers' motion and the thesis sensor's disc."""
     f = scenario.filter
     return RBPFConfig(n_targets=scenario.target_count, n_histories=f.histories,
                       n_particles=f.particles, motion=courier_motion(scenario.courier),
-                      sensor=thesis_disc_sensor(scenario.sensor), association="joint")
+                      sensor=thesis_disc_sensor(scenario.sensor), association="joint",
+                      jumps=(TargetJumps(rate_per_s=f.jump_rate_per_s)
+                             if f.jump_rate_per_s > 0.0 else None))
 
 
 class ParticleSearchField:

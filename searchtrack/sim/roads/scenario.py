@@ -183,6 +183,10 @@ class FilterSpec:
     histories, particles
         The RBPF's association histories ``H`` and particles per target filter ``N`` (10 and
         500, the paper's); integers ≥ 1, used when ``belief = "rbpf"``.
+    jump_rate_per_s
+        ``λ ≥ 0`` of the RBPF's robust prior (:mod:`searchtrack.estimate.road_jumps`, beyond
+        paper 000): the rate at which a target may leave its predicted cloud; 0 (default): the
+        paper's prior. Used when ``belief = "rbpf"``.
     tracker_alpha
         Diffusivity of the node trackers' prediction (4.2) (hops²/s), ``None`` (default): the
         thesis's one ``alpha`` for the LRT and the trackers. It also sets the reacquisition
@@ -215,6 +219,7 @@ class FilterSpec:
     belief: str = "lrt"
     histories: int = 10
     particles: int = 500
+    jump_rate_per_s: float = 0.0
     tracker_alpha: float | None = None
     handover: bool = True
 
@@ -223,6 +228,7 @@ class FilterSpec:
             positive(name, getattr(self, name))
         if self.tracker_alpha is not None:
             positive("tracker_alpha", self.tracker_alpha)
+        non_negative("jump_rate_per_s", self.jump_rate_per_s)
         if not isinstance(self.handover, bool):
             raise InvalidInputError("handover", self.handover, "must be true or false")
         from searchtrack.sim.roads.filters import FILTERS  # the registry imports this module

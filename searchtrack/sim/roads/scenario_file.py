@@ -189,6 +189,7 @@ def _filter(t: Table) -> FilterSpec:
         belief=t.string("belief", d.belief, choices=tuple(FILTERS.names())),
         histories=t.integer("histories", d.histories, minimum=1),
         particles=t.integer("particles", d.particles, minimum=1),
+        jump_rate_per_s=t.number("jump_rate_per_s", d.jump_rate_per_s, minimum=0.0),
         tracker_alpha=t.optional_number("tracker_alpha"),
         handover=t.boolean("handover", d.handover),
     )

@@ -95,3 +95,13 @@ def test_matched_error_finds_the_best_matching() -> None:
 def test_bad_configs_name_the_field(field: str, value: object) -> None:
     with pytest.raises(InvalidInputError, match=field):
         RoadTrackingConfig(**{field: value})  # type: ignore[arg-type]
+
+
+def test_the_jump_rate_reaches_the_filter() -> None:
+    """0 (the paper's prior) gives no jumps; a positive rate gives the robust prior; a negative
+    one is refused."""
+    assert RoadTrackingConfig().filter_config().jumps is None
+    jumps = RoadTrackingConfig(jump_rate_per_s=0.05).filter_config().jumps
+    assert jumps is not None and jumps.rate_per_s == 0.05
+    with pytest.raises(InvalidInputError):
+        RoadTrackingConfig(jump_rate_per_s=-0.1)

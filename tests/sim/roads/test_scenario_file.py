@@ -218,3 +218,16 @@ def test_an_empty_file_gives_the_dataclass_defaults(tmp_path: Path) -> None:
     reader states no default of its own (UAVs, targets, sensor, filter, guidance, timing)."""
     s = load_scenario(write(tmp_path, 'name = "x"\n[map]\ngrid = { rows = 3, cols = 3 }\n'))
     assert s == Scenario("x", MapSpec("grid", None, rows=3, cols=3))
+
+
+def test_the_rbpf_jump_rate_is_read_and_checked(tmp_path: Path) -> None:
+    """``filter.jump_rate_per_s`` reaches the RBPF's robust prior; a negative rate is named."""
+    from searchtrack.sim.roads.rbpf_belief import rbpf_config
+
+    text = 'name = "x"\n[map]\ngrid = { rows = 3, cols = 3 }\n[filter]\nbelief = "rbpf"\n'
+    s = load_scenario(write(tmp_path, text + "jump_rate_per_s = 0.05\n"))
+    jumps = rbpf_config(s).jumps
+    assert jumps is not None and jumps.rate_per_s == 0.05
+    assert rbpf_config(load_scenario(write(tmp_path, text))).jumps is None
+    with pytest.raises(ParseError, match="filter.jump_rate_per_s"):
+        load_scenario(write(tmp_path, text + "jump_rate_per_s = -1.0\n"))

@@ -1,0 +1,190 @@
+"""A robust motion prior for the road particle filters: targets may leave their predicted cloud.
+
+Beyond Moore et al. 2021. Paper 000's motion model (Eq. 9) moves every particle along the roads,
+so a filter whose particles were all removed from a stretch of road by negative information
+(Eq. 11), or that split at junctions and followed the wrong branches, has no particle left where
+the target is: a detection there finds nothing to weigh and is lost, however sure the sensor.
+
+The prior here mixes the motion model with a jump anywhere on the roads:
+
+    p̃(x_k | x_{k−1}) = (1 − ε) p(x_k | x_{k−1}) + ε u(x_k),   ε = 1 − exp(−λ Δt),
+
+with ``u`` uniform over the directed road length ``L`` and ``λ`` the jump rate (per second). The
+filters stay particle filters of this model: at each update the jump component ``ε u`` is
+represented by ``K`` draws from a proposal ``g`` weighed back to it, and joined to the cloud.
+With the measurement likelihood ``ℓ(x)`` of the scan and the cloud's weights ``w`` (before the
+update),
+
+    cloud particle n:  (1 − ε) w_n ℓ(x_n),        jump draw j:  ε ℓ(x_j) u(x_j) / (K g(x_j)),
+
+whose expected total is the predictive likelihood ``(1 − ε) Σ_n w_n ℓ(x_n) + ε ∫ ℓ u`` (the
+draws are an unbiased importance-sampling estimate of the second term, for any ``g`` positive
+where ``ℓ u`` is); the union is resampled back to ``N`` (low-variance). The proposal is where the
+measurement points:
+
+- a detection ``y`` (Eq. 10): ``g = (1 − α)·uniform on the road within ρ of y + α·u``, with
+  ``ρ`` a few sensor standard deviations (the disc carries all but ``exp(−ρ²/2σ²)`` of the
+  Gaussian term; the ``α·u`` part covers the clutter floor everywhere);
+- a miss (Eq. 11): ``g = u``.
+
+The integrals the association and the history weights need are exact: ``∫ ℓ u`` of a detection
+is ``(gain · ∫_roads exp(−‖G(x) − y‖²/2σ²) dx + P_FA c L) / L``, the road integral summed edge by
+edge in closed form with ``erf``; of a miss, ``1 − (1 − P_FN) L_in / L`` with ``L_in`` the road
+length inside the negative-information disc.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.special import erf
+
+from searchtrack.core import checks
+from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate.road_pf import RoadClouds
+from searchtrack.estimate.road_resampling import systematic_indices
+from searchtrack.models.disc_sensor import DiscSensor
+from searchtrack.models.road_particles import DirectedRoads
+
+
+@dataclass(frozen=True)
+class TargetJumps:
+    """The jump component of the robust road prior and its proposals.
+
+    Parameters
+    ----------
+    rate_per_s
+        ``λ ≥ 0``: the rate (1/s) at which a target leaves its predicted cloud for anywhere on
+        the roads; 0 gives paper 000's prior.
+    detection_share, miss_share
+        Jump draws per update, as a share of the cloud's ``N`` (at least one draw), for a
+        detection and for a miss.
+    radius_sigmas
+        ``ρ`` of the detection proposal, in standard deviations of the sensor's position noise.
+    global_share
+        ``α``: the share of the detection proposal drawn uniformly over all roads.
+    """
+
+    rate_per_s: float = 0.02
+    detection_share: float = 0.2
+    miss_share: float = 0.02
+    radius_sigmas: float = 5.0
+    global_share: float = 0.1
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "rate_per_s", checks.non_negative("rate_per_s",
+                                                                   self.rate_per_s))
+        for name in ("detection_share", "miss_share"):
+            object.__setattr__(self, name, checks.real(name, getattr(self, name), low=0.0,
+                                                       high=1.0, low_open=True))
+        object.__setattr__(self, "radius_sigmas", checks.positive("radius_sigmas",
+                                                                  self.radius_sigmas))
+        object.__setattr__(self, "global_share", checks.real(
+            "global_share", self.global_share, low=0.0, high=1.0, low_open=True))
+
+    def probability(self, dt_s: float) -> float:
+        """``ε = 1 − exp(−λ Δt)``: the chance of a jump in a step of ``dt_s`` seconds."""
+        return float(-math.expm1(-self.rate_per_s * checks.non_negative("dt_s", dt_s)))
+
+    def draws(self, n_particles: int, detection: bool) -> int:
+        """``K``: jump draws joined to a cloud of ``n_particles``."""
+        share = self.detection_share if detection else self.miss_share
+        return max(1, math.ceil(share * n_particles))
+
+
+def road_gaussian_integral(roads: DirectedRoads, y: FloatArray, sigma2_m2: float) -> float:
+    """``∫ exp(−‖G(x) − y‖² / 2σ²) dx`` over the directed roads (m), in closed form per edge:
+    with ``h`` the distance from ``y`` to the edge's line and ``t*`` the arc of its foot point,
+    ``exp(−h²/2σ²) σ √(π/2) [erf((ℓ − t*)/σ√2) + erf(t*/σ√2)]``."""
+    rel = np.asarray(y, dtype=np.float64) - roads.tail_xy          # (2m, 2)
+    t_star = np.einsum("ij,ij->i", rel, roads.step_xy)             # arc of the foot point
+    h2 = np.maximum(np.einsum("ij,ij->i", rel, rel) - t_star * t_star, 0.0)
+    sigma = math.sqrt(sigma2_m2)
+    scale = sigma * math.sqrt(2.0)
+    along = erf((roads.length - t_star) / scale) + erf(t_star / scale)
+    return float(np.sum(np.exp(-0.5 * h2 / sigma2_m2) * along) * sigma * math.sqrt(0.5 * math.pi))
+
+
+def detection_prior_likelihood(roads: DirectedRoads, sensor: DiscSensor, y: FloatArray,
+                               clutter_density: float) -> float:
+    """``∫ p(y | x) u(x) dx``: the likelihood of detection ``y`` (Eq. 10) for a target anywhere
+    on the roads."""
+    total = roads.total_length_m
+    return (sensor.detection_gain * road_gaussian_integral(roads, y, sensor.sigma2_m2) / total
+            + sensor.p_fa * clutter_density)
+
+
+def miss_prior_likelihood(roads: DirectedRoads, sensor: DiscSensor, uav_xy: FloatArray) -> float:
+    """``∫ p(z | x) u(x) dx``: the no-detection likelihood (Eq. 11) of a target anywhere on the
+    roads, ``1 − (1 − P_FN) L_in / L``."""
+    s0, s1 = roads.disc_intervals(np.asarray(uav_xy, dtype=np.float64),
+                                  sensor.negative_radius_m)
+    return 1.0 - (1.0 - sensor.p_fn) * float((s1 - s0).sum()) / roads.total_length_m
+
+
+def near_detection(roads: DirectedRoads, sensor: DiscSensor, jumps: TargetJumps, y: FloatArray,
+                   shape: tuple[int, int], rng: np.random.Generator
+                   ) -> tuple[IntArray, FloatArray, FloatArray]:
+    """``shape`` draws ``(edge, s)`` from the detection proposal ``g`` around ``y`` and the ratio
+    ``u(x) / g(x)`` of each (the importance weight before ``ℓ`` and ``ε / K``)."""
+    radius = jumps.radius_sigmas * math.sqrt(sensor.sigma2_m2)
+    s0, s1 = roads.disc_intervals(np.asarray(y, dtype=np.float64), radius)
+    inside = s1 - s0
+    l_disc = float(inside.sum())
+    total = roads.total_length_m
+    alpha = jumps.global_share if l_disc > 0.0 else 1.0
+    edge, s = roads.uniform(shape, rng)
+    local = rng.random(shape) >= alpha
+    if l_disc > 0.0 and np.any(local):
+        k = int(np.count_nonzero(local))
+        cdf = np.cumsum(inside)
+        e = np.minimum(np.searchsorted(cdf, rng.random(k) * cdf[-1], side="right"),
+                       inside.size - 1)
+        edge[local] = e
+        s[local] = s0[e] + rng.random(k) * inside[e]
+    pts = roads.point(edge, s)
+    near = np.einsum("...i,...i->...", pts - y, pts - y) <= radius * radius
+    g = alpha / total + np.where(near, (1.0 - alpha) / l_disc if l_disc > 0.0 else 0.0, 0.0)
+    return edge, s, (1.0 / total) / g
+
+
+def join_jumps(clouds: RoadClouds, rows: IntArray, cloud_mass: FloatArray, edge: IntArray,
+               s: FloatArray, w: FloatArray, rng: np.random.Generator) -> None:
+    """Join jump draws ``(R, K)`` (edges, arcs, importance weights) to ``rows`` of ``clouds``,
+    whose normalized weights count ``cloud_mass`` ``(R,)`` each, and resample each row back to
+    ``N`` (weights ``1/N``); a row whose union has no weight is left as it is."""
+    n = clouds.shape[1]
+    union_w = np.concatenate([clouds.w[rows] * cloud_mass[:, None], w], axis=1)
+    ok = np.flatnonzero(union_w.sum(axis=1) > 0.0)
+    if ok.size == 0:
+        return
+    union_e = np.concatenate([clouds.edge[rows[ok]], edge[ok]], axis=1)
+    union_s = np.concatenate([clouds.s[rows[ok]], s[ok]], axis=1)
+    idx = systematic_indices(union_w[ok], rng.random(ok.size), n)   # low-variance, back to N
+    take = np.arange(ok.size)[:, None]
+    clouds.edge[rows[ok]] = union_e[take, idx]
+    clouds.s[rows[ok]] = union_s[take, idx]
+    clouds.w[rows[ok]] = 1.0 / n
+
+
+def jump_detection(clouds: RoadClouds, jumps: TargetJumps, eps: float, rows: IntArray,
+                   sums: FloatArray, y: FloatArray, clutter_density: float,
+                   rng: np.random.Generator) -> None:
+    """After the detection ``y`` weighed ``rows`` (whose likelihood sums before the update were
+    ``sums``): join each row's jump draws near ``y``."""
+    k = jumps.draws(clouds.shape[1], detection=True)
+    edge, s, ratio = near_detection(clouds.roads, clouds.sensor, jumps, y, (rows.size, k), rng)
+    lik = clouds.sensor.likelihood(clouds.roads.point(edge, s), y, clutter_density)
+    join_jumps(clouds, rows, (1.0 - eps) * sums, edge, s, eps * lik * ratio / k, rng)
+
+
+def jump_miss(clouds: RoadClouds, jumps: TargetJumps, eps: float, rows: IntArray,
+              sums: FloatArray, uav_xy: FloatArray, rng: np.random.Generator) -> None:
+    """After a miss of a UAV at ``uav_xy`` updated ``rows`` (no-detection likelihoods ``sums``
+    before the update): join each row's jump draws from ``u``."""
+    k = jumps.draws(clouds.shape[1], detection=False)
+    edge, s = clouds.roads.uniform((rows.size, k), rng)
+    lik = clouds.sensor.miss_likelihood(clouds.roads.point(edge, s), uav_xy)
+    join_jumps(clouds, rows, (1.0 - eps) * sums, edge, s, eps * lik / k, rng)

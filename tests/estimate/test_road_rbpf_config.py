@@ -1,0 +1,25 @@
+"""The RBPF's configuration: sizes, models and options checked, the robust prior optional."""
+
+from __future__ import annotations
+
+import pytest
+
+from searchtrack.core.errors import InvalidInputError
+from searchtrack.estimate.road_jumps import TargetJumps
+from searchtrack.estimate.road_rbpf_config import RBPFConfig
+
+
+def test_paper_defaults() -> None:
+    c = RBPFConfig(n_targets=2)
+    assert (c.n_histories, c.n_particles, c.jumps) == (10, 500, None)
+    assert RBPFConfig(n_targets=1, jumps=TargetJumps()).jumps == TargetJumps()
+
+
+@pytest.mark.parametrize("bad", [{"n_targets": 0}, {"n_targets": 1, "n_particles": 0},
+                                 {"n_targets": 1, "association": "greedy"},
+                                 {"n_targets": 1, "history_weight": "max"},
+                                 {"n_targets": 1, "bin_m": 0.0},
+                                 {"n_targets": 1, "jumps": 0.1}])
+def test_bad_settings_are_named(bad: dict[str, object]) -> None:
+    with pytest.raises(InvalidInputError):
+        RBPFConfig(**bad)  # type: ignore[arg-type]
