@@ -229,5 +229,5 @@ def test_the_rbpf_jump_rate_is_read_and_checked(tmp_path: Path) -> None:
     jumps = rbpf_config(s).jumps
     assert jumps is not None and jumps.rate_per_s == 0.05
     assert rbpf_config(load_scenario(write(tmp_path, text))).jumps is None
-    with pytest.raises(ParseError, match="filter.jump_rate_per_s"):
+    with pytest.raises(ParseError, match=r"filter\.jump_rate_per_s"):
         load_scenario(write(tmp_path, text + "jump_rate_per_s = -1.0\n"))
