@@ -82,7 +82,7 @@ def run(planner: str, seed: int, max_steps: int, resolution_m: float) -> tuple[i
 
 def ideal(args: argparse.Namespace) -> None:
     """The idealised table (no filter in the loop)."""
-    print(f"lawnmower length: {len(lawnmower_3d(BOX, 48.0, 48.0, 12.0))} waypoints "
+    print(f"lawnmower length: {len(SearchConfig().lawnmower_route())} waypoints "
           "(paper: 812 steps)")
     print("\n| planner | steps to find 12 (mean ± 95 % CI) | min | max | not finished | "
           "planner ms/step |")
@@ -128,7 +128,7 @@ SEARCH_HEADER = ("| planner | steps to find all (mean ± 95 % CI) | min | max | 
 
 def search(args: argparse.Namespace) -> None:
     """004 E2 with the filter in the loop: proposed vs lawnmower vs refinement only."""
-    length = len(lawnmower_3d(BOX, 48.0, 48.0, 12.0))
+    length = len(SearchConfig().lawnmower_route())
     cap = args.max_steps or length
     print(f"closed loop, refinement T = {args.refinement}, {args.seeds} seeds, cap {cap} steps "
           f"(our lawnmower: {length} "
@@ -146,7 +146,7 @@ def search(args: argparse.Namespace) -> None:
 
 def horizon(args: argparse.Namespace) -> None:
     """004 E1 with the filter in the loop: the proposed planner at τ = 1, 2, 3."""
-    cap = args.max_steps or len(lawnmower_3d(BOX, 48.0, 48.0, 12.0))
+    cap = args.max_steps or len(SearchConfig().lawnmower_route())
     print(f"closed loop, proposed planner, refinement T = {args.refinement}, {args.seeds} seeds, "
           f"cap {cap} steps")
     print(SEARCH_HEADER)

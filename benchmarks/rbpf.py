@@ -45,8 +45,8 @@ def _time(roads: DirectedRoads, h: int, m: int, n: int, dt_s: float,
     """Mean ms of predict, update without and with one detection (``jump_rate > 0``: with the
     robust prior's jump draws at every update)."""
     rng = np.random.default_rng(0)
-    jumps = TargetJumps(rate_per_s=jump_rate) if jump_rate > 0.0 else None
-    f = RoadRBPF(roads, RBPFConfig(n_targets=m, n_histories=h, n_particles=n, jumps=jumps), rng)
+    f = RoadRBPF(roads, RBPFConfig(n_targets=m, n_histories=h, n_particles=n,
+                                   jumps=TargetJumps.at_rate(jump_rate)), rng)
     te, ts = roads.uniform(m, rng)
     truth = roads.point(te, ts)
     for _ in range(3):  # warm-up: compile and reach a tracked state

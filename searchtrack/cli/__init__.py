@@ -53,8 +53,9 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of the ``searchtrack`` command."""
+def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
+    """The argument parser of the ``searchtrack`` command; given the command line ``argv``, the
+    ``plan`` families (which import their solvers) are built only when it runs ``plan``."""
     parser = _Parser(prog="searchtrack", description=DESCRIPTION, epilog=EPILOG)
     parser.add_argument("-v", "--verbose", action="store_true", help="log solver progress")
     parser.add_argument("--version", action="version", version=f"searchtrack {__version__}")
@@ -68,7 +69,8 @@ def build_parser() -> argparse.ArgumentParser:
     fleet.add_parser(sub)
     rl.add_parser(sub)
     radio.add_parser(sub)
-    plan.add_parser(sub)
+    words = [a for a in argv if not a.startswith("-")] if argv is not None else ["plan"]
+    plan.add_parser(sub, families=bool(words) and words[0] == "plan")
     kernels.add_parser(sub)
     for group in sub.choices.values():
         _add_epilog(group)
@@ -98,8 +100,9 @@ def _abort() -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``searchtrack`` console script; returns the exit status."""
-    parser = build_parser()
-    if not (sys.argv[1:] if argv is None else list(argv)):
+    given = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(given)
+    if not given:
         parser.print_help()
         return EXIT_OK
     args = parser.parse_args(argv)

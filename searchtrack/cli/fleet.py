@@ -23,6 +23,7 @@ from rich.table import Table
 
 from searchtrack.cli.common import int_at_least, int_in, positive_float
 from searchtrack.cli.output import output_file
+from searchtrack.core.checks import finite_or_none
 from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.files import write_text_atomic
 from searchtrack.core.interrupt import StopRequested, stop_requested, stops_raise
@@ -85,10 +86,6 @@ def sizing_table(sizing: FleetSizing, title: str) -> Table:
     return table
 
 
-def _finite(x: float) -> float | None:
-    return x if math.isfinite(x) else None
-
-
 def _config_record(config: BoundConfig) -> dict[str, object]:
     return {"targets": config.targets, "uav_speed_mps": config.uav_speed_mps,
             "target_speed_mps": config.target_speed_mps, "sigma_v_mps": config.sigma_v_mps,
@@ -109,7 +106,7 @@ def sizing_record(spec: MapSpec, bound_map: BoundMap, config: BoundConfig,
         "required_entropy": sizing.required_entropy,
         "rows": [{"uavs": o.bound.uavs, "revisit_s": o.bound.revisit_s, "steps": o.bound.steps,
                   "variance0_m2": o.bound.variance0_m2, "bound": o.bound.bound,
-                  "variance_bound_m2": _finite(o.variance_m2), "meets": o.meets}
+                  "variance_bound_m2": finite_or_none(o.variance_m2), "meets": o.meets}
                  for o in sizing.options],
         "uavs": sizing.uavs,
     }

@@ -11,6 +11,7 @@ the top-level fields of ``searchtrack optw solve --json`` (``instance``, ``backe
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 from pathlib import Path
 from typing import Any
@@ -36,27 +37,41 @@ def available_families() -> list[str]:
     return jobs.families()
 
 
+@functools.cache
 def family_module(name: str) -> jobs.PlanJob:
-    """The module of family ``name``, imported now."""
+    """The module of family ``name``, imported on first use (the families load only when the
+    ``plan`` command is built: other commands start without the solvers behind them)."""
     return jobs.load(name)
 
 
-#: One-line help of each installed family: its module's ``DESCRIPTION``.
-HELP: dict[str, str] = {name: family_module(name).DESCRIPTION for name in available_families()}
+@functools.cache
+def _help() -> dict[str, str]:
+    return {name: family_module(name).DESCRIPTION for name in available_families()}
 
-#: Backend names of each installed family as ``--help`` lists them: its module's ``backends()``
-#: (the names of the family's registry, ``"auto"`` first).
-BACKEND_NAMES: dict[str, tuple[str, ...]] = {
-    name: tuple(family_module(name).backends()) for name in available_families()}
+
+@functools.cache
+def _backend_names() -> dict[str, tuple[str, ...]]:
+    return {name: tuple(family_module(name).backends()) for name in available_families()}
+
+
+def __getattr__(name: str) -> Any:
+    """``HELP`` (each family's one-line ``DESCRIPTION``) and ``BACKEND_NAMES`` (each family's
+    ``backends()``, ``"auto"`` first), built from the family modules on first use."""
+    if name == "HELP":
+        return _help()
+    if name == "BACKEND_NAMES":
+        return _backend_names()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def backend_help(name: str) -> str:
     """The ``--backend`` help of family ``name``: its backend names, then what each registered
     backend does (its registry's ``description``)."""
     registry: Registry[Any, Any] = family_module(name).BACKENDS
-    described = "; ".join(f"{b}: {registry.get(b).description}" for b in BACKEND_NAMES[name]
+    names = _backend_names()[name]
+    described = "; ".join(f"{b}: {registry.get(b).description}" for b in names
                           if b in registry.names())
-    text = "backend: " + ", ".join(BACKEND_NAMES[name]) + " (default auto)"
+    text = "backend: " + ", ".join(names) + " (default auto)"
     return (text + (f". {described}" if described else "")).replace("%", "%%")
 
 
@@ -112,10 +127,10 @@ def plan_command(args: argparse.Namespace, console: Console) -> int:
     out = output_file("--out", args.out)
     fig_out = output_file("--figure", args.figure) if args.figure else None
     module = family_module(args.family)
-    names: list[str] = module.backends()
+    names = _backend_names()[args.family]
     if args.backend not in names:
         raise SearchtrackError(f"--backend {args.backend!r}: unknown {args.family} backend; "
-                               f"choose one of {names}")
+                               f"choose one of {list(names)}")
     problem = module.read_problem(Path(args.problem))
     ready_kernels(console, module.KERNELS)
     with console.status(f"solving {args.family} problem {Path(args.problem).name} with "
@@ -134,15 +149,17 @@ def plan_command(args: argparse.Namespace, console: Console) -> int:
     return exit_status(result)
 
 
-def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
-    """Register ``plan FAMILY`` on the top-level subparsers (one subcommand per family)."""
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser], *,
+               families: bool = True) -> None:
+    """Register ``plan FAMILY`` on the top-level subparsers (one subcommand per family; with
+    ``families`` false, the ``plan`` command alone, whose families are not imported)."""
     plan = sub.add_parser("plan", help="solve one planning problem from a JSON file",
                           description=(__doc__.split("\n\n")[0].replace("``", "")
                                        if __doc__ else None))
     psub = plan.add_subparsers(dest="family", required=True)
-    for name in available_families():
-        p = psub.add_parser(name, help=HELP.get(name, name),
-                            description=f"{name}: {HELP.get(name, name)} (format: module "
+    for name in available_families() if families else ():
+        p = psub.add_parser(name, help=_help()[name],
+                            description=f"{name}: {_help()[name]} (format: module "
                             f"searchtrack.sim.jobs.{name})")
         p.add_argument("problem", metavar="PROBLEM.json",
                        help=f"the problem (example: examples/problems/{name}.json)")

@@ -40,6 +40,12 @@ def real(name: str, value: object, *, low: float = -math.inf, high: float = math
     return v
 
 
+def finite_or_none(value: float) -> float | None:
+    """``value``, or ``None`` when it is not finite (no value to report, e.g. in JSON or a
+    results table)."""
+    return value if math.isfinite(value) else None
+
+
 def positive(name: str, value: object) -> float:
     """``value`` as a float, or :class:`InvalidInputError` unless finite and > 0."""
     return real(name, value, low=0.0, low_open=True)

@@ -85,6 +85,22 @@ def read_json(path: str | Path, *, max_bytes: int = MAX_INPUT_BYTES) -> Any:
         raise ParseError(path, None, None, f"not valid JSON: {exc}") from None
 
 
+def _regular_file(path: str | Path) -> Path:
+    """``path`` as a Path, or a ParseError when it does not exist or is not a regular file."""
+    p = Path(path)
+    if not p.exists():
+        raise ParseError(p, None, None, "no such file")
+    if not p.is_file():
+        raise ParseError(p, None, None, "not a regular file")
+    return p
+
+
+def _too_large(p: Path, size: int, max_bytes: int) -> ParseError:
+    """The error of an input of ``size`` bytes over ``max_bytes``."""
+    return ParseError(p, None, None, f"is {_mib(size)}, larger than the {_mib(max_bytes)} an "
+                      "input may hold")
+
+
 @contextlib.contextmanager
 def open_input(path: str | Path, *,
                max_bytes: int = MAX_INPUT_BYTES) -> Iterator[io.BufferedReader[Any]]:
@@ -97,11 +113,7 @@ def open_input(path: str | Path, *,
         No such file, not a regular file, over the limit, unreadable, or truncated / corrupt
         compressed data (also when that is found while the caller reads).
     """
-    p = Path(path)
-    if not p.exists():
-        raise ParseError(p, None, None, "no such file")
-    if not p.is_file():
-        raise ParseError(p, None, None, "not a regular file")
+    p = _regular_file(path)
     try:
         size = p.stat().st_size
         with p.open("rb") as raw:
@@ -109,8 +121,7 @@ def open_input(path: str | Path, *,
             raw.seek(0)
             packed = magic == b"BZh"
             if not packed and size > max_bytes:
-                raise ParseError(p, None, None, f"is {_mib(size)}, larger than the "
-                                 f"{_mib(max_bytes)} an input may hold")
+                raise _too_large(p, size, max_bytes)
             inner: IO[bytes] = bz2.BZ2File(raw) if packed else raw  # type: ignore[assignment]
             with io.BufferedReader(_Bounded(inner, p, max_bytes)) as stream:
                 yield stream
@@ -146,7 +157,15 @@ def read_text(path: str | Path, *, max_bytes: int = MAX_INPUT_BYTES) -> str:
 
 
 def _umask() -> int:
-    """The process's file-creation mask (read by setting it and restoring it at once)."""
+    """The process's file-creation mask: read from ``/proc/self/status`` where Linux gives it
+    (nothing changes it meanwhile), else by setting it and restoring it at once."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as status:
+            for line in status:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
     mask = os.umask(0o022)
     os.umask(mask)
     return mask
@@ -244,16 +263,11 @@ def read_npz(path: str | Path, *, max_bytes: int = MAX_INPUT_BYTES,
         not a regular file, too large, not a zip archive, a member that is not ``.npy``, holds
         objects, declares more than it holds, or is corrupt (bad header, short data, failed CRC).
     """
-    p = Path(path)
-    if not p.exists():
-        raise ParseError(p, None, None, "no such file")
-    if not p.is_file():
-        raise ParseError(p, None, None, "not a regular file")
+    p = _regular_file(path)
     name: str | None = None
     try:
         if (size := p.stat().st_size) > max_bytes:
-            raise ParseError(p, None, None, f"is {_mib(size)}, larger than the "
-                             f"{_mib(max_bytes)} an input may hold")
+            raise _too_large(p, size, max_bytes)
         with zipfile.ZipFile(p) as archive:
             members = archive.infolist()
             if len(members) > max_arrays:

@@ -76,7 +76,59 @@ class Backend(Generic[P, Q]):
 Validator = Callable[[P, Result[Q], int], Sequence[str]]
 
 
-class Registry(Generic[P, Q]):
+class Named(Protocol):
+    """An entry of a :class:`NameTable`: anything with a name."""
+
+    @property
+    def name(self) -> str: ...
+
+
+EntryT = TypeVar("EntryT", bound=Named)
+
+
+class NameTable(Generic[EntryT]):
+    """A name → entry table in registration order, whose unknown names are a one-line
+    :class:`~searchtrack.core.errors.InvalidInputError` listing the known ones.
+
+    Parameters
+    ----------
+    noun
+        What an entry is, in messages (``"OPTW backend"``, ``"road mission filter"``).
+    field
+        The input field an unknown name is reported against.
+    """
+
+    def __init__(self, noun: str, field: str) -> None:
+        self.noun, self.field = noun, field
+        self._entries: dict[str, EntryT] = {}
+
+    def register(self, entry: EntryT) -> EntryT:
+        """Add ``entry``; names are unique."""
+        if entry.name in self._entries:
+            raise ValueError(f"{self.noun} {entry.name!r} is already registered")
+        self._entries[entry.name] = entry
+        return entry
+
+    def unregister(self, name: str) -> EntryT:
+        """Remove and return the entry called ``name``."""
+        entry = self.get(name)
+        del self._entries[name]
+        return entry
+
+    def names(self) -> list[str]:
+        """Registered names, in registration order."""
+        return list(self._entries)
+
+    def get(self, name: str) -> EntryT:
+        """The entry called ``name``; an error lists the registered names."""
+        try:
+            return self._entries[name]
+        except KeyError:
+            raise InvalidInputError(self.field, name, f"unknown {self.noun}; choose one of "
+                                    f"{self.names()}") from None
+
+
+class Registry(NameTable[Backend[P, Q]]):
     """A name → backend table for one problem type.
 
     Parameters
@@ -89,29 +141,9 @@ class Registry(Generic[P, Q]):
     """
 
     def __init__(self, problem: str, validator: Validator[P, Q] | None = None) -> None:
+        super().__init__(f"{problem} backend", "backend")
         self.problem = problem
         self.validator = validator
-        self._backends: dict[str, Backend[P, Q]] = {}
-
-    def register(self, backend: Backend[P, Q]) -> Backend[P, Q]:
-        """Add ``backend``; names are unique."""
-        if backend.name in self._backends:
-            raise ValueError(f"{self.problem} backend {backend.name!r} is already registered")
-        self._backends[backend.name] = backend
-        return backend
-
-    def names(self) -> list[str]:
-        """Registered names, in registration order."""
-        return list(self._backends)
-
-    def get(self, name: str) -> Backend[P, Q]:
-        """The backend called ``name``; an error lists the valid names."""
-        try:
-            return self._backends[name]
-        except KeyError:
-            raise InvalidInputError(
-                "backend", name, f"unknown {self.problem} backend; choose one of {self.names()}"
-            ) from None
 
     def checked(self, name: str, problem: P, time_limit_s: float, seed: int) -> Backend[P, Q]:
         """The backend called ``name`` after the checks every ``solve()`` makes: a valid time

@@ -84,6 +84,12 @@ class TargetJumps:
         object.__setattr__(self, "global_share", checks.real(
             "global_share", self.global_share, low=0.0, high=1.0, low_open=True))
 
+    @classmethod
+    def at_rate(cls, rate_per_s: float) -> TargetJumps | None:
+        """The jumps of rate ``rate_per_s`` with the default proposals; ``None`` (paper 000's
+        prior, nothing drawn) at rate 0."""
+        return cls(rate_per_s=rate_per_s) if rate_per_s != 0.0 else None
+
     def probability(self, dt_s: float) -> float:
         """``ε = 1 − exp(−λ Δt)``: the chance of a jump in a step of ``dt_s`` seconds."""
         return float(-math.expm1(-self.rate_per_s * checks.non_negative("dt_s", dt_s)))

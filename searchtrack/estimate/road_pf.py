@@ -114,21 +114,26 @@ class RoadClouds:
                                   self._lik, sums)
         return sums
 
-    def weigh(self, rows: IntArray, rng: np.random.Generator) -> None:
+    def weigh(self, rows: IntArray, rng: np.random.Generator, *, resample: bool = True) -> None:
         """Bayes' rule (Eq. 4) on ``rows`` with the likelihoods of the last
-        :meth:`detection_sums`, then resampling as the policy says."""
+        :meth:`detection_sums`, then resampling as the policy says (unless ``resample`` is
+        false: the caller resamples)."""
         kern.weigh_rows(self.w, self._lik, rows)
-        self.resample(rows, rng)
+        if resample:
+            self.resample(rows, rng)
 
-    def miss(self, uav_xy: FloatArray, rows: IntArray, rng: np.random.Generator) -> FloatArray:
-        """Negative information (Eq. 11) on ``rows`` for a UAV at ``uav_xy``; returns each row's
-        no-detection likelihood ``Σ_n w p(z | x)`` (1 for a cloud outside the view)."""
+    def miss(self, uav_xy: FloatArray, rows: IntArray, rng: np.random.Generator, *,
+             resample: bool = True) -> FloatArray:
+        """Negative information (Eq. 11) on ``rows`` for a UAV at ``uav_xy``, then resampling as
+        the policy says (unless ``resample`` is false); returns each row's no-detection
+        likelihood ``Σ_n w p(z | x)`` (1 for a cloud outside the view)."""
         sums = np.empty(rows.size)
         touched = np.zeros(rows.size, dtype=np.bool_)
         kern.miss_update(self.edge, self.s, self.w, rows, self.roads.tail_xy, self.roads.step_xy,
                          float(uav_xy[0]), float(uav_xy[1]), self.sensor.negative_radius_m ** 2,
                          self.sensor.p_fn, sums, touched)
-        self.resample(rows[touched], rng)
+        if resample:
+            self.resample(rows[touched], rng)
         return sums
 
     def resample(self, rows: IntArray, rng: np.random.Generator) -> None:

@@ -105,7 +105,6 @@ class RoadRBPF:
         self._history = np.empty((h, 0), dtype=np.int64)
         self._detected_before = not config.break_symmetry
         self._since_update_s = 0.0   # time predicted since the last update (for the jumps)
-        self._jump = 0.0             # ε of the update under way
 
     @classmethod
     def from_particles(cls, roads: DirectedRoads, config: RBPFConfig, edge: ArrayLike,
@@ -174,7 +173,7 @@ class RoadRBPF:
         checks.generator("rng", rng)
         density = self.config.sensor.clutter_density(self.roads, uav) if ys.shape[0] else 0.0
         jumps = self.config.jumps
-        self._jump = jumps.probability(self._since_update_s) if jumps is not None else 0.0
+        eps = jumps.probability(self._since_update_s) if jumps is not None else 0.0
         self._since_update_s = 0.0
         if ys.shape[0] and density == 0.0:
             # No road in view: no target and no clutter can be there (Eq. 10 is 0 for every
@@ -182,18 +181,21 @@ class RoadRBPF:
             log.warning("%d detections with no road in view of %s: taken as clutter and the "
                         "scan as a miss", ys.shape[0], uav.tolist())
             self.last_association = np.full((self.n_histories, ys.shape[0]), -1, dtype=np.int64)
-            self._miss(uav, np.arange(self.n_histories * self.n_targets), rng)
+            self._miss(uav, np.arange(self.n_histories * self.n_targets), eps, rng)
         elif ys.shape[0]:
-            self._detections(ys, uav, density, rng)
+            self._detections(ys, uav, density, eps, rng)
         else:
             self.last_association = np.empty((self.n_histories, 0), dtype=np.int64)
-            self._miss(uav, np.arange(self.n_histories * self.n_targets), rng)
+            self._miss(uav, np.arange(self.n_histories * self.n_targets), eps, rng)
         self._resample_histories(rng)
 
-    def _miss(self, uav: FloatArray, rows: IntArray, rng: np.random.Generator) -> None:
-        sums = self.clouds.miss(uav, rows, rng)
-        eps, jumps = self._jump, self.config.jumps
-        if eps > 0.0 and jumps is not None and rows.size:
+    def _miss(self, uav: FloatArray, rows: IntArray, eps: float,
+              rng: np.random.Generator) -> None:
+        """Eq. 11 on ``rows``; with a jump chance ``eps > 0`` the jump draws are joined and the
+        union is the one resampling."""
+        jumps = self.config.jumps if eps > 0.0 else None
+        sums = self.clouds.miss(uav, rows, rng, resample=jumps is None)
+        if jumps is not None:
             jump_miss(self.clouds, jumps, eps, rows, sums, uav, rng)
             sums = (1.0 - eps) * sums + eps * miss_prior_likelihood(self.roads,
                                                                     self.config.sensor, uav)
@@ -202,18 +204,18 @@ class RoadRBPF:
             factor[rows] = sums
             self.weights *= factor.reshape(self.n_histories, self.n_targets).prod(axis=1)
 
-    def _detections(self, ys: FloatArray, uav: FloatArray, density: float,
+    def _detections(self, ys: FloatArray, uav: FloatArray, density: float, eps: float,
                     rng: np.random.Generator) -> None:
         h, m = self.n_histories, self.n_targets
         joint = self.config.association == "joint"
         used = np.zeros((h, m), dtype=bool)
         assigned = np.full((h, ys.shape[0]), -1, dtype=np.int64)
         hist = np.arange(h)
-        eps, jumps = self._jump, self.config.jumps
+        jumps = self.config.jumps if eps > 0.0 else None
         for j, y in enumerate(ys):
             sums = self.clouds.detection_sums(y, density)
             lik = sums.reshape(h, m)
-            if eps > 0.0:   # the robust prior: a target anywhere on the roads may explain y
+            if jumps is not None:   # the robust prior: a target anywhere may explain y
                 lik = (1.0 - eps) * lik + eps * detection_prior_likelihood(
                     self.roads, self.config.sensor, y, density)
             avail = ~used if joint else np.ones((h, m), dtype=bool)
@@ -226,8 +228,8 @@ class RoadRBPF:
             live = c >= 0
             self.weights[live] *= factor[live]
             rows = hist[live] * m + c[live]
-            self.clouds.weigh(rows, rng)
-            if eps > 0.0 and jumps is not None and rows.size:
+            self.clouds.weigh(rows, rng, resample=jumps is None)
+            if jumps is not None:
                 jump_detection(self.clouds, jumps, eps, rows, sums[rows], y, density, rng)
             used[hist[live], c[live]] = True
             assigned[:, j] = c
@@ -235,7 +237,7 @@ class RoadRBPF:
         if self.config.keep_history:
             self._history = np.concatenate([self._history, assigned], axis=1)
         if self.config.miss_undetected:
-            self._miss(uav, np.flatnonzero(~used.ravel()), rng)
+            self._miss(uav, np.flatnonzero(~used.ravel()), eps, rng)
 
     def _sample(self, lik: FloatArray, avail: np.ndarray,
                 rng: np.random.Generator) -> tuple[IntArray, FloatArray]:

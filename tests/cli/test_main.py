@@ -6,6 +6,8 @@ from __future__ import annotations
 import argparse
 import logging
 import re
+import subprocess
+import sys
 from collections.abc import Iterator
 
 import pytest
@@ -86,3 +88,17 @@ def test_every_help_page_renders() -> None:
             if isinstance(action, argparse._SubParsersAction):
                 for choice in action._choices_actions:
                     assert "%" not in (choice.help or "").replace("%%", ""), (path, choice.dest)
+
+
+def test_only_the_plan_command_imports_the_plan_families() -> None:
+    """Other commands start without the five plan families and the solvers behind them; the
+    ``plan`` command builds them all."""
+    code = ("import sys; from searchtrack.cli import build_parser; "
+            "build_parser(['-v', 'mission', 'run', 'x.toml']); "
+            "print(any(m.startswith('searchtrack.sim.jobs.') for m in sys.modules)); "
+            "build_parser(['plan', 'assign', 'p.json']); "
+            "print(all(f'searchtrack.sim.jobs.{f}' in sys.modules for f in "
+            "('assign', 'associate', 'route', 'search', 'trajectory')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.split()
+    assert out == ["False", "True"]

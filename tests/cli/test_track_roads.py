@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 import json
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -26,8 +26,8 @@ def main(monkeypatch: pytest.MonkeyPatch) -> Iterator[Main]:
     not register it yet); the stop flag cleared afterwards."""
     built = cli.build_parser
 
-    def build_parser() -> argparse.ArgumentParser:
-        parser = built()
+    def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
+        parser = built(argv)
         sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
         if "track-roads" not in sub.choices:
             track_roads.add_parser(sub)

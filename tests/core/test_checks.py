@@ -127,3 +127,8 @@ def test_node_vector_and_generator() -> None:
     assert checks.generator("rng", rng) is rng
     with pytest.raises(InvalidInputError, match=r"rng=0: .*default_rng"):
         checks.generator("rng", 0)
+
+
+def test_finite_or_none() -> None:
+    assert checks.finite_or_none(2.5) == 2.5 and checks.finite_or_none(0.0) == 0.0
+    assert all(checks.finite_or_none(v) is None for v in (math.nan, math.inf, -math.inf))

@@ -177,3 +177,10 @@ def test_jump_rate_zero_is_the_paper_filter() -> None:
         runs.append(f.target_particles())
     for a, b in zip(runs[0], runs[1], strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+def test_at_rate_is_none_at_zero() -> None:
+    assert TargetJumps.at_rate(0.0) is None
+    assert TargetJumps.at_rate(0.3) == TargetJumps(rate_per_s=0.3)
+    with pytest.raises(InvalidInputError):
+        TargetJumps.at_rate(-0.1)

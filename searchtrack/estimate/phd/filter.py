@@ -21,6 +21,13 @@ def step(state: PHDState, scans: Sequence[SensorScan], motion: MotionModel, conf
 
     Extraction runs on the updated weights, before resampling.
     """
-    updated = update(predict(state, motion, config, dt_s, rng), scans, config)
+    return assimilate(predict(state, motion, config, dt_s, rng), scans, config, rng)
+
+
+def assimilate(predicted: PHDState, scans: Sequence[SensorScan], config: PHDConfig,
+               rng: np.random.Generator) -> tuple[PHDState, Estimates]:
+    """The update of :func:`step` on an already predicted PHD: the posterior after ``scans``
+    (resampled) and its point estimates (extracted before resampling)."""
+    updated = update(predicted, scans, config)
     estimates = extract(updated, config)
     return resample(updated, config, rng), estimates

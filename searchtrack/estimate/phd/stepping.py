@@ -20,11 +20,11 @@ from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.phd.config import PHDConfig
-from searchtrack.estimate.phd.extract import Estimates, extract
+from searchtrack.estimate.phd.extract import Estimates
+from searchtrack.estimate.phd.filter import assimilate
 from searchtrack.estimate.phd.predict import predict
-from searchtrack.estimate.phd.resample import resample
 from searchtrack.estimate.phd.state import PHDState
-from searchtrack.estimate.phd.update import SensorScan, update
+from searchtrack.estimate.phd.update import SensorScan
 from searchtrack.models.particle_models import DetectionSensor, MotionModel
 
 
@@ -84,9 +84,7 @@ class PHDFilter:
                                     f"must hold one pose per measurement array ({len(scan)})")
         scans = [SensorScan(self.sensor, q, np.asarray(z, dtype=np.float64))
                  for q, z in zip(poses, scan, strict=True)]
-        updated = update(self._state, scans, self.config)
-        self._estimates = extract(updated, self.config)
-        self._state = resample(updated, self.config, self._rng)
+        self._state, self._estimates = assimilate(self._state, scans, self.config, self._rng)
         return self._estimates
 
     def estimates_xy(self) -> FloatArray:

@@ -91,8 +91,10 @@ def solve(problem: AssignmentProblem, *, backend: str = "auto", time_limit_s: fl
         Unknown backend, a backend that cannot take the problem, a bad limit or seed.
     """
     result = BACKENDS.solve(backend, problem, time_limit_s=time_limit_s, seed=seed)
+    if result.plan is None:
+        return result
     evaluator = problem.objective.evaluator(problem)
-    if result.plan is None or not isinstance(evaluator, MutualInformationFunction):
+    if not isinstance(evaluator, MutualInformationFunction):
         return result
     # The MI's series error for the plan's actions: how far the objective may be off.
     selection = list(enumerate(result.plan.actions))

@@ -134,8 +134,13 @@ def candidate_nodes(
     if k == 0:
         return np.empty(0, dtype=np.int64)
     nonzero = np.flatnonzero(p > 0.0)
+    if k < nonzero.size:   # the k largest in linear time: above the k-th, then its ties
+        values = p[nonzero]
+        kth = np.partition(values, values.size - k)[values.size - k]
+        above = nonzero[values > kth]
+        nonzero = np.concatenate([above, nonzero[values == kth][:k - above.size]])
     # decreasing probability, lower index first on ties (also at the max_nodes cut)
-    top = nonzero[np.lexsort((nonzero, -p[nonzero]))[:k]]
+    top = nonzero[np.lexsort((nonzero, -p[nonzero]))]
     cum = np.cumsum(p[top]) / p.sum()
     keep = int(np.searchsorted(cum, support_mass * (1.0 - 1e-12))) + 1
     return np.asarray(top[:keep], dtype=np.int64)

@@ -188,6 +188,7 @@ def fly(
     warm: ControlPlan | None = None
     last: ControlPlan | None = None
     age, fallbacks = 0, 0
+    stopped = False
     lo, hi = np.asarray(model.state_lower), np.asarray(model.state_upper)
     for k in range(steps):
         t = k * cfg.dt_s
@@ -198,6 +199,7 @@ def fly(
         if stop_requested():
             log.info("flight %s via %s stopped on request at t = %.1f s", model.name,
                      cfg.backend, t)
+            stopped = True
             break
         problem = TrackingProblem(
             model, np.clip(x, lo, hi), reference, time_s=t, obstacles=obs, horizon=cfg.horizon,
@@ -229,7 +231,7 @@ def fly(
                       reference_m=reference.positions(times),
                       clearance_m=obs.clearance_m(traj[:, list(model.position_indices)]),
                       solve_s=np.asarray(solve_s), controllers=tuple(who), fallbacks=fallbacks,
-                      interrupted=len(who) < steps and stop_requested())
+                      interrupted=stopped)
     log.info("flight %s via %s: rms %.2f m, min clearance %.2f m, %d fallbacks", model.name,
              cfg.backend, flown.rms_error_m, flown.min_clearance_m, fallbacks)
     return flown

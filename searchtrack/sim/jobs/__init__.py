@@ -81,7 +81,8 @@ def load(name: str) -> PlanJob:
         raise KeyError(name)
     module: ModuleType = importlib.import_module(f"{__name__}.{name}")
     if not isinstance(module, PlanJob):
-        missing = [a for a in ("DESCRIPTION", "BACKENDS", "KERNELS", "backends", "read_problem",
-                               "solve", "plan_json", "figure") if not hasattr(module, a)]
+        members = [*PlanJob.__annotations__,
+                   *(n for n, v in vars(PlanJob).items() if callable(v) and n[0] != "_")]
+        missing = [n for n in members if not hasattr(module, n)]
         raise TypeError(f"plan family module {module.__name__} lacks {missing}")
     return cast(PlanJob, module)

@@ -9,16 +9,16 @@ Each parameter that sets a field of :class:`~searchtrack.sim.particles.tracking.
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 
 import numpy as np
 
+from searchtrack.core.checks import finite_or_none
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.metrics import ospa
 from searchtrack.estimate.phd import PHDConfig, PHDState, SensorScan
 from searchtrack.estimate.phd.filter import step
-from searchtrack.plan.search import CentreProbability, EmptyHorizonMI, lawnmower_3d
+from searchtrack.plan.search import CentreProbability, EmptyHorizonMI
 from searchtrack.sim.campaigns.experiments import Experiment, Metrics, Param, Params
 from searchtrack.sim.particles.scenario import STANDARD_AREA, standard_scenario
 from searchtrack.sim.particles.search import PLANNERS, SearchConfig, run_search_episode
@@ -28,11 +28,6 @@ from searchtrack.sim.particles.tracking import (
     run_track_episode,
     taxi_world,
 )
-
-
-def _finite(value: float) -> float | None:
-    """``value``, or ``None`` when it is not finite (no value for this run)."""
-    return value if math.isfinite(value) else None
 
 
 def phd_scenario_run(params: Params, seed: int) -> Metrics:
@@ -84,9 +79,9 @@ def search_run(params: Params, seed: int) -> Metrics:
     (:class:`~searchtrack.models.range_sensor.RangeBearingElevationSensor`)."""
     cap = int(params["max_steps"])
     if cap == 0:
-        cap = len(lawnmower_3d(SearchConfig().bounds, 48.0, 48.0, 12.0))
+        cap = len(_LOOP.lawnmower_route())
     refinement = CentreProbability() if params["refinement"] == "centre" else EmptyHorizonMI()
-    base = SearchConfig()
+    base = _LOOP
     phd, found = base.phd, replace(base.found, gate_sigmas=float(params["found_gate_sigmas"]))
     if params["adaptive_birth"]:
         phd = replace(phd, adaptive_birth=True, birth_mass=1.0)
@@ -102,7 +97,7 @@ def search_run(params: Params, seed: int) -> Metrics:
             "steps_capped": ep.steps_to_find_all,
             "targets_found": int(counts[-1]),
             "found_by_step_250": int(counts[min(SEARCH_FOUND_BY_STEP, counts.size) - 1]),
-            "false_found": ep.false_found, "rmse_m": _finite(ep.rmse_m),
+            "false_found": ep.false_found, "rmse_m": finite_or_none(ep.rmse_m),
             "planner_ms": ep.planner_ms, "filter_ms": ep.filter_ms}
 
 
@@ -121,7 +116,7 @@ def track_run(params: Params, seed: int) -> Metrics:
                          robots=int(params["robots"]), horizon=int(params["horizon"]),
                          steps=int(params["steps"]))
     ep = run_track_episode(config, taxi_world(config, seed), seed)
-    out: Metrics = {name: _finite(ep.tail_mean(name)) for name in TRACK_METRICS}
+    out: Metrics = {name: finite_or_none(ep.tail_mean(name)) for name in TRACK_METRICS}
     out.update(planner_ms=ep.planner_ms, filter_ms=ep.filter_ms)
     return out
 

@@ -210,6 +210,12 @@ class SearchConfig:
             if not isinstance(getattr(self, name), kind):
                 raise InvalidInputError(name, getattr(self, name), f"must be a {kind.__name__}")
 
+    def lawnmower_route(self) -> FloatArray:
+        """The 3-D lawnmower's waypoints over :attr:`bounds` (the ``lawnmower`` planner's path,
+        and the default cap of an episode's length)."""
+        return lawnmower_3d(np.array(self.bounds), self.lawnmower_spacing_m,
+                            self.lawnmower_spacing_m, self.step_m)
+
     def settings(self) -> SearchSettings:
         """The planner settings this episode uses (``α = 0`` for refinement only)."""
         alpha = 0.0 if self.planner == "refinement" else self.alpha
@@ -321,8 +327,7 @@ def run_search_episode(config: SearchConfig, seed: int) -> SearchEpisode:
     sensor, box = config.sensor, config.bounds
     settings = config.settings()
     bonus = ExplorationBonus(box, config.bonus_resolution_m)
-    route = lawnmower_3d(np.array(box), config.lawnmower_spacing_m, config.lawnmower_spacing_m,
-                         config.step_m) if config.planner == "lawnmower" else None
+    route = config.lawnmower_route() if config.planner == "lawnmower" else None
     state = PHDState.empty(3, 3)
     found = np.empty((0, 3))
     position = np.array(config.start)

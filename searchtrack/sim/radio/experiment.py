@@ -7,13 +7,14 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 from collections.abc import Mapping
 
 import numpy as np
 
-from searchtrack.models.radio import RadioScenario, UavModel
+from searchtrack.models.radio import RadioScenario, RadioSignal, UavModel
 from searchtrack.plan.radio import RadioPlanSettings
-from searchtrack.sim.campaigns.experiments import Experiment, Param
+from searchtrack.sim.campaigns.experiments import Experiment, Param, declared_default
 from searchtrack.sim.radio.config import (
     FILTERS,
     MEASUREMENTS,
@@ -26,8 +27,8 @@ from searchtrack.sim.radio.mission import run_radio_mission
 PARAMS: tuple[Param, ...] = (
     Param.of(RadioMissionConfig, "filter", choices=FILTERS),
     Param.of(RadioMissionConfig, "planner", choices=PLANNERS),
-    # The receiver noise's standard deviation (V): 0.025, the root of the paper's Σ_η.
-    Param("noise_std_v", float, 0.025),
+    # The receiver noise's standard deviation (V): the root of the paper's Σ_η.
+    Param("noise_std_v", float, math.sqrt(float(declared_default(RadioSignal, "noise_var_v2")))),
     # Fewer particles than the paper's, RadioMissionConfig.particles_per_label and
     # RadioPlanSettings.plan_particles: a campaign runs many seeds.
     Param("particles", int, 1000),
@@ -64,8 +65,7 @@ def radio_episode(params: Mapping[str, bool | int | float | str],
     config = RadioMissionConfig(
         filter=str(params["filter"]), planner=str(params["planner"]),
         backend=str(params["backend"]), particles_per_label=int(params["particles"]),
-        plan=plan, measurement=str(params["measurement"]), keep_out=bool(params["keep_out"]),
-        plan_time_limit_s=5.0)
+        plan=plan, measurement=str(params["measurement"]), keep_out=bool(params["keep_out"]))
     log = run_radio_mission(scenario, config, seed)
     total, loc, card = log.mean_ospa()
     return {"mean_ospa_m": total, "mean_localisation_m": loc, "mean_cardinality_m": card,

@@ -139,7 +139,7 @@ class _Flight:
             if k % self.interval == 0:
                 self.statuses[STRAIGHT] += 1
             return
-        problem = RadioPlanProblem(belief.labelled_particles(), self.pose, sc, self.config.plan)
+        problem = RadioPlanProblem(belief, self.pose, sc, self.config.plan)  # copied once
         t0 = time.perf_counter()
         result = solve(problem, backend=self.config.backend,
                        time_limit_s=self.config.plan_time_limit_s,

@@ -149,8 +149,7 @@ class RoadTrackingConfig:
                           n_particles=self.particles,
                           motion=RoadMotion(self.target_speed_mps, self.filter_sigma_mps),
                           sensor=self.sensor,
-                          jumps=(TargetJumps(rate_per_s=self.jump_rate_per_s)
-                                 if self.jump_rate_per_s > 0.0 else None))
+                          jumps=TargetJumps.at_rate(self.jump_rate_per_s))
 
 
 @dataclass(frozen=True)

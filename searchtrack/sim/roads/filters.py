@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.registry import NameTable
 from searchtrack.estimate.stepping import RoadFilter
 from searchtrack.sim.roads.lrt_belief import LRTMissionBelief
 from searchtrack.sim.roads.rbpf_belief import RBPFMissionBelief
@@ -61,39 +61,7 @@ class MissionFilter:
         return self.build(scenario, world, np.random.default_rng([FILTER_STREAM, scenario.seed]))
 
 
-class MissionFilters:
-    """A name → :class:`MissionFilter` table."""
-
-    def __init__(self) -> None:
-        self._entries: dict[str, MissionFilter] = {}
-
-    def register(self, entry: MissionFilter) -> MissionFilter:
-        """Add ``entry``; names are unique."""
-        if entry.name in self._entries:
-            raise ValueError(f"road mission filter {entry.name!r} is already registered")
-        self._entries[entry.name] = entry
-        return entry
-
-    def unregister(self, name: str) -> MissionFilter:
-        """Remove and return the filter called ``name``."""
-        entry = self.get(name)
-        del self._entries[name]
-        return entry
-
-    def names(self) -> list[str]:
-        """Registered names, in registration order."""
-        return list(self._entries)
-
-    def get(self, name: str) -> MissionFilter:
-        """The filter called ``name``; an error lists the registered names."""
-        try:
-            return self._entries[name]
-        except KeyError:
-            raise InvalidInputError("filter.belief", name, f"unknown road mission filter; "
-                                    f"choose one of {self.names()}") from None
-
-
-FILTERS = MissionFilters()
+FILTERS: NameTable[MissionFilter] = NameTable("road mission filter", "filter.belief")
 """The filters of road missions."""
 
 FILTERS.register(MissionFilter("lrt", LRTMissionBelief.for_mission, reads_lrt=True,

@@ -47,6 +47,7 @@ from searchtrack.estimate.stepping import RoadFilter, RoadScan, TrackBirth
 from searchtrack.models import (
     CourierMotion,
     RoadNetwork,
+    TargetState,
     UavState,
     lrt_measurements,
     position_measurements,
@@ -158,7 +159,7 @@ class Mission:
 
             tic = time.perf_counter()
             uav_xy = uavs.xy_m
-            scan, scan_target = self._sense(uav_xy, targets.nodes(net), truth_xy, visible, t_now,
+            scan, scan_target = self._sense(uav_xy, targets, truth_xy, visible, t_now,
                                             rng)
             times.sense = time.perf_counter() - tic
 
@@ -212,15 +213,16 @@ class Mission:
                 break
         return record.finish(log_field(belief), belief.bank, first_detection)
 
-    def _sense(self, uav_xy: FloatArray, target_nodes: IntArray, truth_xy: FloatArray,
+    def _sense(self, uav_xy: FloatArray, targets: TargetState, truth_xy: FloatArray,
                visible: IntArray, time_s: float,
                rng: np.random.Generator) -> tuple[RoadScan, IntArray]:
         """The UAVs' scan of the ``visible`` targets (the per-node ``ζ`` only for a filter that
         reads them, drawn first), and each position measurement's true target (−1: false
         alarm)."""
         sc = self.scenario
-        lrt = (lrt_measurements(self.world.network, uav_xy, target_nodes[visible], sc.sensor,
-                                rng) if self.registration.reads_lrt else None)
+        net = self.world.network
+        lrt = (lrt_measurements(net, uav_xy, targets.nodes(net)[visible], sc.sensor, rng)
+               if self.registration.reads_lrt else None)
         pos = position_measurements(uav_xy, truth_xy[visible], sc.sensor, rng)
         target: IntArray = np.where(pos.target == FALSE_ALARM, FALSE_ALARM, visible[pos.target])
         return RoadScan(time_s, pos, lrt), target
@@ -244,5 +246,7 @@ class Mission:
 
 
 def log_field(belief: RoadFilter) -> LikelihoodField:
-    """The filter's search field as the log keeps it (a copy, drawn like the LRT's ``φ``)."""
-    return LikelihoodField(belief.search_field.node_score())
+    """The filter's search field as the log keeps it, drawn like the LRT's ``φ`` (the LRT's
+    own field as it is; another filter's scores as a field)."""
+    field = belief.search_field
+    return field if isinstance(field, LikelihoodField) else LikelihoodField(field.node_score())

@@ -63,7 +63,6 @@ import numpy as np
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
-from searchtrack.estimate.lrt import LikelihoodField
 from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
 from searchtrack.estimate.road_jumps import TargetJumps
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
@@ -117,8 +116,7 @@ def rbpf_config(scenario: Scenario) -> RBPFConfig:
     return RBPFConfig(n_targets=scenario.target_count, n_histories=f.histories,
                       n_particles=f.particles, motion=courier_motion(scenario.courier),
                       sensor=thesis_disc_sensor(scenario.sensor), association="joint",
-                      jumps=(TargetJumps(rate_per_s=f.jump_rate_per_s)
-                             if f.jump_rate_per_s > 0.0 else None))
+                      jumps=TargetJumps.at_rate(f.jump_rate_per_s))
 
 
 class ParticleSearchField:
@@ -142,10 +140,6 @@ class ParticleSearchField:
         """The ``(n,)`` score (read-only, not a copy)."""
         return self.score
 
-    def as_likelihood_field(self) -> LikelihoodField:
-        """The score as a :class:`~searchtrack.estimate.lrt.LikelihoodField` (for the log and its
-        map figure, which draw the LRT's ``φ``)."""
-        return LikelihoodField(np.array(self.score))
 
 
 class ParticleFieldBuilder:

@@ -17,7 +17,7 @@ from searchtrack.estimate.stepping import RoadFilter, RoadScan, RoadUpdate, Trac
 from searchtrack.models import RoadNetwork, SensorModel, UavState
 from searchtrack.sim.roads.filters import FILTER_STREAM, FILTERS, MissionFilter
 from searchtrack.sim.roads.lrt_belief import LRTMissionBelief
-from searchtrack.sim.roads.mission import Mission
+from searchtrack.sim.roads.mission import Mission, log_field
 from searchtrack.sim.roads.rbpf_belief import RBPFMissionBelief
 from searchtrack.sim.roads.scenario import FilterSpec, GuidanceSpec, MapSpec, Scenario
 from searchtrack.sim.roads.world import World
@@ -171,3 +171,13 @@ def test_unknown_and_duplicate_names_are_refused() -> None:
         FILTERS.register(FILTERS.get("lrt"))
     with pytest.raises(InvalidInputError):
         FILTERS.unregister("kalman")
+
+
+def test_the_log_keeps_each_filters_search_field(world: World) -> None:
+    """The LRT's field is logged as it is; the RBPF's scores become a field of equal values."""
+    lrt = FILTERS.get("lrt").filter_for(small("lrt"), world)
+    assert log_field(lrt) is lrt.search_field
+    rbpf = FILTERS.get("rbpf").filter_for(small("rbpf"), world)
+    logged = log_field(rbpf)
+    assert isinstance(logged, LikelihoodField)
+    np.testing.assert_array_equal(logged.llr, rbpf.search_field.node_score())
