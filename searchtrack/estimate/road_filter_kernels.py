@@ -127,3 +127,44 @@ def resample_rows(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray,
             edge[r, j] = new_edge[j]
             s[r, j] = new_s[j]
             w[r, j] = 1.0 / n_count
+
+
+@njit(cache=True)
+def join_rows(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray, mass: FloatArray,
+              add_edge: IntArray, add_s: FloatArray, add_w: FloatArray, u: FloatArray) -> None:
+    """Join draws to the listed rows and resample each union back to ``N``, in place.
+
+    Row ``rows[i]``'s particles weigh ``mass[i] · w`` and its draws ``add_*[i]`` ``(K,)`` weigh
+    ``add_w[i]``; output ``j`` copies the first particle of the union (the row's, then its
+    draws) whose cumulative weight exceeds ``(u[i] + j) / N`` of the total; weights become
+    ``1/N``. A row whose union weighs nothing is left as it is.
+    """
+    n_count, k_count = edge.shape[1], add_edge.shape[1]
+    new_edge = np.empty(n_count, dtype=edge.dtype)
+    new_s = np.empty(n_count, dtype=s.dtype)
+    for i in range(rows.size):
+        r = rows[i]
+        total = 0.0
+        for n in range(n_count):
+            total += w[r, n] * mass[i]
+        for k in range(k_count):
+            total += add_w[i, k]
+        if not total > 0.0:
+            continue
+        idx = 0
+        c = w[r, 0] * mass[i] / total
+        for j in range(n_count):
+            target = (u[i] + j) / n_count
+            while c <= target and idx < n_count + k_count - 1:
+                idx += 1
+                c += (w[r, idx] * mass[i] if idx < n_count else add_w[i, idx - n_count]) / total
+            if idx < n_count:
+                new_edge[j] = edge[r, idx]
+                new_s[j] = s[r, idx]
+            else:
+                new_edge[j] = add_edge[i, idx - n_count]
+                new_s[j] = add_s[i, idx - n_count]
+        for j in range(n_count):
+            edge[r, j] = new_edge[j]
+            s[r, j] = new_s[j]
+            w[r, j] = 1.0 / n_count

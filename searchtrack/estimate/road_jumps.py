@@ -43,8 +43,8 @@ from scipy.special import erf
 
 from searchtrack.core import checks
 from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate import road_filter_kernels as kern
 from searchtrack.estimate.road_pf import RoadClouds
-from searchtrack.estimate.road_resampling import systematic_indices
 from searchtrack.models.disc_sensor import DiscSensor
 from searchtrack.models.road_particles import DirectedRoads
 
@@ -160,19 +160,12 @@ def join_jumps(clouds: RoadClouds, rows: IntArray, cloud_mass: FloatArray, edge:
                s: FloatArray, w: FloatArray, rng: np.random.Generator) -> None:
     """Join jump draws ``(R, K)`` (edges, arcs, importance weights) to ``rows`` of ``clouds``,
     whose normalized weights count ``cloud_mass`` ``(R,)`` each, and resample each row back to
-    ``N`` (weights ``1/N``); a row whose union has no weight is left as it is."""
-    n = clouds.shape[1]
-    union_w = np.concatenate([clouds.w[rows] * cloud_mass[:, None], w], axis=1)
-    ok = np.flatnonzero(union_w.sum(axis=1) > 0.0)
-    if ok.size == 0:
-        return
-    union_e = np.concatenate([clouds.edge[rows[ok]], edge[ok]], axis=1)
-    union_s = np.concatenate([clouds.s[rows[ok]], s[ok]], axis=1)
-    idx = systematic_indices(union_w[ok], rng.random(ok.size), n)   # low-variance, back to N
-    take = np.arange(ok.size)[:, None]
-    clouds.edge[rows[ok]] = union_e[take, idx]
-    clouds.s[rows[ok]] = union_s[take, idx]
-    clouds.w[rows[ok]] = 1.0 / n
+    ``N`` (low-variance, weights ``1/N``); a row whose union has no weight is left as it is."""
+    kern.join_rows(clouds.edge, clouds.s, clouds.w, np.ascontiguousarray(rows, dtype=np.int64),
+                   np.ascontiguousarray(cloud_mass, dtype=np.float64),
+                   np.ascontiguousarray(edge, dtype=clouds.edge.dtype),
+                   np.ascontiguousarray(s, dtype=np.float64),
+                   np.ascontiguousarray(w, dtype=np.float64), rng.random(rows.size))
 
 
 def jump_detection(clouds: RoadClouds, jumps: TargetJumps, eps: float, rows: IntArray,

@@ -56,10 +56,9 @@ def effective_sample_size(w: ArrayLike) -> FloatArray:
     return np.asarray(1.0 / np.einsum("...n,...n->...", arr, arr), dtype=np.float64)
 
 
-def systematic_indices(w: ArrayLike, u: ArrayLike, n_out: int | None = None) -> IntArray:
+def systematic_indices(w: ArrayLike, u: ArrayLike) -> IntArray:
     """Systematic resampling of each row of ``w`` ``(B, N)`` with offsets ``u`` ``(B,)`` in
-    ``[0, 1)``: ``(B, n_out)`` indices (``n_out = N`` by default), row ``b`` drawn at cumulative
-    weights ``(u_b + j) / n_out``.
+    ``[0, 1)``: ``(B, N)`` indices, row ``b`` drawn at cumulative weights ``(u_b + j) / N``.
 
     Rows need not be normalized but must have a positive sum.
 
@@ -81,8 +80,7 @@ def systematic_indices(w: ArrayLike, u: ArrayLike, n_out: int | None = None) -> 
     cum = np.cumsum(weights / totals[:, None], axis=1)
     cum[:, -1] = 1.0
     cum += rows[:, None]
-    out = n if n_out is None else checks.count("n_out", n_out, 1)
-    targets = rows[:, None] + (offsets[:, None] + np.arange(out)) / out
+    targets = rows[:, None] + (offsets[:, None] + np.arange(n)) / n
     flat = np.searchsorted(cum.ravel(), targets.ravel(), side="right")
-    idx = np.minimum(flat.reshape(b, out) - rows[:, None] * n, n - 1)
+    idx = np.minimum(flat.reshape(b, n) - rows[:, None] * n, n - 1)
     return np.asarray(np.maximum(idx, 0), dtype=np.int64)

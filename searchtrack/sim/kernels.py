@@ -52,17 +52,25 @@ def _warm_simplex() -> None:
 
 
 def _warm_road_filter() -> None:
-    """One filter on a 3 × 3 grid of roads through a hit, a miss and a resampling."""
+    """One filter on a 3 × 3 grid of roads through a hit, a miss and a resampling, and an RBPF
+    with the robust prior's jumps through a hit (the join of the jump draws)."""
+    from searchtrack.estimate.road_jumps import TargetJumps
     from searchtrack.estimate.road_pf import RoadParticleFilter
+    from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
     from searchtrack.models import grid_network
     from searchtrack.models.road_particles import DirectedRoads
 
     rng = np.random.default_rng(0)
-    pf = RoadParticleFilter(DirectedRoads(grid_network(3, 3, 100.0, spacing_m=100.0)), 200, rng)
+    roads = DirectedRoads(grid_network(3, 3, 100.0, spacing_m=100.0))
+    pf = RoadParticleFilter(roads, 200, rng)
     pf.predict(1.0, rng)
     pf.update(np.array([100.0, 100.0]), np.array([100.0, 100.0]), rng)
     pf.update(None, np.array([0.0, 0.0]), rng)
     pf.likelihood_sum(np.array([100.0, 100.0]))
+    rbpf = RoadRBPF(roads, RBPFConfig(n_targets=1, n_histories=2, n_particles=50,
+                                      jumps=TargetJumps()), rng)
+    rbpf.predict(1.0, rng)
+    rbpf.update(np.array([[100.0, 100.0]]), np.array([100.0, 100.0]), rng)
 
 
 def _warm_radio() -> None:

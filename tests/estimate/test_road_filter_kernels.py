@@ -82,3 +82,38 @@ def test_resample_rows_matches_systematic_indices(roads: DirectedRoads) -> None:
     for r in (1, 2, 5):
         np.testing.assert_array_equal(e2[r], edge[r])
         np.testing.assert_array_equal(w2[r], w[r])
+
+
+def test_join_rows_is_systematic_resampling_of_the_union() -> None:
+    """Each listed row becomes the low-variance resample of its particles (weighed by the
+    row's mass) joined with its draws: the same copies as systematic_indices on the union;
+    an unlisted row and a row whose union weighs nothing stay as they were."""
+    rng = np.random.default_rng(4)
+    n, k = 9, 4
+    edge = rng.integers(0, 5, (3, n)).astype(np.int64)
+    s = rng.random((3, n))
+    w = rng.random((3, n))
+    w /= w.sum(axis=1, keepdims=True)
+    add_e = rng.integers(5, 9, (2, k)).astype(np.int64)
+    add_s = rng.random((2, k)) + 10.0
+    add_w = rng.random((2, k)) * 0.2
+    rows, mass = np.array([0, 2]), np.array([0.7, 0.0])
+    u = np.array([0.3, 0.6])
+    union_e = np.concatenate([edge[rows], add_e], axis=1)
+    union_s = np.concatenate([s[rows], add_s], axis=1)
+    union_w = np.concatenate([w[rows] * mass[:, None], add_w], axis=1)
+    before = (edge.copy(), s.copy(), w.copy())
+    kern.join_rows(edge, s, w, rows, mass, add_e, add_s, add_w, u)
+    for i, r in enumerate(rows):
+        cum = np.cumsum(union_w[i]) / union_w[i].sum()
+        idx = np.minimum(np.searchsorted(cum, (u[i] + np.arange(n)) / n, side="right"), n + k - 1)
+        np.testing.assert_array_equal(edge[r], union_e[i, idx])
+        np.testing.assert_array_equal(s[r], union_s[i, idx])
+        np.testing.assert_allclose(w[r], 1.0 / n)
+    assert np.all(s[2] >= 10.0)          # mass 0: only the draws survive
+    np.testing.assert_array_equal(edge[1], before[0][1])
+    np.testing.assert_array_equal(w[1], before[2][1])
+    empty = np.zeros((1, k))
+    kern.join_rows(edge, s, w, np.array([1]), np.array([0.0]), add_e[:1], add_s[:1], empty,
+                   np.array([0.5]))
+    np.testing.assert_array_equal(s[1], before[1][1])
