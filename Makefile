@@ -63,7 +63,7 @@ bench: $(STAMP)
 # Carlo experiments are campaigns: resumable, their rows in out/campaigns/*.duckdb, reports and
 # figures beside them; the scripts left are timing and solver-quality tables.
 CAMPAIGNS := thesis_exp1 thesis_exp2 phd_standard p003_tracking p004_search p004_search_mi p004_search_fov \
-	p004_horizon p000_planners p000_osm
+	p004_horizon p000_planners p000_osm p000_osm_city
 
 bench-all: bench campaigns
 	$(BIN)/python benchmarks/emd.py --graph osm

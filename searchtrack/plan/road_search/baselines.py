@@ -46,13 +46,13 @@ def solve_random(problem: RoadSearchProblem, *, time_limit_s: float = 10.0,
     rng = np.random.default_rng(seed)
     roads = problem.roads
     paths = []
-    for node in problem.uav_nodes:
-        path, here = [], node
-        for _ in range(problem.lookahead):
+    for node, tick in zip(problem.uav_nodes, problem.start_ticks, strict=True):
+        path, here, when = list[int](), node, int(tick)
+        while not problem.path_ends(when, len(path)):
             outs = roads.leaving(here)
             e = int(outs[int(rng.integers(outs.size))])
             path.append(e)
-            here = int(roads.head[e])
+            here, when = int(roads.head[e]), when + int(problem.edge_ticks[e])
         paths.append(path)
     return _answer(problem, paths, deadline, "random", "random: uniform edge at each node")
 
@@ -88,6 +88,16 @@ def ideal_path(problem: RoadSearchProblem, start: int, target: int) -> list[int]
     return path[:problem.lookahead]
 
 
+def _to_horizon(problem: RoadSearchProblem, uav: int, path: list[int]) -> list[int]:
+    """``path`` cut where it reaches the problem's time horizon (unchanged without one)."""
+    when = int(problem.start_ticks[uav])
+    for i, e in enumerate(path):
+        when += int(problem.edge_ticks[e])
+        if problem.path_ends(when, i + 1):
+            return path[:i + 1]
+    return path
+
+
 def solve_ideal(problem: RoadSearchProblem, *, time_limit_s: float = 10.0,
                 seed: int = 0) -> Result[RoadPlan]:
     """Shortest paths towards the true targets, the most uncertain first (module docstring);
@@ -98,7 +108,7 @@ def solve_ideal(problem: RoadSearchProblem, *, time_limit_s: float = 10.0,
         return Result(Status.ERROR, None, None, deadline.elapsed(), "ideal", None,
                       message="ideal: the problem has no true target positions")
     order = np.argsort(-problem.entropy, kind="stable")
-    paths = [ideal_path(problem, node, int(order[q % order.size]))
+    paths = [_to_horizon(problem, q, ideal_path(problem, node, int(order[q % order.size])))
              for q, node in enumerate(problem.uav_nodes)]
     return _answer(problem, paths, deadline, "ideal",
                    "ideal: shortest path to the true targets, most uncertain first")

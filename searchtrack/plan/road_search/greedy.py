@@ -2,9 +2,9 @@
 particles propagated to that time, with the particles already seen removed (Moore et al. 2021,
 §4.1; with ``weighting="uniform"`` the naive value of Eq. 17).
 
-Each UAV flies its ``L`` greedy edges in turn; later UAVs do not count what earlier ones see.
-With ``L = 1`` and one UAV this is the best plan (the objective is then the edge value itself):
-``OPTIMAL``; otherwise ``FEASIBLE`` with the scenario's upper bound.
+Each UAV flies its greedy edges in turn (``L``, or up to the horizon); later UAVs do not count
+what earlier ones see. With ``L = 1`` and one UAV this is the best plan (the objective is then
+the edge value itself): ``OPTIMAL``; otherwise ``FEASIBLE`` with the scenario's upper bound.
 """
 
 from __future__ import annotations
@@ -25,9 +25,9 @@ def greedy_paths(problem: RoadSearchProblem) -> list[list[int]]:
     alive = np.ones(problem.particle_edge.size)
     shape = problem.particle_edge.shape
     paths: list[list[int]] = []
-    for start in problem.uav_nodes:
-        node, tick, path = start, 0, []
-        for _ in range(st.lookahead):
+    for start, start_tick in zip(problem.uav_nodes, problem.start_ticks, strict=True):
+        node, tick, path = start, int(start_tick), list[int]()
+        while not problem.path_ends(tick, len(path)):
             here = edge_at[tick]
             values = edge_values(roads.length, here.reshape(shape),
                                  (problem.particle_weight.reshape(-1) * alive).reshape(shape),

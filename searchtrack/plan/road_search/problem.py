@@ -1,10 +1,12 @@
 """The road-search planning problem of Moore et al. 2021 (§4) and its plan.
 
 ``Q`` UAVs sit at road nodes and each chooses a path of ``L`` directed edges (the look-ahead);
-the first edge is flown, then the planner runs again (receding horizon, §4.2). The targets are
-``M`` weighted particle clouds on the directed roads (Eq. 8), each with an entropy ``H_m``
-(Eq. 19) that sets its weight ``γ_m`` (Eq. 20). The objective, shared by every backend, is the
-discounted weighted particle mass the paths see, each particle counted once
+the first edge is flown, then the planner runs again (receding horizon, §4.2). A UAV still
+flying towards its node joins the plan when it gets there (``uav_delay_s``): a UAV that reaches
+a node re-plans jointly with the others in flight, which the paper's per-UAV controller does
+not. The targets are ``M`` weighted particle clouds on the directed roads (Eq. 8), each with an
+entropy ``H_m`` (Eq. 19) that sets its weight ``γ_m`` (Eq. 20). The objective, shared by every
+backend, is the discounted weighted particle mass the paths see, each particle counted once
 (:mod:`searchtrack.plan.road_search.scenario` gives the exact definition): a maximum coverage
 problem on a time-expanded graph, with the particles propagated during the look-ahead by the
 motion model (Eq. 9) with random draws fixed by ``draw_seed``.
@@ -71,6 +73,12 @@ class RoadSearchSettings:
     draw_seed
         Seed of the random draws that propagate the particles (the scenario every backend
         scores).
+    horizon_s
+        Plan over a time horizon rather than a count of edges (beyond the paper): a path ends at
+        the first node it reaches ``horizon_s`` seconds or more from now (rounded to whole
+        ticks), after at least one edge and at most ``lookahead``. ``None``: every path has
+        ``lookahead`` edges (the paper's). A 3-edge look-ahead is 300 m on the paper's grid
+        and up to kilometres on a city map; a horizon is the same time everywhere.
     tick_s
         Time step (s) of the look-ahead: particles are propagated tick by tick and an edge takes
         ``max(1, round(length / (V_a · tick_s)))`` ticks. ``None``: the time to fly the
@@ -90,6 +98,7 @@ class RoadSearchSettings:
     both_directions: bool = True
     draw_seed: int = 0
     tick_s: float | None = None
+    horizon_s: float | None = None
 
     def __post_init__(self) -> None:
         checks.count("lookahead", self.lookahead, 1)
@@ -109,11 +118,14 @@ class RoadSearchSettings:
             raise InvalidInputError("draw_seed", self.draw_seed, err.reason) from None
         if self.tick_s is not None:
             checks.positive("tick_s", self.tick_s)
+        if self.horizon_s is not None:
+            checks.positive("horizon_s", self.horizon_s)
 
 
 @dataclass(frozen=True, eq=False)
 class RoadSearchProblem:
-    """Choose a path of ``L`` directed edges for each UAV to see the most weighted particles.
+    """Choose a path of ``L`` directed edges (or up to a time horizon) for each UAV to see the
+    most weighted particles.
 
     Parameters
     ----------
@@ -121,6 +133,9 @@ class RoadSearchProblem:
         The directed roads the particles and UAVs move on.
     uav_nodes
         ``Q ≥ 1`` nodes, one per UAV: where each plans from.
+    uav_delay_s
+        ``(Q,)`` seconds before each UAV reaches its node (≥ 0; empty: all there now). Its path
+        starts that late, rounded to whole look-ahead ticks.
     particle_edge, particle_s, particle_weight
         ``(M, N)`` particles of each target: directed edge, arc length (m) from its tail,
         non-negative weight (normalised here to sum 1 per target).
@@ -153,6 +168,7 @@ class RoadSearchProblem:
     truth_s: FloatArray | None = None
     chains: ChainGraph | None = None
     name: str = "road-search"
+    uav_delay_s: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
         if not isinstance(self.roads, DirectedRoads):
@@ -207,6 +223,12 @@ class RoadSearchProblem:
         if self.chains is not None and not isinstance(self.chains, ChainGraph):
             raise InvalidInputError("chains", self.chains, "must be a ChainGraph or None")
         set_(self, "uav_nodes", tuple(int(v) for v in nodes))
+        delay = np.zeros(nodes.size)
+        if np.size(self.uav_delay_s):  # type: ignore[arg-type]
+            delay = checks.finite_array("uav_delay_s", self.uav_delay_s, (nodes.size,))
+        if np.any(delay < 0.0):
+            raise InvalidInputError("uav_delay_s", self.uav_delay_s, "delays must be >= 0")
+        set_(self, "uav_delay_s", tuple(float(d) for d in delay))
         set_(self, "particle_edge", checks.readonly(edge))
         set_(self, "particle_s", s)
         set_(self, "particle_weight", checks.readonly(w))
@@ -217,6 +239,7 @@ class RoadSearchProblem:
                     settings: RoadSearchSettings | None = None,
                     chains: ChainGraph | None = None,
                     truth: tuple[IntArray, FloatArray] | None = None,
+                    uav_delay_s: Sequence[float] = (),
                     name: str = "road-search") -> RoadSearchProblem:
         """The problem for a belief's particles and entropies.
 
@@ -231,6 +254,8 @@ class RoadSearchProblem:
             nodes must be among its kept nodes, particles and truth are mapped onto it.
         truth
             Optional ``(edge, s)`` true target positions on the belief's roads.
+        uav_delay_s
+            Seconds before each UAV reaches its node (empty: all there now).
         """
         if not isinstance(belief, RoadParticleBelief):
             raise InvalidInputError("belief", belief, "must implement RoadParticleBelief")
@@ -256,7 +281,7 @@ class RoadSearchProblem:
             roads = chains.roads
         return cls(roads, tuple(nodes), edge, s, w, belief.target_entropy(),
                    settings if settings is not None else RoadSearchSettings(),
-                   t_edge, t_s, chains, name)
+                   t_edge, t_s, chains, name, tuple(float(d) for d in uav_delay_s))
 
     @property
     def n_uavs(self) -> int:
@@ -292,6 +317,25 @@ class RoadSearchProblem:
         return float(max(length.min(), length.max() / MAX_TICKS_PER_EDGE) / st.uav_speed_mps)
 
     @cached_property
+    def start_ticks(self) -> IntArray:
+        """``(Q,)`` the tick at which each UAV starts its path: its delay in whole ticks."""
+        delay = np.asarray(self.uav_delay_s, dtype=np.float64) / self.tick_s
+        return checks.readonly(np.rint(delay).astype(np.int64), copy=False)
+
+    @cached_property
+    def horizon_tick(self) -> int | None:
+        """The tick at or after which a path ends (``settings.horizon_s`` in whole ticks), or
+        ``None`` for paths of ``L`` edges."""
+        h = self.settings.horizon_s
+        return None if h is None else round(h / self.tick_s)
+
+    def path_ends(self, tick: int, edges: int) -> bool:
+        """Whether a path that has flown ``edges`` edges and reached its node at ``tick`` ends
+        there: ``L`` edges, or (with a horizon) at least one edge and the horizon reached."""
+        h = self.horizon_tick
+        return edges >= self.lookahead or (h is not None and edges >= 1 and tick >= h)
+
+    @cached_property
     def edge_ticks(self) -> IntArray:
         """``(E,)`` ticks to fly each directed edge: ``max(1, round(length / (V_a tick_s)))``."""
         raw = self.roads.length / (self.settings.uav_speed_mps * self.tick_s)
@@ -313,14 +357,15 @@ class RoadSearchProblem:
 
 @dataclass(frozen=True)
 class RoadPlan:
-    """Per UAV a path of ``L`` directed edges from its node; the first edge is what is flown.
+    """Per UAV a path of directed edges from its node (``L`` of them, or 1 to ``L`` with a time
+    horizon); the first edge is what is flown.
 
     Parameters
     ----------
     nodes
-        Per UAV ``L + 1`` nodes, its own node first.
+        Per UAV one node more than edges, its own node first.
     edges
-        Per UAV ``L`` directed edges, ``edges[q][i]`` from ``nodes[q][i]`` to
+        Per UAV its directed edges, ``edges[q][i]`` from ``nodes[q][i]`` to
         ``nodes[q][i + 1]``.
     """
 

@@ -1,12 +1,13 @@
 """The fixed-draw scenario every road-search backend scores: a time-expanded graph and the
 particles propagated along it (Moore et al. 2021, §4.2 made exact).
 
-**Time.** Look-ahead time runs in ticks of ``tick_s`` seconds; directed edge ``e`` takes
-``k_e = max(1, round(len(e) / (V_a tick_s)))`` ticks to fly (exact when every edge is a whole
-number of ticks, as on the paper's grid with the default tick). UAV ``q`` starting at its node
-at tick 0 flies its path ``e_{q,0} … e_{q,L−1}``; it starts edge ``ℓ`` at tick
-``t_{q,ℓ} = Σ_{i<ℓ} k_{e_{q,i}}``. The reachable ``(level, node, tick)`` states and the edges
-between them form one layered graph per UAV (:class:`Lattice`), the time-expanded graph.
+**Time.** Look-ahead time runs in ticks of ``tick_s`` seconds; directed edge ``e`` takes ``k_e =
+max(1, round(len(e) / (V_a tick_s)))`` ticks to fly (exact when every edge is a whole number of
+ticks, as on the paper's grid with the default tick). UAV ``q`` reaching its node at tick
+``t_q`` (0, or its delay in whole ticks) flies its path ``e_{q,0} … e_{q,L−1}``; it starts edge
+``ℓ`` at tick ``t_{q,ℓ} = t_q + Σ_{i<ℓ} k_{e_{q,i}}``. The reachable ``(level, node, tick)``
+states and the edges between them form one layered graph per UAV (:class:`Lattice`), the
+time-expanded graph.
 
 **Particles.** The particles are propagated tick by tick with the motion model (Eq. 9), all
 ``M × N`` of them at once with one generator seeded by ``draw_seed``; the propagation does not
@@ -14,6 +15,11 @@ depend on the paths, so every path is scored on the same trajectories (the scena
 particle at tick ``t`` is seen by an edge started at tick ``t`` when it lies on that edge's road
 (both directions when ``both_directions``, else the edge itself); that is the paper's edge value
 (Eq. 21) of the propagated particles at the start of the edge.
+
+**Horizon.** With ``horizon_s`` set, a path ends at the first node it reaches at or after the
+horizon tick (after one edge at least, ``L`` edges at most): the lattice gives such a state one
+*hold* arc per remaining level, which flies no edge and sees nothing, so every path keeps ``L``
+arcs and every backend searches the same layered graph.
 
 **Objective.** With ``β(ℓ, e) = discount**ℓ`` (divided by ``len(e)`` when ``per_length``) and
 particle value ``γ_m w_{mn}``::
@@ -43,12 +49,17 @@ from searchtrack.core.checks import readonly
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.plan.road_search.problem import RoadPlan, RoadSearchProblem
 
+#: The edge of a hold arc: a path that has reached the time horizon stays at its last node.
+HOLD = -1
+
 
 @dataclass(frozen=True, eq=False)
 class Lattice:
     """One UAV's time-expanded graph: states ``(level, node, tick)``, state 0 the start, and
     the arcs (an edge flown from a state), grouped by tail state: the arcs leaving state ``i``
-    are ``out_ptr[i]:out_ptr[i + 1]``."""
+    are ``out_ptr[i]:out_ptr[i + 1]``. With a time horizon, a state at or past it (after one
+    edge at least) has one arc, a hold (edge :data:`HOLD`, an element that sees nothing), so
+    every path still has ``L`` arcs."""
 
     state_level: IntArray
     state_node: IntArray
@@ -72,23 +83,30 @@ class Lattice:
         return int(self.arc_edge.size)
 
 
-def _lattice_arcs(problem: RoadSearchProblem, start: int) -> dict[str, IntArray]:
-    """States and arcs of the time-expanded graph from ``start``, level by level."""
+def _lattice_arcs(problem: RoadSearchProblem, start: int, start_tick: int) -> dict[str, IntArray]:
+    """States and arcs of the time-expanded graph from ``start`` at ``start_tick``, level by
+    level."""
     # A UAV may turn back: every directed edge leaving a node.
     node_ptr, node_out = problem.roads.out_ptr, problem.roads.out_edges
     ticks = problem.edge_ticks
     head = problem.roads.head
-    levels, nodes, times = [np.zeros(1, np.int64)], [np.array([start])], [np.zeros(1, np.int64)]
+    levels, nodes = [np.zeros(1, np.int64)], [np.array([start])]
+    times = [np.full(1, start_tick, dtype=np.int64)]
     tails, heads, edges, arc_levels = [], [], [], []
     first = 0
-    span = int(ticks.max()) * problem.lookahead + 1
+    span = start_tick + int(ticks.max()) * problem.lookahead + 1
+    horizon = problem.horizon_tick
     for level in range(problem.lookahead):
         here, at = nodes[-1], times[-1]
-        counts = node_ptr[here + 1] - node_ptr[here]
+        # A path that has reached the horizon holds (one arc, no edge) down to the last level.
+        held = np.zeros(here.size, bool) if horizon is None or level == 0 else at >= horizon
+        counts = np.where(held, 1, node_ptr[here + 1] - node_ptr[here])
         local = np.repeat(np.arange(here.size), counts)
         offset = np.arange(local.size) - np.repeat(np.cumsum(counts) - counts, counts)
-        edge = node_out[node_ptr[here][local] + offset]
-        key = head[edge] * span + at[local] + ticks[edge]
+        hold = held[local]
+        edge = np.where(hold, HOLD, node_out[np.where(hold, 0, node_ptr[here][local] + offset)])
+        key = np.where(hold, here[local] * span + at[local],
+                       head[edge] * span + at[local] + ticks[edge])
         uniq, inverse = np.unique(key, return_inverse=True)
         next_first = first + here.size
         tails.append(first + local)
@@ -119,7 +137,8 @@ class Scenario:
         One :class:`Lattice` per UAV.
     element_level, element_tick, element_road, element_beta
         ``(K,)`` the distinct ``(level, tick, road)`` triples any arc flies and their value
-        factor ``β`` (a road is ``edge >> 1`` when ``both_directions``, else the edge).
+        factor ``β`` (a road is ``edge >> 1`` when ``both_directions``, else the edge); with
+        hold arcs, a last null element (all :data:`HOLD`, ``β = 0``, seeing nothing).
     edge_at
         ``(T + 1, M·N)`` directed edge of every particle at every tick (targets row-major).
     group_of_particle
@@ -186,22 +205,30 @@ class Scenario:
         return min(everything, additive)
 
     def arcs_of(self, uav: int, edges: tuple[int, ...]) -> IntArray:
-        """Arc of each edge of UAV ``uav``'s path; ``ValueError`` if it is not a path of the
-        look-ahead from the UAV's node."""
+        """Arc of each level of UAV ``uav``'s path (hold arcs after the horizon);
+        ``ValueError`` if it is not a path of the look-ahead from the UAV's node."""
         lat = self.lattices[uav]
         depth = int(lat.state_level.max())
-        if len(edges) != depth:
-            raise ValueError(f"UAV {uav}: the path has {len(edges)} edges, the look-ahead {depth}")
         state, out = 0, list[int]()
-        for e in edges:
+        for level in range(depth):
             lo, hi = lat.out_ptr[state], lat.out_ptr[state + 1]
-            hit = np.flatnonzero(lat.arc_edge[lo:hi] == e)
-            if hit.size == 0:
-                raise ValueError(f"UAV {uav}: edge {e} does not leave node "
-                                 f"{int(lat.state_node[state])} at level {len(out)}")
-            arc = int(lo + hit[0])
+            if lat.arc_edge[lo] == HOLD:
+                arc = int(lo)
+            elif level >= len(edges):
+                raise ValueError(f"UAV {uav}: the path has {len(edges)} edges; the look-ahead "
+                                 f"{depth} and its horizon ask for more")
+            else:
+                hit = np.flatnonzero(lat.arc_edge[lo:hi] == edges[level])
+                if hit.size == 0:
+                    raise ValueError(f"UAV {uav}: edge {edges[level]} does not leave node "
+                                     f"{int(lat.state_node[state])} at level {level}")
+                arc = int(lo + hit[0])
             out.append(arc)
             state = int(lat.arc_head[arc])
+        flown = sum(1 for a in out if lat.arc_edge[a] != HOLD)
+        if flown != len(edges):
+            raise ValueError(f"UAV {uav}: the path has {len(edges)} edges, the look-ahead "
+                             f"{depth} and its horizon allow {flown}")
         return np.array(out, dtype=np.int64)
 
     def elements_of(self, plan: RoadPlan) -> IntArray:
@@ -217,7 +244,8 @@ class Scenario:
         return float(self.value_of(self.coverage(self.elements_of(plan))))
 
     def plan_of(self, arcs: list[IntArray]) -> RoadPlan:
-        """The plan flying the given arcs (one array per UAV)."""
+        """The plan flying the given arcs (one array per UAV; hold arcs fly nothing)."""
+        arcs = [a[self.lattices[q].arc_edge[a] != HOLD] for q, a in enumerate(arcs)]
         edges = [self.lattices[q].arc_edge[a].tolist() for q, a in enumerate(arcs)]
         nodes = []
         for q, a in enumerate(arcs):
@@ -244,14 +272,21 @@ def propagate(problem: RoadSearchProblem, ticks: int) -> IntArray:
 def build_scenario(problem: RoadSearchProblem) -> Scenario:
     """Build the time-expanded graphs, propagate the particles and group them."""
     st = problem.settings
-    raw = [_lattice_arcs(problem, v) for v in problem.uav_nodes]
+    raw = [_lattice_arcs(problem, v, int(t))
+           for v, t in zip(problem.uav_nodes, problem.start_ticks, strict=True)]
     both = st.both_directions
     n_roads = problem.roads.n_edges // 2 if both else problem.roads.n_edges
     road_length = problem.roads.length[0::2] if both else problem.roads.length
     span = int(max(r["state_tick"].max() for r in raw)) + 1
-    codes = [(r["arc_level"] * span + r["arc_tick"]) * n_roads
-             + (r["arc_edge"] >> 1 if both else r["arc_edge"]) for r in raw]
-    elements, inverse = np.unique(np.concatenate(codes), return_inverse=True)
+    codes = []
+    for r in raw:
+        flown = np.maximum(r["arc_edge"], 0)
+        codes.append(np.where(r["arc_edge"] == HOLD, -1, (r["arc_level"] * span + r["arc_tick"])
+                              * n_roads + (flown >> 1 if both else flown)))
+    code = np.concatenate(codes)
+    elements, inverse = np.unique(code[code >= 0], return_inverse=True)
+    element_of = np.full(code.size, elements.size, dtype=np.int64)  # holds: the null element
+    element_of[code >= 0] = inverse.reshape(-1)
     e_road = elements % n_roads
     e_tick = (elements // n_roads) % span
     e_level = elements // (n_roads * span)
@@ -260,11 +295,11 @@ def build_scenario(problem: RoadSearchProblem) -> Scenario:
         beta = beta / road_length[e_road]
     lattices, start = [], 0
     for r, c in zip(raw, codes, strict=True):
-        arc_element = inverse.reshape(-1)[start:start + c.size]
+        arc_element = element_of[start:start + c.size]
         start += c.size
         lattices.append(Lattice(**{k: readonly(v, copy=False) for k, v in r.items()},
                                 arc_element=readonly(arc_element)))
-    last = int(max(lat.arc_tick.max() for lat in lattices))
+    last = int(max(lat.arc_tick[lat.arc_edge != HOLD].max() for lat in lattices))
     edge_at = propagate(problem, last)
     road_at = edge_at >> 1 if both else edge_at
     # Slots: the distinct (tick, road) pairs; a particle's key is its slot at each used tick.
@@ -286,6 +321,10 @@ def build_scenario(problem: RoadSearchProblem) -> Scenario:
                                   minlength=rows.shape[0]).astype(np.float64)
         sees = slot_of_element.reshape(-1)[:, None] == rows[:, column_of_element.reshape(-1)].T
         cover = np.where(sees, beta[:, None], 0.0)
+    if np.any(code < 0):  # the null element of the hold arcs: sees nothing, worth nothing
+        e_level, e_tick, e_road = (np.append(a, HOLD) for a in (e_level, e_tick, e_road))
+        beta = np.append(beta, 0.0)
+        cover = np.vstack([cover, np.zeros((1, cover.shape[1]))])
     return Scenario(tuple(lattices), readonly(e_level, copy=False), readonly(e_tick, copy=False),
                     readonly(e_road, copy=False), readonly(beta, copy=False),
                     readonly(edge_at, copy=False), readonly(group_of, copy=False),

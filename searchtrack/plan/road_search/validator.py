@@ -2,11 +2,13 @@
 recomputed from scratch by propagating the particles with the problem's fixed draws.
 
 Nothing here uses the scenario the solvers share (no time-expanded graph, no particle groups):
-the particles are stepped with the motion model (Eq. 9) tick by tick from ``draw_seed``, each
-particle's best sighting ``β(ℓ, e) = discount**ℓ`` (over ``len(e)`` when ``per_length``) is
-taken over every UAV and level whose edge it lies on (either direction when
-``both_directions``) at the tick the edge is started, and the objective is the sum of
-``γ_m w_{mn}`` times that (:mod:`~searchtrack.plan.road_search.scenario`).
+the particles are stepped with the motion model (Eq. 9) tick by tick from ``draw_seed``, a UAV
+in flight starts its path at its delay in whole ticks, a path with a horizon ends at the first
+node it reaches at or past the horizon tick, each particle's best sighting ``β(ℓ, e) =
+discount**ℓ`` (over ``len(e)`` when ``per_length``) is taken over every UAV and level whose edge
+it lies on (either direction when ``both_directions``) at the tick the edge is started, and the
+objective is the sum of ``γ_m w_{mn}`` times that
+(:mod:`~searchtrack.plan.road_search.scenario`).
 """
 
 from __future__ import annotations
@@ -28,7 +30,8 @@ class PlanCheck:
     Parameters
     ----------
     feasible
-        Every path leaves its UAV's node and follows ``L`` consecutive directed edges.
+        Every path leaves its UAV's node and follows consecutive directed edges: ``L`` of them,
+        or with a horizon up to the first node reached at or past it.
     objective
         The plan's objective recomputed from scratch (``nan`` when not feasible).
     reasons
@@ -40,6 +43,24 @@ class PlanCheck:
     reasons: tuple[str, ...] = ()
 
 
+def _edges_allowed(problem: RoadSearchProblem, uav: int, edges: tuple[int, ...]) -> int:
+    """How many edges the path must have: ``L``, or with a horizon the first count after
+    which its arrival (delay plus flight, in whole ticks) is at or past the horizon."""
+    st = problem.settings
+    if st.horizon_s is None:
+        return st.lookahead
+    ticks = np.maximum(1, np.rint(problem.roads.length / (st.uav_speed_mps * problem.tick_s)))
+    when = round(problem.uav_delay_s[uav] / problem.tick_s)
+    horizon = round(st.horizon_s / problem.tick_s)
+    for i, e in enumerate(edges[:st.lookahead]):
+        if not 0 <= e < problem.roads.n_edges:
+            return len(edges)  # a missing edge is reported on its own
+        when += int(ticks[e])
+        if when >= horizon:
+            return i + 1
+    return st.lookahead
+
+
 def _path_faults(problem: RoadSearchProblem, plan: RoadPlan) -> list[str]:
     roads = problem.roads
     faults = []
@@ -48,9 +69,10 @@ def _path_faults(problem: RoadSearchProblem, plan: RoadPlan) -> list[str]:
     if len(plan.edges) != problem.n_uavs or len(plan.nodes) != problem.n_uavs:
         return [f"{len(plan.edges)} paths for {problem.n_uavs} UAVs"]
     for q, (nodes, edges) in enumerate(zip(plan.nodes, plan.edges, strict=True)):
-        if len(edges) != problem.lookahead or len(nodes) != problem.lookahead + 1:
+        want = _edges_allowed(problem, q, edges)
+        if len(edges) != want or len(nodes) != want + 1:
             faults.append(f"UAV {q}: {len(edges)} edges and {len(nodes)} nodes, the look-ahead "
-                          f"is {problem.lookahead}")
+                          f"{problem.lookahead} and the horizon allow {want} edges")
             continue
         if nodes[0] != problem.uav_nodes[q]:
             faults.append(f"UAV {q}: starts at {nodes[0]}, not its node {problem.uav_nodes[q]}")
@@ -71,8 +93,8 @@ def check_plan(problem: RoadSearchProblem, plan: RoadPlan) -> PlanCheck:
     roads = problem.roads
     ticks = np.maximum(1, np.rint(roads.length / (st.uav_speed_mps * problem.tick_s)))
     sightings = []  # (tick, edge, beta)
-    for edges in plan.edges:
-        tick = 0
+    for edges, delay in zip(plan.edges, problem.uav_delay_s, strict=True):
+        tick = round(delay / problem.tick_s)  # a UAV in flight starts its path that late
         for level, e in enumerate(edges):
             beta = st.discount**level / (float(roads.length[e]) if st.per_length else 1.0)
             sightings.append((tick, e, beta))

@@ -8,10 +8,13 @@ One episode (:func:`run_road_tracking`):
   ``filter_sigma_mps``, 4 m/s), starting uniformly by length (Eq. 1).
 * Each UAV flies along the roads at ``uav_speed_mps`` (40 m/s) from a random node; when it
   reaches a node its planner picks the next directed edge and the distance left over in the
-  step is flown on it. UAVs decide independently, each when it reaches a node.
-* The filter (:class:`~searchtrack.estimate.road_rbpf.RoadRBPF`, ``H × M × N``) predicts every
-  ``dt_s`` (0.1 s) and takes one scan per UAV every ``scan_period_s`` (1 s, the authors' code):
-  the downward disc sensor's detections, or negative information when there are none.
+  step is flown on it. Each UAV decides when it reaches a node: jointly with the others in
+  flight (``coordination="joint"``, beyond the paper) or alone (``"alone"``, the paper's).
+* The filter (:class:`~searchtrack.estimate.road_rbpf.RoadRBPF`, ``H × M × N``), stepped as a
+  :class:`~searchtrack.estimate.stepping.SteppedFilter`
+  (:class:`~searchtrack.estimate.road_rbpf_stepping.SteppedRoadRBPF`), predicts every ``dt_s``
+  (0.1 s) and takes one scan per UAV every ``scan_period_s`` (1 s, the authors' code): the
+  downward disc sensor's detections, or negative information when there are none.
 * Recorded at every scan: the combined entropy of the best history (pooled over the targets,
   5 m road bins, nats: the quantity of Fig. 10–11), each target's entropy, and the error of
   the MAP position estimates against the truth (best matching of estimates to targets).
@@ -31,6 +34,7 @@ import logging
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
 
@@ -40,7 +44,8 @@ from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.registry import check_seed
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.road_jumps import TargetJumps
-from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
+from searchtrack.estimate.road_rbpf import RBPFConfig
+from searchtrack.estimate.road_rbpf_stepping import SteppedRoadRBPF
 from searchtrack.models.disc_sensor import DiscSensor
 from searchtrack.models.road_particles import DirectedRoads, RoadMotion
 from searchtrack.plan.road_search.weights import NORMALIZATIONS, Normalization
@@ -48,6 +53,10 @@ from searchtrack.sim.road_particles.planners import PLANNERS, Chooser, make_choo
 from searchtrack.sim.roads.scenario import MAX_STEPS, MapSpec
 
 log = logging.getLogger("searchtrack.sim.road_particles.episode")
+
+Coordination = Literal["joint", "alone"]
+COORDINATIONS: tuple[Coordination, ...] = ("joint", "alone")
+"""How the UAVs of an episode decide: together, or each alone (the paper's)."""
 
 PAPER_GRID = MapSpec("grid", rows=3, cols=3, block_m=100.0, spacing_m=100.0)
 """The 3 × 3 road network of the paper's simulation (§6, Fig. 9): 100 m roads."""
@@ -79,6 +88,14 @@ class RoadTrackingConfig:
         Filter step (0.1 s), time between scans (1 s) and episode length (s).
     planner
         One of :data:`PLANNERS`.
+    coordination
+        ``"joint"``: a solver planner chooses every UAV's path together, the others joining
+        from the nodes they fly to (beyond the paper); ``"alone"``: each UAV plans by itself
+        (the paper's controller). The same with one UAV.
+    horizon_s
+        Plan over a time horizon (s, beyond the paper): a path ends at the first node reached
+        this long from now, with ``lookahead`` edges at most; 0 (the paper's): paths of
+        ``lookahead`` edges.
     lookahead, discount, gain, normalization
         Road-search settings: look-ahead ``L`` (3), discount (0.8), sigmoid gain ``a`` (10),
         entropy normaliser of Eq. 20 (``"sum"`` as the authors' code; ``"max"`` keeps the most
@@ -104,6 +121,8 @@ class RoadTrackingConfig:
     scan_period_s: float = 1.0
     duration_s: float = 120.0
     planner: str = "exhaustive"
+    coordination: Coordination = "joint"
+    horizon_s: float = 0.0
     lookahead: int = 3
     discount: float = 0.8
     gain: float = 10.0
@@ -117,11 +136,12 @@ class RoadTrackingConfig:
         for name in ("uav_speed_mps", "target_speed_mps", "dt_s", "scan_period_s",
                      "duration_s", "gain", "time_limit_s"):
             checks.positive(name, getattr(self, name))
-        for name in ("truth_sigma_mps", "filter_sigma_mps", "jump_rate_per_s"):
+        for name in ("truth_sigma_mps", "filter_sigma_mps", "jump_rate_per_s", "horizon_s"):
             checks.non_negative(name, getattr(self, name))
         checks.real("discount", self.discount, low=0.0, high=1.0, low_open=True)
         checks.choice("normalization", self.normalization, NORMALIZATIONS)
         checks.choice("planner", self.planner, PLANNERS)
+        checks.choice("coordination", self.coordination, COORDINATIONS)
         if self.scan_period_s < self.dt_s:
             raise InvalidInputError("scan_period_s", self.scan_period_s,
                                     f"must be ≥ dt_s = {self.dt_s}")
@@ -241,6 +261,11 @@ class GraphUAVs:
         """``(Q,)`` the node each UAV flies towards (its current node once there)."""
         return self.roads.head[self.edge]
 
+    def arrivals(self) -> tuple[IntArray, FloatArray]:
+        """``(Q,)`` the node each UAV flies towards and ``(Q,)`` seconds until it is there."""
+        left = np.maximum(self.roads.length[self.edge] - self.s, 0.0)
+        return self.nodes(), left / self.speed_mps
+
     def fly(self, dt_s: float, choose: Callable[[int, int], int]) -> int:
         """Fly ``dt_s`` seconds; ``choose(q, node)`` gives the next directed edge (leaving
         ``node``) whenever UAV ``q`` reaches a node. Returns the number of choices made."""
@@ -290,7 +315,7 @@ class RoadTrackingSim:
          start_rng) = (np.random.default_rng(s) for s in np.random.SeedSequence(seed).spawn(5))
         self._motion = RoadMotion(config.target_speed_mps, config.truth_sigma_mps)
         self._t_edge, self._t_s = self.roads.uniform(config.targets, self._truth_rng)
-        self.belief = RoadRBPF(self.roads, config.filter_config(), self._filter_rng)
+        self.belief = SteppedRoadRBPF(self.roads, config.filter_config(), self._filter_rng)
         starts = start_rng.choice(self.roads.network.n_nodes, size=config.uavs, replace=True)
         self.uavs = GraphUAVs.at_nodes(self.roads, starts, config.uav_speed_mps)
         self.k = 0
@@ -324,6 +349,10 @@ class RoadTrackingSim:
         """``(Q, 2)`` the UAVs' planar positions."""
         return self.uavs.points()
 
+    def uav_arrivals(self) -> tuple[IntArray, FloatArray]:
+        """``(Q,)`` the node each UAV flies to and ``(Q,)`` the seconds until it gets there."""
+        return self.uavs.arrivals()
+
     def step(self, choose: Callable[[int, int], int]) -> float | None:
         """Advance one filter step (``choose`` picks roads at nodes); returns the combined
         entropy when the step ended with a scan, else ``None``."""
@@ -334,7 +363,7 @@ class RoadTrackingSim:
         self.decisions += self.uavs.fly(config.dt_s, choose)
         self.plan_s += time.perf_counter() - t0
         t0 = time.perf_counter()
-        self.belief.predict(config.dt_s, self._filter_rng)
+        self.belief.predict(config.dt_s)
         self.k += 1
         scan = self.k % config.scan_every == 0
         truth = self.truth_points()
@@ -345,7 +374,7 @@ class RoadTrackingSim:
                 seen = source[source >= 0]
                 self.detected[seen] = np.where(np.isnan(self.detected[seen]), self.time_s,
                                                self.detected[seen])
-                self.belief.update(ys, uav_xy, self._filter_rng)
+                self.belief.update(ys, uav_xy)
         self.filter_s += time.perf_counter() - t0
         if not scan:
             return None

@@ -4,9 +4,13 @@ A planner is a *chooser*: called with a UAV's index and the node it has reached,
 directed edge to fly next. :func:`make_chooser` builds one by name:
 
 * a backend of the road-search solver family (:data:`SOLVER_PLANNERS`): the problem is built
-  from the filter through the :class:`~searchtrack.estimate.belief.RoadParticleBelief` seam for
-  that UAV alone, solved within the time limit, and the first edge of the plan is flown
-  (receding horizon, §4.2); ``ideal`` also reads the true target positions;
+  from the filter through the :class:`~searchtrack.estimate.belief.RoadParticleBelief` seam,
+  solved within the time limit, and the deciding UAV flies the first edge of its path (receding
+  horizon, §4.2); ``ideal`` also reads the true target positions. With ``coordination="joint"``
+  (the default, beyond the paper) the problem holds every UAV: the others join from the node
+  each is flying to, as late as it gets there, so the paths are chosen together and no two
+  UAVs chase the same particles; ``"alone"`` plans the deciding UAV by itself (the paper's
+  controller, each UAV blind to the others);
 * ``random``: a uniform choice among the roads leaving the node, U-turns included (the
   authors' random planner);
 * ``rl``: a trained policy (:class:`~searchtrack.plan.road_rl.RoadPolicy`, NumPy) on the
@@ -87,6 +91,10 @@ class Episode(Protocol):
         """``(Q, 2)`` the UAVs' positions."""
         ...
 
+    def uav_arrivals(self) -> tuple[IntArray, FloatArray]:
+        """``(Q,)`` the node each UAV flies to and ``(Q,)`` the seconds until it gets there."""
+        ...
+
 
 def shipped_policy_path() -> Path:
     """The shipped policy file."""
@@ -136,21 +144,30 @@ def make_chooser(config: RoadTrackingConfig, episode: Episode) -> Chooser:
     settings = RoadSearchSettings(
         lookahead=config.lookahead, uav_speed_mps=config.uav_speed_mps,
         motion=RoadMotion(config.target_speed_mps, config.filter_sigma_mps),
-        discount=config.discount, gain=config.gain, normalization=config.normalization)
+        discount=config.discount, gain=config.gain, normalization=config.normalization,
+        horizon_s=config.horizon_s or None)
     ideal = config.planner == "ideal"
+    joint = config.coordination == "joint" and config.uavs > 1
 
     def solver_edge(q: int, node: int) -> int:
         draws = int(rng.integers(MAX_SEED))
+        if joint:
+            nodes, delay = episode.uav_arrivals()
+            nodes, delay = nodes.copy(), delay.copy()
+            nodes[q], delay[q] = node, 0.0
+            mine = q
+        else:
+            nodes, delay, mine = np.array([node]), np.zeros(1), 0
         problem = RoadSearchProblem.from_belief(
-            belief, [node], settings=_with_seed(settings, draws),
-            truth=episode.truth() if ideal else None)
+            belief, nodes.tolist(), settings=_with_seed(settings, draws),
+            truth=episode.truth() if ideal else None, uav_delay_s=delay.tolist())
         result = solve(problem, backend=config.planner, time_limit_s=config.time_limit_s,
                        seed=draws)
         if result.plan is None:
             log.warning("%s returned no plan (%s): random edge", config.planner,
                         result.status.name)
             return random_edge(q, node)
-        return int(result.plan.first_edges[0])
+        return int(result.plan.first_edges[mine])
 
     return solver_edge
 

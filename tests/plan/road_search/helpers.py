@@ -83,11 +83,17 @@ def clustered_belief(roads: DirectedRoads, targets: int, particles: int,
 def random_problem(roads: DirectedRoads, rng: np.random.Generator, *, uavs: int = 1,
                    lookahead: int = 3, targets: int = 2, particles: int = 100,
                    per_length: bool = False, both_directions: bool = True,
-                   draw_seed: int = 0) -> RoadSearchProblem:
-    """Random UAV nodes and a random (uniform or clustered) belief on ``roads``."""
+                   draw_seed: int = 0, delayed: bool = False,
+                   horizon_s: float | None = None) -> RoadSearchProblem:
+    """Random UAV nodes and a random (uniform or clustered) belief on ``roads``; ``delayed``:
+    every UAV but the first still in flight to its node (0–15 s away); ``horizon_s``: paths
+    up to that time (``lookahead`` edges at most)."""
     make = uniform_belief if rng.random() < 0.5 else clustered_belief
     belief = make(roads, targets, particles, rng)
     nodes = rng.integers(roads.network.n_nodes, size=uavs)
+    delay = rng.uniform(0.0, 15.0, uavs) * (np.arange(uavs) > 0) if delayed else np.zeros(0)
     settings = RoadSearchSettings(lookahead=lookahead, per_length=per_length,
-                                  both_directions=both_directions, draw_seed=draw_seed)
-    return RoadSearchProblem.from_belief(belief, [int(v) for v in nodes], settings=settings)
+                                  both_directions=both_directions, draw_seed=draw_seed,
+                                  horizon_s=horizon_s)
+    return RoadSearchProblem.from_belief(belief, [int(v) for v in nodes], settings=settings,
+                                         uav_delay_s=[float(d) for d in delay])

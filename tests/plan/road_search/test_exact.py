@@ -10,7 +10,7 @@ import pytest
 
 from searchtrack.core.interrupt import clear_stop, request_stop
 from searchtrack.core.result import Status
-from searchtrack.plan.road_search import RoadSearchProblem, RoadSearchSettings, solve
+from searchtrack.plan.road_search import RoadSearchProblem, RoadSearchSettings, check_plan, solve
 from searchtrack.plan.road_search.beam import solve_beam
 from searchtrack.plan.road_search.exact import build_model, nested_covers, solve_exact
 from searchtrack.plan.road_search.exhaustive import solve_exhaustive
@@ -46,6 +46,27 @@ def test_exact_matches_exhaustive(seed: int, uavs: int, lookahead: int,
     assert res.status is Status.OPTIMAL and ref.objective is not None
     assert res.objective == pytest.approx(ref.objective, rel=1e-7)
     assert res.bound is not None and res.bound >= ref.objective * (1 - 1e-12)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_exact_matches_exhaustive_with_uavs_in_flight(seed: int) -> None:
+    """A UAV still flying to its node: the same optimum as the joint enumeration."""
+    p = random_problem(grid_roads() if seed % 2 else random_roads(seed),
+                       np.random.default_rng(300 + seed), uavs=2, lookahead=2, delayed=True)
+    res, ref = solve_exact(p, time_limit_s=30.0), solve_exhaustive(p)
+    assert res.status is Status.OPTIMAL and ref.objective is not None
+    assert res.objective == pytest.approx(ref.objective, rel=1e-7)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_exact_matches_exhaustive_with_a_time_horizon(seed: int) -> None:
+    """Paths up to a time horizon (hold arcs after it): the same optimum as the enumeration."""
+    p = random_problem(random_roads(seed), np.random.default_rng(500 + seed), uavs=2,
+                       lookahead=4, delayed=True, horizon_s=8.0)
+    res, ref = solve_exact(p, time_limit_s=30.0), solve_exhaustive(p)
+    assert res.status is Status.OPTIMAL and ref.objective is not None and res.plan is not None
+    assert res.objective == pytest.approx(ref.objective, rel=1e-7)
+    assert check_plan(p, res.plan).feasible
 
 
 def test_nested_coefficients_add_up_to_the_best_sighting() -> None:

@@ -65,6 +65,10 @@ def test_valid_problem_normalises_weights_and_derives_gamma_and_ticks() -> None:
     ({"truth_edge": np.array([0]), "truth_s": np.zeros(1)}, "truth_edge"),
     ({"roads": grid_network(3, 3, 100.0, spacing_m=100.0)}, "roads"),
     ({"settings": {"lookahead": 2}}, "settings"),
+    ({"uav_delay_s": (1.0, 2.0)}, "uav_delay_s"),
+    ({"uav_delay_s": (-1.0,)}, "uav_delay_s"),
+    ({"uav_delay_s": (float("nan"),)}, "uav_delay_s"),
+    ({"uav_delay_s": ("soon",)}, "uav_delay_s"),
 ])
 def test_bad_problem_names_the_field(changes: dict[str, object], field: str) -> None:
     """Each bad field raises InvalidInputError naming it."""
@@ -84,6 +88,8 @@ def test_bad_problem_names_the_field(changes: dict[str, object], field: str) -> 
     ({"per_length": 1}, "per_length"),
     ({"draw_seed": -1}, "draw_seed"),
     ({"tick_s": 0.0}, "tick_s"),
+    ({"horizon_s": 0.0}, "horizon_s"),
+    ({"horizon_s": -3.0}, "horizon_s"),
     ({"motion": "cv"}, "motion"),
 ])
 def test_bad_settings_name_the_field(changes: dict[str, object], field: str) -> None:
@@ -91,6 +97,27 @@ def test_bad_settings_name_the_field(changes: dict[str, object], field: str) -> 
     with pytest.raises(InvalidInputError) as err:
         RoadSearchSettings(**changes)  # type: ignore[arg-type]
     assert err.value.field == field
+
+
+def test_delays_default_to_zero_and_round_to_ticks() -> None:
+    """No delays: every UAV at its node now; 3.9 s at 2.5 s ticks starts at tick 2."""
+    p = base_problem(uav_nodes=(4, 0))
+    assert p.uav_delay_s == (0.0, 0.0) and list(p.start_ticks) == [0, 0]
+    q = base_problem(uav_nodes=(4, 0), uav_delay_s=[0.0, 3.9])
+    assert q.uav_delay_s == (0.0, 3.9) and list(q.start_ticks) == [0, 2]
+    assert [int(lat.state_tick[0]) for lat in q.scenario.lattices] == [0, 2]
+
+
+def test_a_path_ends_at_the_look_ahead_or_past_the_horizon() -> None:
+    """Without a horizon: at L edges. With 6 s (2.4 ticks of 2.5 s, so tick 2): after one edge
+    at least, at the first arrival at tick 2 or later, never past L."""
+    p = base_problem()
+    assert p.horizon_tick is None
+    assert not p.path_ends(99, 2) and p.path_ends(0, 3)
+    q = base_problem(settings=RoadSearchSettings(horizon_s=6.0))
+    assert q.horizon_tick == 2
+    assert not q.path_ends(5, 0) and not q.path_ends(1, 1)
+    assert q.path_ends(2, 1) and q.path_ends(0, 3)
 
 
 def test_tick_rounds_edge_times() -> None:

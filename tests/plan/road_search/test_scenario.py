@@ -4,6 +4,7 @@ cover matrix checked against a per-particle computation, the objective by hand, 
 from __future__ import annotations
 
 import itertools
+import math
 
 import numpy as np
 import pytest
@@ -23,15 +24,27 @@ def static_problem(**settings: object) -> RoadSearchProblem:
 
 
 def every_plan(problem: RoadSearchProblem) -> list[RoadPlan]:
-    """Every joint plan, by brute force over node sequences."""
+    """Every joint plan, by brute force over node sequences; with a horizon a path stops at the
+    first node it reaches at or past it (arrival times summed here from the edge lengths)."""
     roads = problem.roads
+    st = problem.settings
+    step = st.uav_speed_mps * problem.tick_s
+    horizon = math.inf if st.horizon_s is None else round(st.horizon_s / problem.tick_s)
+
+    def arrival(start_tick: int, path: list[int]) -> int:
+        return start_tick + sum(max(1, round(float(roads.length[e]) / step)) for e in path)
+
     per_uav = []
-    for start in problem.uav_nodes:
+    for start, delay in zip(problem.uav_nodes, problem.uav_delay_s, strict=True):
+        t0 = round(delay / problem.tick_s)
+        done: list[list[int]] = []
         paths: list[list[int]] = [[]]
         for _ in range(problem.lookahead):
             paths = [[*p, int(e)] for p in paths
                      for e in np.flatnonzero(roads.tail == (roads.head[p[-1]] if p else start))]
-        per_uav.append(paths)
+            done += [p for p in paths if arrival(t0, p) >= horizon]
+            paths = [p for p in paths if arrival(t0, p) < horizon]
+        per_uav.append(done + paths)
     return [RoadPlan.from_edges(roads, list(c)) for c in itertools.product(*per_uav)]
 
 

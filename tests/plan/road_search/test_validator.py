@@ -34,10 +34,53 @@ def test_recomputed_objective_equals_the_scenario(seed: int) -> None:
         assert check.objective == pytest.approx(p.scenario.score(plan), rel=1e-12, abs=1e-15)
 
 
+@pytest.mark.parametrize("seed", range(6))
+def test_uavs_in_flight_are_scored_from_their_arrival(seed: int) -> None:
+    """With UAVs still flying to their nodes, every plan's recomputed objective is the
+    scenario's, and a UAV's path starts at its delay in whole ticks."""
+    roads = grid_roads() if seed % 2 else random_roads(seed)
+    p = random_problem(roads, np.random.default_rng(100 + seed), uavs=2, lookahead=2,
+                       delayed=True)
+    assert p.uav_delay_s[0] == 0.0 and p.uav_delay_s[1] > 0.0
+    assert [int(lat.state_tick[0]) for lat in p.scenario.lattices] == [
+        round(d / p.tick_s) for d in p.uav_delay_s]
+    for plan in every_plan(p):
+        check = check_plan(p, plan)
+        assert check.feasible
+        assert check.objective == pytest.approx(p.scenario.score(plan), rel=1e-12, abs=1e-15)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_time_horizon_plans_are_scored_and_their_length_checked(seed: int) -> None:
+    """With a horizon: every plan's recomputed objective is the scenario's, and a path cut
+    short or run on past the horizon is refused."""
+    p = random_problem(random_roads(seed), np.random.default_rng(600 + seed), uavs=1,
+                       lookahead=4, horizon_s=6.0)
+    plans = every_plan(p)
+    for plan in plans:
+        check = check_plan(p, plan)
+        assert check.feasible, check.reasons
+        assert check.objective == pytest.approx(p.scenario.score(plan), rel=1e-12, abs=1e-15)
+    short = [plan for plan in plans if len(plan.edges[0]) < p.lookahead]
+    assert short, "the horizon cuts some path"
+    path = list(short[0].edges[0])
+    longer = [*path, int(p.roads.leaving(int(p.roads.head[path[-1]]))[0])]
+    for bad in (path[:-1], longer):
+        if bad:
+            check = check_plan(p, RoadPlan.from_edges(p.roads, [bad]))
+            assert not check.feasible and "horizon allow" in check.reasons[0]
+            with pytest.raises(ValueError):
+                p.scenario.score(RoadPlan.from_edges(p.roads, [bad]))
+
+
+@pytest.mark.parametrize("horizon_s", [None, 5.0])
 @pytest.mark.parametrize("backend", ["exhaustive", "beam", "exact", "auto", "greedy", "random"])
-def test_every_backend_plan_checks(backend: str) -> None:
-    """Each backend's plan is feasible and its objective is the recomputed one."""
-    p = random_problem(grid_roads(), np.random.default_rng(11), uavs=2, lookahead=3)
+def test_every_backend_plan_checks(backend: str, horizon_s: float | None) -> None:
+    """Each backend's plan is feasible and its objective is the recomputed one (with and
+    without a time horizon, UAVs in flight)."""
+    roads = grid_roads() if horizon_s is None else random_roads(2)
+    p = random_problem(roads, np.random.default_rng(11), uavs=2, lookahead=3,
+                       delayed=horizon_s is not None, horizon_s=horizon_s)
     res = solve(p, backend=backend, time_limit_s=10.0)
     assert res.plan is not None
     check = check_plan(p, res.plan)

@@ -25,7 +25,8 @@ EXPECTED = {
     "p004_search_mi.toml": ("phd_search_episode", 2 * 10),
     "p004_search_fov.toml": ("phd_search_episode", 2 * 10),
     "p000_planners.toml": ("road_tracking_episode", 4 * 1000),
-    "p000_osm.toml": ("road_tracking_episode", 4 * 100),
+    "p000_osm.toml": ("road_tracking_episode", 6 * 100),
+    "p000_osm_city.toml": ("road_tracking_episode", 4 * 20),
     "p002_exp2.toml": ("radio_tracking_episode", 9 * 2 * 3 * 20),
     "p002_safety.toml": ("radio_tracking_episode", 3 * 20),
 }

@@ -80,6 +80,25 @@ def test_uavs_fly_along_roads_and_turn_at_nodes(roads: DirectedRoads) -> None:
         uavs.fly(3.0, lambda q, node: int(np.flatnonzero(roads.tail != node)[0]))
 
 
+def test_arrivals_are_the_next_node_and_the_time_to_it(roads: DirectedRoads) -> None:
+    """A UAV 30 m into a 100 m road at 40 m/s reaches the road's head in 1.75 s."""
+    uavs = GraphUAVs.at_nodes(roads, np.array([4, 0]), 40.0)
+    road = int(roads.leaving(4)[0])
+    uavs.edge[0], uavs.s[0] = road, 30.0
+    nodes, left = uavs.arrivals()
+    assert nodes.tolist() == [int(roads.head[road]), 0]
+    assert left == pytest.approx([1.75, 0.0])
+
+
+@pytest.mark.parametrize("coordination", ["joint", "alone"])
+def test_two_uavs_fly_jointly_or_alone(roads: DirectedRoads, coordination: str) -> None:
+    """Both ways run the episode through and are deterministic per seed."""
+    config = RoadTrackingConfig(planner="exhaustive", uavs=2, coordination=coordination,  # type: ignore[arg-type]
+                                **SMALL)
+    a, b = (run_road_tracking(config, 5, roads) for _ in range(2))
+    assert a.decisions > 0 and np.array_equal(a.entropy, b.entropy)
+
+
 def test_matched_error_finds_the_best_matching() -> None:
     truth = np.array([[0.0, 0.0], [100.0, 0.0]])
     assert matched_error(truth[::-1], truth) == 0.0
@@ -91,7 +110,8 @@ def test_matched_error_finds_the_best_matching() -> None:
 @pytest.mark.parametrize(("field", "value"), [
     ("targets", 0), ("uavs", 0), ("uav_speed_mps", -1.0), ("dt_s", float("nan")),
     ("truth_sigma_mps", -0.1), ("discount", 0.0), ("planner", "telepathy"),
-    ("scan_period_s", 0.01), ("duration_s", 0.01), ("particles", 0)])
+    ("scan_period_s", 0.01), ("duration_s", 0.01), ("particles", 0),
+    ("coordination", "telepathic")])
 def test_bad_configs_name_the_field(field: str, value: object) -> None:
     with pytest.raises(InvalidInputError, match=field):
         RoadTrackingConfig(**{field: value})  # type: ignore[arg-type]

@@ -64,11 +64,12 @@ def test_road_tracking_episode_matches_the_direct_call() -> None:
     assert out["error_m"] == pytest.approx(float(log.error_m.mean()))
 
 
-def test_bound_line_is_theorem_1_on_the_grid_only() -> None:
-    """On the grid the reference line is the bound for the group's targets and UAVs (the
-    config's when the group does not say); on an OSM map there is none."""
+def test_bound_line_is_theorem_1_on_every_map() -> None:
+    """The reference line is the bound for the group's map, targets and UAVs (the config's
+    when the group does not say); a bigger map and more targets per UAV raise it."""
     bound = road_entropy_bound("grid-3x3", 2, 1)
     assert math.isfinite(bound) and bound > math.log(2)
     assert bound_line({}) == bound_line({"map": "grid-3x3", "targets": 2, "uavs": 1}) == {
         f"lower bound (Theorem 1) {bound:.2f}": bound}
-    assert bound_line({"map": "aguascalientes"}) == {}
+    (city,) = bound_line({"map": "aguascalientes", "targets": 10, "uavs": 4}).values()
+    assert city == road_entropy_bound("aguascalientes", 10, 4) > bound
