@@ -1,7 +1,8 @@
 """Thesis 001 experiments on real and synthetic road maps, and the closed-loop step budget.
 
     python benchmarks/road_missions.py exp1 [--seeds 25] [--uavs 3 4 5 6]
-    python benchmarks/road_missions.py exp2 [--seeds 10] [--duration 300]
+    python benchmarks/road_missions.py exp2 [--seeds 10] [--duration 300] [--strategies ...]
+        [--fleets 3/2] [--altitudes 914.4 1828.8]
     python benchmarks/road_missions.py step [--duration 120]
 
 exp1 (§6.1): likelihood-gradient search, detection only: time to detect all 8 targets against the
@@ -42,6 +43,7 @@ from searchtrack.sim.roads.experiment import (
 )
 from searchtrack.sim.roads.mission import World
 from searchtrack.sim.roads.record import PHASES
+from searchtrack.sim.roads.scenario import STRATEGIES
 from searchtrack.sim.roads.seeds import fly_seeds
 
 
@@ -85,12 +87,14 @@ def exp1(args: argparse.Namespace) -> None:
 def exp2(args: argparse.Namespace) -> None:
     """MOC, PVT, PVA for the three tracking strategies at the four altitudes."""
     header = ["UAVs/targets", "altitude m", "strategy", "runs", "MOC mean", "MOC last third",
-              "MOC after det.", "PVT %", "PVA %", "plan ms p95", "wall s"]
+              "MOC after det.", "PVT %", "PVA %", "1st det. s", "no det.", "plan ms p95",
+              "wall s"]
     rows = []
     base = tracking_base(args.map, duration_s=args.duration)
     world = World.build(base)
-    for uavs, targets in TRACKING_FLEETS:
-        for h in THESIS_ALTITUDES_M:
+    fleets = [f for f in TRACKING_FLEETS if f"{f[0]}/{f[1]}" in args.fleets]
+    for uavs, targets in fleets:
+        for h in args.altitudes:
             for strategy in args.strategies:
                 started = time.perf_counter()
                 sc = tracking_scenario(base, uavs=uavs, targets=targets, altitude_m=h,
@@ -104,6 +108,9 @@ def exp2(args: argparse.Namespace) -> None:
                                   if r.moc_after_detection is not None])),
                     str(estimate([r.pvt_pct for r in runs if r.pvt_pct is not None])),
                     str(estimate([r.pva_pct for r in runs if r.pva_pct is not None])),
+                    str(estimate([r.first_detection_s for r in runs
+                                  if r.first_detection_s is not None])),
+                    str(sum(r.first_detection_s is None for r in runs)),
                     f"{max(r.plan_ms_p95 for r in runs):.1f}",
                     f"{time.perf_counter() - started:.0f}"])
                 print(f"  done {uavs}/{targets} h={h} {strategy}", file=sys.stderr, flush=True)
@@ -114,8 +121,8 @@ def exp2(args: argparse.Namespace) -> None:
           " MOC ≈ 25 % at ratio 0.25 (1 UAV/4 targets) and ≈ 100 % at 1.5 (3 UAVs/2 targets);"
           " search-and-reacquire was never simulated")
     moc = {(r[0], r[1], r[2]): float(r[4].split(" ")[0]) for r in rows if r[4] != "-"}
-    for uavs, targets in TRACKING_FLEETS:
-        for h in THESIS_ALTITUDES_M:
+    for uavs, targets in fleets:
+        for h in args.altitudes:
             key = (f"{uavs}/{targets}", f"{h:g}")
             got = {st: moc.get((*key, st)) for st in args.strategies}
             known = {st: v for st, v in got.items() if v is not None}
@@ -166,7 +173,10 @@ def main() -> None:
     p2.add_argument("--seeds", type=int, default=10)
     p2.add_argument("--duration", type=float, default=300.0)
     p2.add_argument("--map", default="aguascalientes", choices=list(MAPS))
-    p2.add_argument("--strategies", nargs="+", default=strategies)
+    p2.add_argument("--strategies", nargs="+", default=strategies, choices=STRATEGIES)
+    p2.add_argument("--fleets", nargs="+", default=[f"{o}/{t}" for o, t in TRACKING_FLEETS],
+                    choices=[f"{o}/{t}" for o, t in TRACKING_FLEETS], help="UAVs/targets")
+    p2.add_argument("--altitudes", type=float, nargs="+", default=list(THESIS_ALTITUDES_M))
     p2.set_defaults(run=exp2)
     p3 = sub.add_parser("step")
     p3.add_argument("--duration", type=float, default=120.0)

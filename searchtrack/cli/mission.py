@@ -38,6 +38,8 @@ def summary_table(log: MissionLog, wall_s: float) -> Table:
     rows = [
         ("simulated", f"{log.time_s[-1]:.1f} s in {s.steps} steps ({wall_s:.1f} s wall)"),
         ("targets detected", f"{s.detected} / {s.targets}"),
+        ("time to first detection", "-" if s.time_to_first_detection_s is None
+         else f"{s.time_to_first_detection_s:.1f} s"),
         ("time to detect all", "-" if s.time_to_detect_all_s is None
          else f"{s.time_to_detect_all_s:.1f} s"),
         ("MOC mean / final", f"{_pct(s.moc_mean)} / {_pct(s.moc_final)}"),

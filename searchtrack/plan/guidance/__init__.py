@@ -1,6 +1,7 @@
 """UAV guidance for road search and track (thesis 001, Ch. 5): potential-field forces,
 UAV-to-tracker pairing, reacquisition OPTW routes, and the strategies built from them as a
-family of solver backends (:data:`BACKENDS`, :func:`solve`).
+family of solver backends (:data:`BACKENDS`, :func:`solve`), beside this library's route
+strategies, whose searching UAVs fly OPTW routes over the search field.
 
 Guidance reads beliefs through the protocols of :mod:`searchtrack.estimate.belief`: a
 :class:`~searchtrack.estimate.belief.SearchField` for the gradient, a
@@ -26,6 +27,12 @@ from searchtrack.plan.guidance.reacquire import (
     reacquire_time,
     reacquisition_instance,
 )
+from searchtrack.plan.guidance.search_routes import (
+    SearchCells,
+    SearchRoute,
+    search_instance,
+    search_mass,
+)
 from searchtrack.plan.guidance.solve import BACKENDS, solve
 from searchtrack.plan.guidance.view import Guidance, GuidanceView, Reacquisition, StrategyConfig
 
@@ -37,6 +44,8 @@ __all__ = [
     "GuidanceView",
     "Pairing",
     "Reacquisition",
+    "SearchCells",
+    "SearchRoute",
     "StrategyConfig",
     "candidate_nodes",
     "coverage_force",
@@ -47,6 +56,8 @@ __all__ = [
     "plan_reacquisition",
     "reacquire_time",
     "reacquisition_instance",
+    "search_instance",
+    "search_mass",
     "solve",
     "spring_force",
 ]

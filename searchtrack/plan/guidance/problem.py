@@ -1,5 +1,5 @@
 """One step of guidance as a solver problem: the view, the configuration, the tracker predictor,
-and what search-and-reacquire keeps flying from the step before."""
+and the routes (reacquisition, search) kept flying from the step before."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.belief import NodePredictor
 from searchtrack.plan.guidance.forces import GradientField
+from searchtrack.plan.guidance.search_routes import SearchCells, SearchRoute
 from searchtrack.plan.guidance.view import Guidance, GuidanceView, Reacquisition, StrategyConfig
 
 
@@ -31,6 +32,12 @@ class GuidanceProblem:
     gradient
         The per-network structures of the gradient force; built from ``view.network`` when
         ``None``. Pass the previous step's (:meth:`following` does) to build them once.
+    search_routes
+        The search routes flown so far, as the previous step's :attr:`Guidance.search_routes`
+        returned them (at most one per UAV).
+    cells
+        The search OPTW's cells of ``view.network`` at ``config``'s cell size; built on first
+        use when ``None`` (:attr:`search_cells`), passed on by :meth:`following`.
     """
 
     view: GuidanceView
@@ -38,6 +45,8 @@ class GuidanceProblem:
     predictor: NodePredictor
     reacquisitions: tuple[Reacquisition, ...] = ()
     gradient: GradientField | None = None
+    search_routes: tuple[SearchRoute, ...] = ()
+    cells: SearchCells | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.view, GuidanceView):
@@ -64,6 +73,19 @@ class GuidanceProblem:
               or self.gradient.network is not self.view.network):
             raise InvalidInputError("gradient", self.gradient,
                                     "must be a GradientField of view.network")
+        searched = tuple(self.search_routes)
+        uavs = [r.uav for r in searched if isinstance(r, SearchRoute)]
+        if (len(uavs) != len(searched) or len(set(uavs)) != len(uavs)
+                or any(r.uav >= self.view.n_uavs or max(r.nodes) >= n for r in searched)):
+            raise InvalidInputError("search_routes", self.search_routes,
+                                    f"must be SearchRoutes of distinct UAVs in "
+                                    f"[0, {self.view.n_uavs}), nodes in [0, {n})")
+        object.__setattr__(self, "search_routes", searched)
+        if self.cells is not None and (not isinstance(self.cells, SearchCells)
+                                       or self.cells.network is not self.view.network
+                                       or self.cells.cell_m != self.config.cell_m):
+            raise InvalidInputError("cells", self.cells,
+                                    "must be SearchCells of view.network at config.cell_m")
 
     @property
     def gradient_field(self) -> GradientField:
@@ -71,10 +93,19 @@ class GuidanceProblem:
         assert self.gradient is not None  # set in __post_init__
         return self.gradient
 
+    @property
+    def search_cells(self) -> SearchCells:
+        """The search OPTW's cells of ``view.network`` (built on first use, then kept)."""
+        if self.cells is None:
+            object.__setattr__(self, "cells", SearchCells(self.view.network, self.config.cell_m))
+        assert self.cells is not None
+        return self.cells
+
     def following(self, view: GuidanceView, answer: Guidance) -> GuidanceProblem:
-        """The next step's problem: this configuration, predictor and gradient structures (when
-        the network is the same), the new ``view``, and the reacquisition routes of ``answer``,
-        this problem's solution."""
+        """The next step's problem: this configuration, predictor, gradient structures and
+        search cells (when the network is the same), the new ``view``, and the reacquisition
+        and search routes of ``answer``, this problem's solution."""
         same = view.network is self.view.network
         return GuidanceProblem(view, self.config, self.predictor, answer.reacquisitions,
-                               self.gradient if same else None)
+                               self.gradient if same else None, answer.search_routes,
+                               self.cells if same else None)

@@ -5,7 +5,9 @@
     uavs = step_force(uavs, result.plan.force, dt_s, limits)
     problem = problem.following(next_view, result.plan)    # carries the routes being flown
 
-The backends are the Ch. 5 strategies (:mod:`searchtrack.plan.guidance.strategies`).
+The backends are the Ch. 5 strategies (:mod:`searchtrack.plan.guidance.strategies`) and this
+library's route strategies, whose searching UAVs fly OPTW routes over the search field
+(:mod:`searchtrack.plan.guidance.route_strategies`).
 """
 
 from __future__ import annotations
@@ -13,6 +15,12 @@ from __future__ import annotations
 from searchtrack.core.registry import Backend, Registry
 from searchtrack.core.result import Result
 from searchtrack.plan.guidance.problem import GuidanceProblem
+from searchtrack.plan.guidance.route_strategies import (
+    solve_route_loiter,
+    solve_route_search,
+    solve_route_search_and_loiter,
+    solve_route_search_and_reacquire,
+)
 from searchtrack.plan.guidance.strategies import (
     solve_loiter,
     solve_search,
@@ -33,6 +41,16 @@ BACKENDS.register(Backend("search_and_loiter", solve_search_and_loiter, False,
 BACKENDS.register(Backend("search_and_reacquire", solve_search_and_reacquire, False,
                           "as search-and-loiter, but a fading tracker's UAV flies an OPTW route "
                           "over its likely nodes (5.33)"))
+BACKENDS.register(Backend("route_search", solve_route_search, False,
+                          "every UAV flies OPTW search routes over the search field's mass"))
+BACKENDS.register(Backend("route_loiter", solve_route_loiter, False,
+                          "paired UAVs loiter (5.15), the rest fly OPTW search routes"))
+BACKENDS.register(Backend("route_search_and_loiter", solve_route_search_and_loiter, False,
+                          "paired UAVs loiter while their peak is ≤ ϱ (5.16), searching UAVs fly "
+                          "OPTW search routes"))
+BACKENDS.register(Backend("route_search_and_reacquire", solve_route_search_and_reacquire, False,
+                          "as search-and-reacquire (5.33), searching UAVs flying OPTW search "
+                          "routes"))
 
 
 def solve(problem: GuidanceProblem, *, backend: str = "search_and_reacquire",
@@ -44,9 +62,12 @@ def solve(problem: GuidanceProblem, *, backend: str = "search_and_reacquire",
     problem
         The step: view, configuration, tracker predictor and the routes being flown.
     backend
-        ``"search"``, ``"loiter"``, ``"search_and_loiter"`` or ``"search_and_reacquire"``.
+        A name of :data:`BACKENDS`: ``"search"``, ``"loiter"``, ``"search_and_loiter"``,
+        ``"search_and_reacquire"`` or a route strategy (``"route_search"``, ``"route_loiter"``,
+        ``"route_search_and_loiter"``, ``"route_search_and_reacquire"``).
     time_limit_s
-        The step's planning budget: the reacquisition OPTW solves of the step share it.
+        The step's planning budget: the OPTW solves of the step (reacquisition, search) share
+        it.
     seed
         Seeds the gradient tie-break and the OPTW solves (a mission draws one per step).
 

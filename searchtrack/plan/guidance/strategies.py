@@ -10,7 +10,9 @@ Per UAV the mode decides the force:
 - ``"loiter"``: ∇L + ∇P, zero-rest spring to the tracker's peak node, repelled only by the other
   loitering or reacquiring UAVs (5.14);
 - ``"reacquire"``: ∇W + ∇P, zero-rest spring to the next unserved node of an OPTW route, Pauli
-  as for loiter.
+  as for loiter;
+- ``"route"`` (the route strategies of :mod:`~searchtrack.plan.guidance.route_strategies`):
+  ∇W + ∇P, zero-rest spring to the first node of a search route, Pauli as for search.
 
 Randomness comes from ``numpy.random.default_rng(seed)``: the gradient's tie-break draws for
 every UAV every step, whatever the modes, and search-and-reacquire draws one OPTW seed per route
@@ -73,7 +75,9 @@ def search_and_loiter_modes(problem: GuidanceProblem, pairing: Pairing) -> list[
 def assemble(problem: GuidanceProblem, rng: np.random.Generator, modes: list[str],
              anchors: NDArray[np.float64], pairing: Pairing | None = None
              ) -> NDArray[np.float64]:
-    """Net force per UAV for the given modes; ``anchors`` are the held UAVs' spring ends.
+    """Net force per UAV for the given modes; ``anchors`` are the held and routed UAVs' spring
+    ends (a ``"route"`` UAV feels ∇P from every UAV, as a searching one, and the zero-rest
+    spring ∇W to its anchor instead of ∇R + ∇Q).
 
     With a positive ``coverage_weight`` and a view that carries coverage, the searching UAVs
     that ``pairing`` pairs with no tracker (all searching UAVs without a pairing) also feel the
@@ -83,9 +87,12 @@ def assemble(problem: GuidanceProblem, rng: np.random.Generator, modes: list[str
     grad, n_max = problem.gradient_field.force(view.uav_xy_m, view.field.node_score(),
                                                cfg.sensor_range_m, rng)
     held = np.array([m in _HELD for m in modes])
+    routed = np.array([m == "route" for m in modes])
     repellers = np.where(held[:, None], held[None, :], True)
     force = pauli_force(view.uav_xy_m, cfg.sigma, epsilon=cfg.epsilon, repellers=repellers)
-    search = ~held
+    search = ~held & ~routed
+    if routed.any():
+        force[routed] += spring_force(view.uav_xy_m[routed], anchors[routed], cfg.k_loiter)
     if search.any():
         q = spring_force(view.uav_xy_m[search], view.network.coords[n_max[search]],
                          cfg.k_spring, cfg.sensor_range_m)
@@ -102,7 +109,8 @@ def assemble(problem: GuidanceProblem, rng: np.random.Generator, modes: list[str
     return force
 
 
-def _peak_anchors(view: GuidanceView, pairing: Pairing) -> NDArray[np.float64]:
+def peak_anchors(view: GuidanceView, pairing: Pairing) -> NDArray[np.float64]:
+    """Per UAV its tracker's peak node's position, its own position when unpaired."""
     anchors = np.array(view.uav_xy_m, copy=True)
     for j, node in enumerate(pairing.peak_node):
         if node >= 0:
@@ -125,8 +133,9 @@ def covered_probability(problem: GuidanceProblem, guidance: Guidance) -> float:
     return total
 
 
-def _answer(problem: GuidanceProblem, guidance: Guidance, backend: str, clock: Deadline,
-            plans: int) -> Result[Guidance]:
+def answer(problem: GuidanceProblem, guidance: Guidance, backend: str, clock: Deadline,
+           plans: int) -> Result[Guidance]:
+    """The ``FEASIBLE`` result of a strategy's ``guidance`` (``plans`` routes planned)."""
     return Result(Status.FEASIBLE, covered_probability(problem, guidance), None, clock.elapsed(),
                   backend, guidance, message=f"modes {','.join(guidance.mode)}",
                   stats={"plans": float(plans), "plan_ms": guidance.plan_ms})
@@ -141,9 +150,9 @@ def potential(rule: ModeRule, name: str) -> SolveFn[GuidanceProblem, Guidance]:
         view = problem.view
         pairing = pair_checked(view.network, view.uav_xy_m, view.bank)
         modes = rule(problem, pairing)
-        force = assemble(problem, rng, modes, _peak_anchors(view, pairing), pairing)
+        force = assemble(problem, rng, modes, peak_anchors(view, pairing), pairing)
         guidance = Guidance(force, pairing, tuple(modes), ((),) * view.n_uavs, 0.0)
-        return _answer(problem, guidance, name, clock, 0)
+        return answer(problem, guidance, name, clock, 0)
 
     solve.__name__ = f"solve_{name}"
     solve.__doc__ = f"The ``{name}`` backend: {rule.__doc__}"
@@ -177,6 +186,41 @@ def _plan(problem: GuidanceProblem, uav: int, tracker: int, rng: np.random.Gener
     return nodes
 
 
+def reacquire_fading(problem: GuidanceProblem, pairing: Pairing, modes: list[str],
+                     anchors: NDArray[np.float64], routes: list[tuple[int, ...]],
+                     rng: np.random.Generator, budget: Deadline, later: int = 0
+                     ) -> tuple[tuple[Reacquisition, ...], int]:
+    """(5.33) for the UAVs ``modes`` holds over a fading tracker (``"loiter"``): the routes they
+    keep flying and the number of routes planned this step.
+
+    Serves, keeps or re-plans each fading tracker's route (:func:`solve_search_and_reacquire`)
+    and turns a UAV with nodes left to ``"reacquire"``, its ``anchors`` row to the next node and
+    its ``routes`` entry to the nodes left (``modes``, ``anchors`` and ``routes`` are changed in
+    place). The plans share ``budget`` with ``later`` plans the caller makes after them.
+    """
+    view, rho = problem.view, problem.config.sensor_range_m
+    fading = {pairing.track_id[j]: j for j, m in enumerate(modes) if m == "loiter"}
+    kept = {r.track_id: r for r in problem.reacquisitions if r.track_id in fading}
+    stale: list[tuple[int, int]] = []  # reacquired, unpaired or dissolved tracks are dropped
+    for track, j in fading.items():
+        route = kept.get(track)
+        if route is not None and route.uav == j:
+            route = kept[track] = route.serve(view.network, view.uav_xy_m, rho)
+        if route is None or route.uav != j or route.done:
+            stale.append((track, j))
+    for k, (track, j) in enumerate(stale):
+        nodes = _plan(problem, j, pairing.tracker[j], rng, budget, len(stale) - k + later)
+        kept[track] = Reacquisition.planned(track, j, nodes).serve(view.network, view.uav_xy_m,
+                                                                   rho)
+    for track, j in fading.items():
+        left = kept[track].remaining()
+        if left:
+            modes[j] = "reacquire"
+            anchors[j] = view.network.coords[left[0]]
+            routes[j] = left
+    return tuple(kept[track] for track in fading), len(stale)
+
+
 def solve_search_and_reacquire(problem: GuidanceProblem, *, time_limit_s: float,
                                seed: int) -> Result[Guidance]:
     """(5.33): as (5.16), but a fading tracker's UAV flies an OPTW route over its likely nodes.
@@ -191,33 +235,14 @@ def solve_search_and_reacquire(problem: GuidanceProblem, *, time_limit_s: float,
     """
     clock = Deadline(time_limit_s)
     rng = np.random.default_rng(seed)
-    view, rho = problem.view, problem.config.sensor_range_m
+    view = problem.view
     pairing = pair_checked(view.network, view.uav_xy_m, view.bank)
     modes = search_and_loiter_modes(problem, pairing)
-    anchors = _peak_anchors(view, pairing)
-    fading = {pairing.track_id[j]: j for j, m in enumerate(modes) if m == "loiter"}
-    kept = {r.track_id: r for r in problem.reacquisitions if r.track_id in fading}
-    stale: list[tuple[int, int]] = []  # reacquired, unpaired or dissolved tracks are dropped
-    for track, j in fading.items():
-        route = kept.get(track)
-        if route is not None and route.uav == j:
-            route = kept[track] = route.serve(view.network, view.uav_xy_m, rho)
-        if route is None or route.uav != j or route.done:
-            stale.append((track, j))
-    budget = Deadline(time_limit_s)  # one budget per step, shared
-    for k, (track, j) in enumerate(stale):
-        nodes = _plan(problem, j, pairing.tracker[j], rng, budget, len(stale) - k)
-        kept[track] = Reacquisition.planned(track, j, nodes).serve(view.network, view.uav_xy_m,
-                                                                   rho)
-    plan_s = budget.elapsed() if stale else 0.0
+    anchors = peak_anchors(view, pairing)
     routes: list[tuple[int, ...]] = [()] * view.n_uavs
-    for track, j in fading.items():
-        left = kept[track].remaining()
-        if left:
-            modes[j] = "reacquire"
-            anchors[j] = view.network.coords[left[0]]
-            routes[j] = left
+    budget = Deadline(time_limit_s)  # one budget per step, shared
+    kept, plans = reacquire_fading(problem, pairing, modes, anchors, routes, rng, budget)
+    plan_s = budget.elapsed() if plans else 0.0
     force = assemble(problem, rng, modes, anchors, pairing)
-    guidance = Guidance(force, pairing, tuple(modes), tuple(routes), 1000.0 * plan_s,
-                        tuple(kept[track] for track in fading))
-    return _answer(problem, guidance, "search_and_reacquire", clock, len(stale))
+    guidance = Guidance(force, pairing, tuple(modes), tuple(routes), 1000.0 * plan_s, kept)
+    return answer(problem, guidance, "search_and_reacquire", clock, plans)

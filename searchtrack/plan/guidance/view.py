@@ -1,6 +1,7 @@
 """What a guidance backend sees each step (:class:`GuidanceView`), what it answers
-(:class:`Guidance`, with the :class:`Reacquisition` routes it keeps flying) and how it is
-configured (:class:`StrategyConfig`)."""
+(:class:`Guidance`, with the :class:`Reacquisition` and
+:class:`~searchtrack.plan.guidance.search_routes.SearchRoute` routes it keeps flying) and how it
+is configured (:class:`StrategyConfig`)."""
 
 from __future__ import annotations
 
@@ -17,9 +18,10 @@ from searchtrack.models.dubins import MPS_PER_MPH
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.guidance.forces import default_loiter_k, default_spring_k
 from searchtrack.plan.guidance.pairing import Pairing
+from searchtrack.plan.guidance.search_routes import SearchRoute
 from searchtrack.plan.optw.solve import BACKENDS
 
-MODES = ("search", "loiter", "reacquire")
+MODES = ("search", "loiter", "reacquire", "route")
 
 
 @dataclass(frozen=True)
@@ -63,6 +65,24 @@ class StrategyConfig:
         no tracker) when the view carries a coverage field: ``w`` times
         :func:`~searchtrack.plan.guidance.forces.coverage_force` over the ring ``ρ < r ≤ 2ρ``
         (the road a UAV could cover next). 0 (default): the thesis's forces, unchanged.
+    search_iterations
+        Ruin-and-recreate iterations of the iterated local search that solves the route
+        strategies' search OPTW (:mod:`~searchtrack.plan.guidance.search_routes`): a fixed
+        count, so that the route does not depend on the machine's speed (a few milliseconds
+        for the default instance, within 1 % of the optimum); the solve also stops at its share
+        of the step's budget, as ``optw_backend``'s do.
+    search_horizon_s
+        Look-ahead of the search OPTW (s): its time budget, the longest flight time of a
+        route.
+    search_replan_s
+        A search route this old (s) is planned again even if its first node is not reached.
+    search_route_nodes
+        Most candidate cells of the search OPTW.
+    search_cell_m
+        Side of the search OPTW's cells (m); ``None`` means ``√2 ρ``.
+    search_serve_m
+        A search route's first node counts as reached within this distance (m); ``None``
+        means ``ρ/2``.
     """
 
     sensor_range_m: float = 120.0
@@ -78,6 +98,12 @@ class StrategyConfig:
     support_mass: float = 0.95
     max_reacquire_steps: int = 2000
     coverage_weight: float = 0.0
+    search_iterations: int = 500
+    search_horizon_s: float = 45.0
+    search_replan_s: float = 10.0
+    search_route_nodes: int = 30
+    search_cell_m: float | None = None
+    search_serve_m: float | None = None
 
     def __post_init__(self) -> None:
         rho = positive("sensor_range_m", self.sensor_range_m)
@@ -99,11 +125,18 @@ class StrategyConfig:
         if self.optw_backend not in BACKENDS.names():
             raise InvalidInputError("optw_backend", self.optw_backend,
                                     f"must be one of {sorted(BACKENDS.names())}")
-        for name in ("max_route_nodes", "max_reacquire_steps"):
+        for name in ("max_route_nodes", "max_reacquire_steps", "search_route_nodes",
+                     "search_iterations"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                 raise InvalidInputError(name, v, "must be an integer ≥ 1")
         set_(self, "coverage_weight", non_negative("coverage_weight", self.coverage_weight))
+        positive("search_horizon_s", self.search_horizon_s)
+        positive("search_replan_s", self.search_replan_s)
+        set_(self, "search_cell_m", math.sqrt(2.0) * rho if self.search_cell_m is None
+             else positive("search_cell_m", self.search_cell_m))
+        set_(self, "search_serve_m", 0.5 * rho if self.search_serve_m is None
+             else non_negative("search_serve_m", self.search_serve_m))
 
     @property
     def sigma(self) -> float:
@@ -119,6 +152,16 @@ class StrategyConfig:
     def k_loiter(self) -> float:
         """``K`` of ∇L and ∇W, resolved."""
         return float(self.loiter_k) if self.loiter_k is not None else 0.0
+
+    @property
+    def cell_m(self) -> float:
+        """Side of the search OPTW's cells, resolved (m)."""
+        return float(self.search_cell_m) if self.search_cell_m is not None else 0.0
+
+    @property
+    def serve_m(self) -> float:
+        """A search route's serving radius, resolved (m)."""
+        return float(self.search_serve_m) if self.search_serve_m is not None else 0.0
 
 
 def _vector(name: str, value: object, shape: tuple[int, ...]) -> NDArray[np.float64]:
@@ -267,15 +310,19 @@ class Guidance:
     pairing
         The UAV-to-tracker pairing of the step.
     mode
-        Per UAV ``"search"``, ``"loiter"`` or ``"reacquire"``.
+        Per UAV ``"search"``, ``"loiter"``, ``"reacquire"`` or ``"route"`` (searching along a
+        planned :class:`~searchtrack.plan.guidance.search_routes.SearchRoute`).
     route
-        Per UAV the remaining reacquisition route node ids (empty if none).
+        Per UAV the remaining reacquisition route, or the search route, node ids (empty if
+        none).
     plan_ms
         Time spent planning routes this step (``T_r``, the instance and the OPTW solve).
     reacquisitions
         The reacquisition routes to keep flying: pass them to the next step's problem
         (:meth:`~searchtrack.plan.guidance.problem.GuidanceProblem.following`). Empty for every
-        backend but ``search_and_reacquire``.
+        backend but ``search_and_reacquire`` and ``route_search_and_reacquire``.
+    search_routes
+        The search routes to keep flying, at most one per UAV (the route strategies only).
     """
 
     force: NDArray[np.float64]
@@ -284,6 +331,7 @@ class Guidance:
     route: tuple[tuple[int, ...], ...]
     plan_ms: float = 0.0
     reacquisitions: tuple[Reacquisition, ...] = ()
+    search_routes: tuple[SearchRoute, ...] = ()
 
     def __post_init__(self) -> None:
         f = np.asarray(self.force, dtype=np.float64)
@@ -300,5 +348,11 @@ class Guidance:
         if any(not isinstance(r, Reacquisition) or r.uav >= o for r in reacq):
             raise InvalidInputError("reacquisitions", self.reacquisitions,
                                     f"must be Reacquisitions of UAVs in [0, {o})")
+        searched = tuple(self.search_routes)
+        uavs = [r.uav for r in searched if isinstance(r, SearchRoute)]
+        if len(uavs) != len(searched) or len(set(uavs)) != len(uavs) or any(u >= o for u in uavs):
+            raise InvalidInputError("search_routes", self.search_routes,
+                                    f"must be SearchRoutes of distinct UAVs in [0, {o})")
         object.__setattr__(self, "force", f)
         object.__setattr__(self, "reacquisitions", reacq)
+        object.__setattr__(self, "search_routes", searched)

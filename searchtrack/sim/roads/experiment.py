@@ -118,6 +118,8 @@ class TrackingRun:
         when no target was ever tracked.
     pvt_pct, pva_pct
         PVT and PVA (6.8)–(6.9) in percent; ``None`` when there was nothing to count.
+    first_detection_s
+        Time of the first detection (s), ``None`` when no target was detected.
     plan_ms_p95
         95th percentile of the guidance's planning time per step (ms).
     """
@@ -127,6 +129,7 @@ class TrackingRun:
     moc_after_detection: float | None
     pvt_pct: float | None
     pva_pct: float | None
+    first_detection_s: float | None
     plan_ms_p95: float
 
 
@@ -139,6 +142,7 @@ def tracking_run(log: MissionLog) -> TrackingRun:
         moc_after_detection=score.moc_after_detection,
         pvt_pct=None if score.pvt is None else 100 * score.pvt,
         pva_pct=None if score.pva is None else 100 * score.pva,
+        first_detection_s=score.time_to_first_detection_s,
         plan_ms_p95=float(np.percentile(log.plan_ms, 95)),
     )
 
@@ -165,6 +169,12 @@ def step_samples(logs: Sequence[MissionLog]) -> tuple[IntArray, FloatArray, Floa
     return counts.astype(np.int64), ms, phases
 
 
+MISSION_METRICS: dict[str, type[int] | type[float]] = {
+    "detected": int, "time_to_detect_all_s": float, "time_to_first_detection_s": float,
+    "moc_mean": float, "moc_after_detection": float, "pvt": float, "pva": float}
+"""The campaign ``mission`` experiment's metrics: fields of the run's
+:class:`~searchtrack.sim.roads.metrics.MissionScore`, by name and type."""
+
 MISSION_MAPS: dict[str, MapSpec] = {**MAPS,
                                     "grid-small": MapSpec("grid", rows=6, cols=6, block_m=100.0)}
 """Maps of the campaign ``mission`` experiment: the thesis's maps and a small grid for quick
@@ -190,8 +200,8 @@ def mission_run(params: Mapping[str, bool | int | float | str],
     LRT's ``α``, else :attr:`FilterSpec.tracker_alpha`), ``handover``
     (:attr:`FilterSpec.handover`, on by default) and ``coverage_weight``
     (:attr:`GuidanceSpec.coverage_weight`, 0 by default).
-    The metrics are the :class:`~searchtrack.sim.roads.metrics.MissionScore`'s ``detected``,
-    ``time_to_detect_all_s``, ``moc_mean``, ``moc_after_detection``, ``pvt`` and ``pva``.
+    The metrics are the :class:`~searchtrack.sim.roads.metrics.MissionScore`'s fields named in
+    :data:`MISSION_METRICS`.
     """
     map_name = str(params["map"])
     if params["mode"] == "detect":  # experiment 1's sensor, turn rate, guidance and filter
@@ -212,9 +222,7 @@ def mission_run(params: Mapping[str, bool | int | float | str],
                                    duration_s=float(params["duration_s"]), seed=seed,
                                    filter=filt, guidance=guidance)
     score = Mission(scenario, mission_world(map_name, tracker_alpha)).run().score
-    return {"detected": score.detected, "time_to_detect_all_s": score.time_to_detect_all_s,
-            "moc_mean": score.moc_mean, "moc_after_detection": score.moc_after_detection,
-            "pvt": score.pvt, "pva": score.pva}
+    return {name: getattr(score, name) for name in MISSION_METRICS}
 
 
 EXPERIMENTS = (
@@ -229,8 +237,7 @@ EXPERIMENTS = (
         Param("tracker_alpha", float, 0.0, minimum=0.0),
         Param.of(FilterSpec, "handover"),
         Param.of(GuidanceSpec, "coverage_weight", minimum=0.0)),
-        {"detected": int, "time_to_detect_all_s": float, "moc_mean": float,
-         "moc_after_detection": float, "pvt": float, "pva": float}, mission_run,
+        MISSION_METRICS, mission_run,
         "a road mission (thesis §6.1 detect / §6.2 track; tracker_alpha 0 = the LRT's α)",
         claim=ClaimsBy("mode", {
             "detect": "thesis §6.1, Fig. 6.3: the time to detect all targets falls as UAVs are "

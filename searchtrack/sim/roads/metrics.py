@@ -115,6 +115,9 @@ class MissionScore:
         (6.8) and (6.9) over all steps (``None`` when no tracker / association occurred).
     time_to_detect_all_s
         First time every target had been detected (``None`` if some never were).
+    time_to_first_detection_s
+        First time any target was detected (``None`` if none ever was): the search latency
+        that the whole-run MOC pays for.
     detected
         Number of targets ever detected.
     moc_after_detection
@@ -136,6 +139,7 @@ class MissionScore:
     time_to_detect_all_s: float | None
     detected: int
     moc_after_detection: float | None
+    time_to_first_detection_s: float | None
 
 
 def moc_after_detection(steps: list[StepScore], targets: int) -> float | None:
@@ -158,10 +162,12 @@ def score(steps: list[StepScore], targets: int, first_detection_s: FloatArray) -
     moc = np.array([s.valid_trackers / targets for s in steps]) if steps else np.zeros(1)
     detected = int(np.count_nonzero(np.isfinite(first_detection_s)))
     all_time = float(np.max(first_detection_s)) if detected == targets else None
+    first_time = float(np.nanmin(first_detection_s)) if detected else None
     return MissionScore(
         steps=len(steps), targets=targets, nvt=nvt, nst=nst, nva=nva, nfa=nfa,
         moc_mean=float(moc.mean()), moc_final=float(moc[-1]),
         pvt=ratio(nvt, nvt + nst), pva=ratio(nva, nva + nfa),
         time_to_detect_all_s=all_time, detected=detected,
         moc_after_detection=moc_after_detection(steps, targets),
+        time_to_first_detection_s=first_time,
     )

@@ -198,6 +198,7 @@ class MissionLog:
                 "nfa": s.nfa, "detected": s.detected,
                 "moc_after_detection": s.moc_after_detection,
                 "time_to_detect_all_s": s.time_to_detect_all_s,
+                "time_to_first_detection_s": s.time_to_first_detection_s,
                 "step_ms_median": float(np.median(self.step_ms)) if self.steps else None,
                 "step_ms_p95": float(np.percentile(self.step_ms, 95)) if self.steps else None,
                 "phase_ms_mean": dict(zip(PHASES, np.round(self.phase_ms.mean(axis=0), 3)

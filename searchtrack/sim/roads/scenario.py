@@ -266,7 +266,9 @@ class GuidanceSpec:
     ----------
     strategy
         The guidance backend, a name of :data:`searchtrack.plan.guidance.BACKENDS`:
-        ``"search"``, ``"loiter"``, ``"search_and_loiter"`` or ``"search_and_reacquire"``.
+        ``"search"``, ``"loiter"``, ``"search_and_loiter"``, ``"search_and_reacquire"`` or one
+        of this library's route strategies (``"route_loiter"``, ...: searching UAVs fly OPTW
+        routes over the search field, :mod:`searchtrack.plan.guidance.route_strategies`).
     spring_k, loiter_k
         Spring constants of ∇Q and of ∇L/∇W; ``None`` keeps the planner's defaults.
     revisit_threshold

@@ -21,6 +21,7 @@ from searchtrack.plan.guidance import (
 )
 
 NAMES = BACKENDS.names()
+SEARCHING = {name: "route" if name.startswith("route_") else "search" for name in NAMES}
 CONFIG = StrategyConfig(sensor_range_m=30.0, speed_mps=20.0)
 
 
@@ -44,30 +45,45 @@ def _problem(net: RoadNetwork, xy: list[list[float]], peaks: list[tuple[int, flo
     return GuidanceProblem(view, CONFIG, GraphDiffusion.on_network(net, 0.447, 0.3))
 
 
-def test_catalogue_lists_the_four_strategies() -> None:
-    """The registry holds the four Ch. 5 strategies, none of them exact."""
-    assert NAMES == ["search", "loiter", "search_and_loiter", "search_and_reacquire"]
+def test_catalogue_lists_the_strategies() -> None:
+    """The registry holds the four Ch. 5 strategies and the four route strategies, none of
+    them exact."""
+    assert NAMES == ["search", "loiter", "search_and_loiter", "search_and_reacquire",
+                     "route_search", "route_loiter", "route_search_and_loiter",
+                     "route_search_and_reacquire"]
     assert all(not BACKENDS.get(n).exact and BACKENDS.get(n).description for n in NAMES)
 
 
 @pytest.mark.parametrize("backend", NAMES)
 def test_out_of_range_uav_springs_back_to_the_road(backend: str) -> None:
-    """No tracker and no node within ρ: only ∇Q, toward the nearest node, past rest ρ."""
+    """No tracker and no node within ρ: only ∇Q, toward the nearest node, past rest ρ; a
+    route strategy flies ∇W toward the first node of its search route over the neutral field."""
     net = _path(10)
     problem = _problem(net, [[0.0, 200.0]], [])
     result = solve(problem, backend=backend, time_limit_s=1.0, seed=0)
     assert result.status is Status.FEASIBLE and result.backend == backend
     assert result.objective == 0.0 and result.bound is None and result.runtime_s >= 0.0
     g = result.plan
-    assert g is not None and g.mode == ("search",) and g.route == ((),)
-    np.testing.assert_allclose(g.force, [[0.0, -CONFIG.k_spring * (200.0 - 30.0)]])
+    assert g is not None and g.mode == (SEARCHING[backend],)
+    if SEARCHING[backend] == "route":
+        (route,) = g.search_routes
+        assert g.route == (route.nodes,)
+        np.testing.assert_allclose(g.force, spring_force([[0.0, 200.0]],
+                                                         net.coords[[route.nodes[0]]],
+                                                         CONFIG.k_loiter))
+    else:
+        assert g.route == ((),) and g.search_routes == ()
+        np.testing.assert_allclose(g.force, [[0.0, -CONFIG.k_spring * (200.0 - 30.0)]])
     assert g.reacquisitions == () and g.pairing.tracker == (-1,)
 
 
 STRONG = {"search": "search", "loiter": "loiter", "search_and_loiter": "search",
-          "search_and_reacquire": "search"}
+          "search_and_reacquire": "search", "route_search": "route", "route_loiter": "loiter",
+          "route_search_and_loiter": "route", "route_search_and_reacquire": "route"}
 FADING = {"search": "search", "loiter": "loiter", "search_and_loiter": "loiter",
-          "search_and_reacquire": "reacquire"}
+          "search_and_reacquire": "reacquire", "route_search": "route", "route_loiter": "loiter",
+          "route_search_and_loiter": "loiter", "route_search_and_reacquire": "reacquire"}
+
 
 
 @pytest.mark.parametrize("backend", NAMES)
@@ -119,7 +135,9 @@ def test_two_uavs_one_tracker(backend: str) -> None:
                    time_limit_s=2.0, seed=3)
     g = result.plan
     assert g is not None and g.pairing.tracker == (0, -1)
-    assert g.mode == (FADING[backend], "search")
+    # under route_search the paired UAV's route already takes the short road's every cell
+    assert g.mode == (FADING[backend],
+                      "search" if backend == "route_search" else SEARCHING[backend])
 
 
 def test_default_backend_is_search_and_reacquire() -> None:

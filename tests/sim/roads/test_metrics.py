@@ -47,13 +47,16 @@ def test_score_sums() -> None:
     assert s.pvt == 0.75 and s.pva == 0.8
     assert np.isclose(s.moc_mean, (0 + 0.5 + 1.0) / 3) and s.moc_final == 1.0
     assert s.time_to_detect_all_s == 0.9 and s.detected == 2
+    assert s.time_to_first_detection_s == 0.6
 
 
 def test_score_without_trackers() -> None:
-    """No tracker ever: PVT and PVA are undefined, not zero; detection time is None."""
+    """No tracker ever: PVT and PVA are undefined, not zero; the time to detect all is None,
+    the time to the first detection that of the one target found."""
     s = score([StepScore(0, 0, 0, 0)], 3, np.array([np.nan, 1.0, np.nan]))
     assert s.pvt is None and s.pva is None
     assert s.time_to_detect_all_s is None and s.detected == 1
+    assert s.time_to_first_detection_s == 1.0
 
 
 def test_moc_after_detection_by_hand() -> None:

@@ -57,6 +57,18 @@ def test_tracking_strategies_find_targets(world: World, strategy: str) -> None:
         b.track_id for b in log.births}
 
 
+@pytest.mark.parametrize("strategy", ["route_loiter", "route_search_and_reacquire"])
+def test_route_strategies_fly_search_routes(world: World, strategy: str) -> None:
+    """A short mission with a route strategy runs through, its searching UAVs flying planned
+    search routes, and repeats exactly for its seed."""
+    a = Mission(small(strategy), world).run()
+    b = Mission(small(strategy), world).run()
+    assert len(a.time_s) == a.scenario.n_steps
+    assert any("route" in modes for modes in a.modes)
+    np.testing.assert_array_equal(a.uav_xy_m, b.uav_xy_m)
+    assert a.score == b.score and a.modes == b.modes
+
+
 @pytest.mark.parametrize("associator", ASSOCIATION_BACKENDS.names())
 def test_every_associator_flies(world: World, associator: str) -> None:
     """The mission builds its associator by backend name; each one associates fixes."""
