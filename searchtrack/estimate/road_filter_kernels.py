@@ -5,8 +5,9 @@ normalized weights ``w`` (each row sums to 1). A particle's planar point ``G(x)`
 ``tail_xy[e] + s · step_xy[e]`` (:class:`~searchtrack.models.road_particles.DirectedRoads`).
 Random numbers are drawn by the caller's ``numpy.random.Generator`` and passed in. The NumPy
 references are :meth:`~searchtrack.models.disc_sensor.DiscSensor.likelihood`,
-:meth:`~searchtrack.models.disc_sensor.DiscSensor.miss_likelihood` and
-:func:`~searchtrack.estimate.road_resampling.systematic_indices`.
+:meth:`~searchtrack.models.disc_sensor.DiscSensor.miss_likelihood`,
+:func:`~searchtrack.estimate.road_resampling.systematic_indices` and
+:func:`~searchtrack.estimate.road_jumps.near_detection`.
 """
 
 from __future__ import annotations
@@ -168,3 +169,41 @@ def join_rows(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray, mass
             edge[r, j] = new_edge[j]
             s[r, j] = new_s[j]
             w[r, j] = 1.0 / n_count
+
+
+@njit(cache=True)
+def detection_jumps(cum_length: FloatArray, length: FloatArray, total_m: float,
+                    tail_xy: FloatArray, step_xy: FloatArray, s0: FloatArray, inside: FloatArray,
+                    cum_inside: FloatArray, l_disc: float, alpha: float, radius2: float,
+                    yx: float, yy: float, gain: float, inv_two_var: float, floor: float,
+                    scale: float, uniforms: FloatArray, edge: IntArray, s: FloatArray,
+                    w: FloatArray) -> None:
+    """Jump draws near a detection ``y`` into ``edge``, ``s`` and ``w`` ``(R, K)``: position ``x``
+    from the proposal ``g`` (``uniforms[0] < α``: uniform by length, else uniform on the road
+    inside the disc, ``inside`` long on each edge from ``s0``; ``uniforms[1]`` picks the edge,
+    ``uniforms[2]`` the arc) and weight ``scale · p(y | x) · u(x) / g(x)`` (Eq. 10, ``floor``
+    the clutter term; ``u = 1 / total_m``)."""
+    n_edges = length.size
+    span = cum_length[n_edges - 1]
+    disc_span = cum_inside[n_edges - 1]
+    for i in range(edge.shape[0]):
+        for k in range(edge.shape[1]):
+            if l_disc > 0.0 and uniforms[0, i, k] >= alpha:
+                e = min(np.searchsorted(cum_inside, uniforms[1, i, k] * disc_span, side="right"),
+                        n_edges - 1)
+                arc = s0[e] + uniforms[2, i, k] * inside[e]
+            else:
+                e = min(np.searchsorted(cum_length, uniforms[1, i, k] * span, side="right"),
+                        n_edges - 1)
+                arc = uniforms[2, i, k] * length[e]
+            dx = tail_xy[e, 0] + arc * step_xy[e, 0] - yx
+            dy = tail_xy[e, 1] + arc * step_xy[e, 1] - yy
+            d2 = dx * dx + dy * dy
+            g = alpha / total_m
+            if d2 <= radius2 and l_disc > 0.0:
+                g += (1.0 - alpha) / l_disc
+            z = d2 * inv_two_var
+            lik = (gain * math.exp(-z) if z < _MAX_EXPONENT else 0.0) + floor
+            edge[i, k] = e
+            s[i, k] = arc
+            w[i, k] = scale * lik * ((1.0 / total_m) / g)

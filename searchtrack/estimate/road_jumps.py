@@ -130,30 +130,43 @@ def miss_prior_likelihood(roads: DirectedRoads, sensor: DiscSensor, uav_xy: Floa
     return 1.0 - (1.0 - sensor.p_fn) * float((s1 - s0).sum()) / roads.total_length_m
 
 
-def near_detection(roads: DirectedRoads, sensor: DiscSensor, jumps: TargetJumps, y: FloatArray,
-                   shape: tuple[int, int], rng: np.random.Generator
-                   ) -> tuple[IntArray, FloatArray, FloatArray]:
-    """``shape`` draws ``(edge, s)`` from the detection proposal ``g`` around ``y`` and the ratio
-    ``u(x) / g(x)`` of each (the importance weight before ``ℓ`` and ``ε / K``)."""
+def detection_proposal(roads: DirectedRoads, sensor: DiscSensor, jumps: TargetJumps,
+                       y: FloatArray) -> tuple[FloatArray, FloatArray, float, float]:
+    """The detection proposal ``g`` around ``y``: ``(s0, s1)`` the arc of every directed edge
+    inside its disc, the road length ``L_disc`` in it and the share ``α`` of ``u`` (1 when the
+    disc holds no road)."""
     radius = jumps.radius_sigmas * math.sqrt(sensor.sigma2_m2)
     s0, s1 = roads.disc_intervals(np.asarray(y, dtype=np.float64), radius)
-    inside = s1 - s0
-    l_disc = float(inside.sum())
+    l_disc = float((s1 - s0).sum())
+    return s0, s1, l_disc, jumps.global_share if l_disc > 0.0 else 1.0
+
+
+def near_detection(roads: DirectedRoads, sensor: DiscSensor, jumps: TargetJumps, y: FloatArray,
+                   uniforms: FloatArray) -> tuple[IntArray, FloatArray, FloatArray]:
+    """Draws ``(edge, s)`` from the detection proposal ``g`` around ``y`` and the ratio
+    ``u(x) / g(x)`` of each (the importance weight before ``ℓ`` and ``ε / K``), from
+    ``uniforms`` ``(3, ...)`` in ``[0, 1)``: the component (``u`` below ``α``, else the disc),
+    the edge by length, the arc along it. The NumPy reference of
+    :func:`~searchtrack.estimate.road_filter_kernels.detection_jumps`."""
+    s0, s1, l_disc, alpha = detection_proposal(roads, sensor, jumps, y)
+    radius = jumps.radius_sigmas * math.sqrt(sensor.sigma2_m2)
+    pick, u_edge, u_s = uniforms
     total = roads.total_length_m
-    alpha = jumps.global_share if l_disc > 0.0 else 1.0
-    edge, s = roads.uniform(shape, rng)
-    local = rng.random(shape) >= alpha
-    if l_disc > 0.0 and np.any(local):
-        k = int(np.count_nonzero(local))
-        cdf = np.cumsum(inside)
-        e = np.minimum(np.searchsorted(cdf, rng.random(k) * cdf[-1], side="right"),
+    local = (pick >= alpha) & (l_disc > 0.0)
+    cdf = np.cumsum(roads.length)
+    edge = np.minimum(np.searchsorted(cdf, u_edge * cdf[-1], side="right"), roads.n_edges - 1)
+    s = u_s * roads.length[edge]
+    if np.any(local):
+        inside = s1 - s0
+        cum = np.cumsum(inside)
+        e = np.minimum(np.searchsorted(cum, u_edge[local] * cum[-1], side="right"),
                        inside.size - 1)
         edge[local] = e
-        s[local] = s0[e] + rng.random(k) * inside[e]
+        s[local] = s0[e] + u_s[local] * inside[e]
     pts = roads.point(edge, s)
     near = np.einsum("...i,...i->...", pts - y, pts - y) <= radius * radius
     g = alpha / total + np.where(near, (1.0 - alpha) / l_disc if l_disc > 0.0 else 0.0, 0.0)
-    return edge, s, (1.0 / total) / g
+    return edge.astype(np.int64), s, (1.0 / total) / g
 
 
 def join_jumps(clouds: RoadClouds, rows: IntArray, cloud_mass: FloatArray, edge: IntArray,
@@ -174,9 +187,20 @@ def jump_detection(clouds: RoadClouds, jumps: TargetJumps, eps: float, rows: Int
     """After the detection ``y`` weighed ``rows`` (whose likelihood sums before the update were
     ``sums``): join each row's jump draws near ``y``."""
     k = jumps.draws(clouds.shape[1], detection=True)
-    edge, s, ratio = near_detection(clouds.roads, clouds.sensor, jumps, y, (rows.size, k), rng)
-    lik = clouds.sensor.likelihood(clouds.roads.point(edge, s), y, clutter_density)
-    join_jumps(clouds, rows, (1.0 - eps) * sums, edge, s, eps * lik * ratio / k, rng)
+    roads, sensor = clouds.roads, clouds.sensor
+    s0, s1, l_disc, alpha = detection_proposal(roads, sensor, jumps, y)
+    radius = jumps.radius_sigmas * math.sqrt(sensor.sigma2_m2)
+    edge = np.empty((rows.size, k), dtype=np.int64)
+    s = np.empty((rows.size, k))
+    w = np.empty((rows.size, k))
+    inside = s1 - s0
+    kern.detection_jumps(np.cumsum(roads.length), roads.length, roads.total_length_m,
+                         roads.tail_xy, roads.step_xy, s0, inside, np.cumsum(inside), l_disc,
+                         alpha, radius * radius,
+                         float(y[0]), float(y[1]), sensor.detection_gain,
+                         0.5 / sensor.sigma2_m2, sensor.p_fa * clutter_density, eps / k,
+                         rng.random((3, rows.size, k)), edge, s, w)
+    join_jumps(clouds, rows, (1.0 - eps) * sums, edge, s, w, rng)
 
 
 def jump_miss(clouds: RoadClouds, jumps: TargetJumps, eps: float, rows: IntArray,

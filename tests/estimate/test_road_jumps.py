@@ -10,9 +10,11 @@ import numpy as np
 import pytest
 
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.estimate import road_filter_kernels as kern
 from searchtrack.estimate.road_jumps import (
     TargetJumps,
     detection_prior_likelihood,
+    detection_proposal,
     join_jumps,
     miss_prior_likelihood,
     near_detection,
@@ -93,13 +95,36 @@ def test_detection_proposal_weights_are_unbiased(slanted: DirectedRoads,
     jumps = TargetJumps()
     c = SENSOR.clutter_density(slanted)
     exact = detection_prior_likelihood(slanted, SENSOR, yy, c)
-    edge, s, ratio = near_detection(slanted, SENSOR, jumps, yy, (200, 2000),
-                                    np.random.default_rng(7))
+    edge, s, ratio = near_detection(slanted, SENSOR, jumps, yy,
+                                    np.random.default_rng(7).random((3, 200, 2000)))
     slanted.check_positions(edge, s)
     est = SENSOR.likelihood(slanted.point(edge, s), yy, c) * ratio
     per_batch = est.mean(axis=1)                       # 200 independent estimates
     assert per_batch.mean() == pytest.approx(
         exact, abs=4 * per_batch.std(ddof=1) / math.sqrt(per_batch.size) + 1e-15)
+
+
+@pytest.mark.parametrize("y", [[100.0, 97.0], [150.0, 3.0], [42.0, 58.0], [900.0, 900.0]])
+def test_the_kernel_draws_what_the_reference_draws(slanted: DirectedRoads,
+                                                   y: list[float]) -> None:
+    """The numba kernel of the detection jumps: the same positions as the NumPy reference from
+    the same uniforms, and weights ``scale · ℓ(x) · u(x) / g(x)``."""
+    yy = np.array(y)
+    jumps = TargetJumps()
+    c = SENSOR.clutter_density(slanted)
+    uniforms = np.random.default_rng(11).random((3, 7, 300))
+    edge, s, ratio = near_detection(slanted, SENSOR, jumps, yy, uniforms)
+    s0, s1, l_disc, alpha = detection_proposal(slanted, SENSOR, jumps, yy)
+    radius = jumps.radius_sigmas * math.sqrt(SENSOR.sigma2_m2)
+    k_edge, k_s, k_w = np.empty((7, 300), np.int64), np.empty((7, 300)), np.empty((7, 300))
+    kern.detection_jumps(np.cumsum(slanted.length), slanted.length, slanted.total_length_m,
+                         slanted.tail_xy, slanted.step_xy, s0, s1 - s0, np.cumsum(s1 - s0),
+                         l_disc, alpha, radius * radius, yy[0], yy[1], SENSOR.detection_gain,
+                         0.5 / SENSOR.sigma2_m2, SENSOR.p_fa * c, 0.25, uniforms, k_edge, k_s,
+                         k_w)
+    assert np.array_equal(k_edge, edge) and np.allclose(k_s, s, rtol=1e-12, atol=1e-9)
+    lik = SENSOR.likelihood(slanted.point(edge, s), yy, c)
+    assert np.allclose(k_w, 0.25 * lik * ratio, rtol=1e-9, atol=0.0)
 
 
 def test_jumps_configuration() -> None:
