@@ -18,10 +18,10 @@ from searchtrack.plan.guidance import (
     Guidance,
     GuidanceProblem,
     StrategyConfig,
-    route_strategies,
     solve,
 )
 from searchtrack.plan.guidance.validate import answer_problems
+from searchtrack.plan.optw import ils
 
 from .helpers import road, view_of
 
@@ -98,7 +98,7 @@ def test_no_plan_falls_back_to_the_gradient(monkeypatch: pytest.MonkeyPatch) -> 
     def nothing(*args: object, **kwargs: object) -> Result[object]:
         return Result(Status.NO_SOLUTION, None, None, 0.0, "ils", None)
 
-    monkeypatch.setattr(route_strategies, "solve_ils", nothing)
+    monkeypatch.setattr(ils, "solve_ils", nothing)  # route_strategies imports it when used
     g, result = _plan(problem, "route_search")
     assert g.mode == ("search",) and g.search_routes == () and result.stats["plans"] == 1.0
     searched, _ = _plan(problem, "search")
