@@ -98,6 +98,17 @@ def miss_update(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray,
 
 
 @njit(cache=True)
+def _store_row(edge: IntArray, s: FloatArray, w: FloatArray, r: int, new_edge: IntArray,
+               new_s: FloatArray) -> None:
+    """Row ``r`` becomes the resampled particles ``new_*``, each of weight ``1/N``."""
+    n_count = edge.shape[1]
+    for j in range(n_count):
+        edge[r, j] = new_edge[j]
+        s[r, j] = new_s[j]
+        w[r, j] = 1.0 / n_count
+
+
+@njit(cache=True)
 def resample_rows(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray,
                   u: FloatArray) -> None:
     """Low-variance resampling in place of the listed rows, row ``rows[i]`` with offset
@@ -124,10 +135,7 @@ def resample_rows(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray,
                 c += w[r, k] / total
             new_edge[j] = edge[r, k]
             new_s[j] = s[r, k]
-        for j in range(n_count):
-            edge[r, j] = new_edge[j]
-            s[r, j] = new_s[j]
-            w[r, j] = 1.0 / n_count
+        _store_row(edge, s, w, r, new_edge, new_s)
 
 
 @njit(cache=True)
@@ -165,10 +173,7 @@ def join_rows(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray, mass
             else:
                 new_edge[j] = add_edge[i, idx - n_count]
                 new_s[j] = add_s[i, idx - n_count]
-        for j in range(n_count):
-            edge[r, j] = new_edge[j]
-            s[r, j] = new_s[j]
-            w[r, j] = 1.0 / n_count
+        _store_row(edge, s, w, r, new_edge, new_s)
 
 
 @njit(cache=True)

@@ -131,14 +131,14 @@ def miss_prior_likelihood(roads: DirectedRoads, sensor: DiscSensor, uav_xy: Floa
 
 
 def detection_proposal(roads: DirectedRoads, sensor: DiscSensor, jumps: TargetJumps,
-                       y: FloatArray) -> tuple[FloatArray, FloatArray, float, float]:
+                       y: FloatArray) -> tuple[FloatArray, FloatArray, float, float, float]:
     """The detection proposal ``g`` around ``y``: ``(s0, s1)`` the arc of every directed edge
-    inside its disc, the road length ``L_disc`` in it and the share ``α`` of ``u`` (1 when the
-    disc holds no road)."""
+    inside its disc, the road length ``L_disc`` in it, the share ``α`` of ``u`` (1 when the
+    disc holds no road) and the disc's radius ``ρ`` (m)."""
     radius = jumps.radius_sigmas * math.sqrt(sensor.sigma2_m2)
     s0, s1 = roads.disc_intervals(np.asarray(y, dtype=np.float64), radius)
     l_disc = float((s1 - s0).sum())
-    return s0, s1, l_disc, jumps.global_share if l_disc > 0.0 else 1.0
+    return s0, s1, l_disc, jumps.global_share if l_disc > 0.0 else 1.0, radius
 
 
 def near_detection(roads: DirectedRoads, sensor: DiscSensor, jumps: TargetJumps, y: FloatArray,
@@ -148,8 +148,7 @@ def near_detection(roads: DirectedRoads, sensor: DiscSensor, jumps: TargetJumps,
     ``uniforms`` ``(3, ...)`` in ``[0, 1)``: the component (``u`` below ``α``, else the disc),
     the edge by length, the arc along it. The NumPy reference of
     :func:`~searchtrack.estimate.road_filter_kernels.detection_jumps`."""
-    s0, s1, l_disc, alpha = detection_proposal(roads, sensor, jumps, y)
-    radius = jumps.radius_sigmas * math.sqrt(sensor.sigma2_m2)
+    s0, s1, l_disc, alpha, radius = detection_proposal(roads, sensor, jumps, y)
     pick, u_edge, u_s = uniforms
     total = roads.total_length_m
     local = (pick >= alpha) & (l_disc > 0.0)
@@ -188,8 +187,7 @@ def jump_detection(clouds: RoadClouds, jumps: TargetJumps, eps: float, rows: Int
     ``sums``): join each row's jump draws near ``y``."""
     k = jumps.draws(clouds.shape[1], detection=True)
     roads, sensor = clouds.roads, clouds.sensor
-    s0, s1, l_disc, alpha = detection_proposal(roads, sensor, jumps, y)
-    radius = jumps.radius_sigmas * math.sqrt(sensor.sigma2_m2)
+    s0, s1, l_disc, alpha, radius = detection_proposal(roads, sensor, jumps, y)
     edge = np.empty((rows.size, k), dtype=np.int64)
     s = np.empty((rows.size, k))
     w = np.empty((rows.size, k))

@@ -114,8 +114,8 @@ def test_the_kernel_draws_what_the_reference_draws(slanted: DirectedRoads,
     c = SENSOR.clutter_density(slanted)
     uniforms = np.random.default_rng(11).random((3, 7, 300))
     edge, s, ratio = near_detection(slanted, SENSOR, jumps, yy, uniforms)
-    s0, s1, l_disc, alpha = detection_proposal(slanted, SENSOR, jumps, yy)
-    radius = jumps.radius_sigmas * math.sqrt(SENSOR.sigma2_m2)
+    s0, s1, l_disc, alpha, radius = detection_proposal(slanted, SENSOR, jumps, yy)
+    assert radius == jumps.radius_sigmas * math.sqrt(SENSOR.sigma2_m2)
     k_edge, k_s, k_w = np.empty((7, 300), np.int64), np.empty((7, 300)), np.empty((7, 300))
     kern.detection_jumps(np.cumsum(slanted.length), slanted.length, slanted.total_length_m,
                          slanted.tail_xy, slanted.step_xy, s0, s1 - s0, np.cumsum(s1 - s0),

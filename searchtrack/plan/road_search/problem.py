@@ -281,7 +281,7 @@ class RoadSearchProblem:
             roads = chains.roads
         return cls(roads, tuple(nodes), edge, s, w, belief.target_entropy(),
                    settings if settings is not None else RoadSearchSettings(),
-                   t_edge, t_s, chains, name, tuple(float(d) for d in uav_delay_s))
+                   t_edge, t_s, chains, name, tuple(uav_delay_s))
 
     @property
     def n_uavs(self) -> int:

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from searchtrack.core.result import Result
+from searchtrack.core.types import FloatArray
 from searchtrack.plan.road_search.problem import RoadPlan, RoadSearchProblem
 from searchtrack.plan.road_search.weights import target_weights
 
@@ -43,13 +44,19 @@ class PlanCheck:
     reasons: tuple[str, ...] = ()
 
 
-def _edges_allowed(problem: RoadSearchProblem, uav: int, edges: tuple[int, ...]) -> int:
+def _flight_ticks(problem: RoadSearchProblem) -> FloatArray:
+    """``(E,)`` ticks to fly each directed edge, from the lengths and the UAV speed."""
+    st = problem.settings
+    return np.maximum(1, np.rint(problem.roads.length / (st.uav_speed_mps * problem.tick_s)))
+
+
+def _edges_allowed(problem: RoadSearchProblem, ticks: FloatArray, uav: int,
+                   edges: tuple[int, ...]) -> int:
     """How many edges the path must have: ``L``, or with a horizon the first count after
-    which its arrival (delay plus flight, in whole ticks) is at or past the horizon."""
+    which its arrival (delay plus flight ``ticks``) is at or past the horizon."""
     st = problem.settings
     if st.horizon_s is None:
         return st.lookahead
-    ticks = np.maximum(1, np.rint(problem.roads.length / (st.uav_speed_mps * problem.tick_s)))
     when = round(problem.uav_delay_s[uav] / problem.tick_s)
     horizon = round(st.horizon_s / problem.tick_s)
     for i, e in enumerate(edges[:st.lookahead]):
@@ -61,7 +68,7 @@ def _edges_allowed(problem: RoadSearchProblem, uav: int, edges: tuple[int, ...])
     return st.lookahead
 
 
-def _path_faults(problem: RoadSearchProblem, plan: RoadPlan) -> list[str]:
+def _path_faults(problem: RoadSearchProblem, plan: RoadPlan, ticks: FloatArray) -> list[str]:
     roads = problem.roads
     faults = []
     if not isinstance(plan, RoadPlan):
@@ -69,7 +76,7 @@ def _path_faults(problem: RoadSearchProblem, plan: RoadPlan) -> list[str]:
     if len(plan.edges) != problem.n_uavs or len(plan.nodes) != problem.n_uavs:
         return [f"{len(plan.edges)} paths for {problem.n_uavs} UAVs"]
     for q, (nodes, edges) in enumerate(zip(plan.nodes, plan.edges, strict=True)):
-        want = _edges_allowed(problem, q, edges)
+        want = _edges_allowed(problem, ticks, q, edges)
         if len(edges) != want or len(nodes) != want + 1:
             faults.append(f"UAV {q}: {len(edges)} edges and {len(nodes)} nodes, the look-ahead "
                           f"{problem.lookahead} and the horizon allow {want} edges")
@@ -86,12 +93,12 @@ def _path_faults(problem: RoadSearchProblem, plan: RoadPlan) -> list[str]:
 
 def check_plan(problem: RoadSearchProblem, plan: RoadPlan) -> PlanCheck:
     """Check ``plan`` against ``problem`` and recompute its objective from scratch."""
-    faults = _path_faults(problem, plan)
+    ticks = _flight_ticks(problem)
+    faults = _path_faults(problem, plan, ticks)
     if faults:
         return PlanCheck(False, math.nan, tuple(faults))
     st = problem.settings
     roads = problem.roads
-    ticks = np.maximum(1, np.rint(roads.length / (st.uav_speed_mps * problem.tick_s)))
     sightings = []  # (tick, edge, beta)
     for edges, delay in zip(plan.edges, problem.uav_delay_s, strict=True):
         tick = round(delay / problem.tick_s)  # a UAV in flight starts its path that late

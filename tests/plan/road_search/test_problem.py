@@ -99,6 +99,15 @@ def test_bad_settings_name_the_field(changes: dict[str, object], field: str) -> 
     assert err.value.field == field
 
 
+@pytest.mark.parametrize("delay", [["soon"], [1.0, 2.0, 3.0], [-0.5], [float("inf")]])
+def test_from_belief_names_a_bad_delay(delay: list[object]) -> None:
+    """Delays given through ``from_belief`` are checked as the problem's own field."""
+    belief = uniform_belief(grid_roads(), 2, 10, np.random.default_rng(0))
+    with pytest.raises(InvalidInputError) as err:
+        RoadSearchProblem.from_belief(belief, [4], uav_delay_s=delay)  # type: ignore[arg-type]
+    assert err.value.field == "uav_delay_s"
+
+
 def test_delays_default_to_zero_and_round_to_ticks() -> None:
     """No delays: every UAV at its node now; 3.9 s at 2.5 s ticks starts at tick 2."""
     p = base_problem(uav_nodes=(4, 0))

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from searchtrack.plan.road_search import RoadPlan, check_plan, solve
+from searchtrack.plan.road_search import RoadPlan, RoadSearchProblem, check_plan, solve
 
 from .helpers import edge, grid_roads, random_problem, random_roads
 from .test_scenario import every_plan, static_problem
@@ -22,16 +22,23 @@ def test_objective_by_hand() -> None:
     assert check.objective == pytest.approx(p.gamma[0] + 0.64 * p.gamma[1], rel=1e-12)
 
 
+def assert_every_plan_scores_alike(p: RoadSearchProblem) -> list[RoadPlan]:
+    """Every plan of ``p`` passes the check, which scores it as the scenario does; the plans."""
+    plans = every_plan(p)
+    for plan in plans:
+        check = check_plan(p, plan)
+        assert check.feasible, check.reasons
+        assert check.objective == pytest.approx(p.scenario.score(plan), rel=1e-12, abs=1e-15)
+    return plans
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_recomputed_objective_equals_the_scenario(seed: int) -> None:
     """For every plan of a small instance with moving targets, both objectives agree."""
     roads = grid_roads() if seed % 2 else random_roads(seed)
     p = random_problem(roads, np.random.default_rng(seed), uavs=1 + seed % 2, lookahead=2,
                        per_length=seed >= 2, both_directions=seed != 1)
-    for plan in every_plan(p):
-        check = check_plan(p, plan)
-        assert check.feasible
-        assert check.objective == pytest.approx(p.scenario.score(plan), rel=1e-12, abs=1e-15)
+    assert_every_plan_scores_alike(p)
 
 
 @pytest.mark.parametrize("seed", range(6))
@@ -44,10 +51,7 @@ def test_uavs_in_flight_are_scored_from_their_arrival(seed: int) -> None:
     assert p.uav_delay_s[0] == 0.0 and p.uav_delay_s[1] > 0.0
     assert [int(lat.state_tick[0]) for lat in p.scenario.lattices] == [
         round(d / p.tick_s) for d in p.uav_delay_s]
-    for plan in every_plan(p):
-        check = check_plan(p, plan)
-        assert check.feasible
-        assert check.objective == pytest.approx(p.scenario.score(plan), rel=1e-12, abs=1e-15)
+    assert_every_plan_scores_alike(p)
 
 
 @pytest.mark.parametrize("seed", range(4))
@@ -56,11 +60,7 @@ def test_time_horizon_plans_are_scored_and_their_length_checked(seed: int) -> No
     short or run on past the horizon is refused."""
     p = random_problem(random_roads(seed), np.random.default_rng(600 + seed), uavs=1,
                        lookahead=4, horizon_s=6.0)
-    plans = every_plan(p)
-    for plan in plans:
-        check = check_plan(p, plan)
-        assert check.feasible, check.reasons
-        assert check.objective == pytest.approx(p.scenario.score(plan), rel=1e-12, abs=1e-15)
+    plans = assert_every_plan_scores_alike(p)
     short = [plan for plan in plans if len(plan.edges[0]) < p.lookahead]
     assert short, "the horizon cuts some path"
     path = list(short[0].edges[0])
