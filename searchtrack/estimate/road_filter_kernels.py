@@ -6,8 +6,12 @@ normalized weights ``w`` (each row sums to 1). A particle's planar point ``G(x)`
 Random numbers are drawn by the caller's ``numpy.random.Generator`` and passed in. The NumPy
 references are :meth:`~searchtrack.models.disc_sensor.DiscSensor.likelihood`,
 :meth:`~searchtrack.models.disc_sensor.DiscSensor.miss_likelihood`,
-:func:`~searchtrack.estimate.road_resampling.systematic_indices` and
-:func:`~searchtrack.estimate.road_jumps.near_detection`.
+:func:`~searchtrack.estimate.road_resampling.systematic_indices`,
+:func:`~searchtrack.estimate.road_jumps.near_detection`,
+:meth:`~searchtrack.models.road_particles.DirectedRoads.disc_intervals`,
+:meth:`~searchtrack.models.road_particles.DirectedRoads.uniform` and
+:meth:`~searchtrack.models.road_particles.RoadMotion.step` (the motion kernels draw what it
+draws, in the same order, so a seed moves the particles alike).
 """
 
 from __future__ import annotations
@@ -212,3 +216,116 @@ def detection_jumps(cum_length: FloatArray, length: FloatArray, total_m: float,
             edge[i, k] = e
             s[i, k] = arc
             w[i, k] = scale * lik * ((1.0 / total_m) / g)
+
+
+@njit(cache=True)
+def disc_intervals(tail_xy: FloatArray, step_xy: FloatArray, length: FloatArray, cx: float,
+                   cy: float, radius: float, s0: FloatArray, s1: FloatArray) -> float:
+    """The arc ``[s0, s1]`` of every directed edge inside the disc of ``radius`` around
+    ``(cx, cy)`` into ``s0`` and ``s1`` (equal where the edge misses it), and the road length
+    in the disc; the NumPy reference is :meth:`~searchtrack.models.road_particles.
+    DirectedRoads.disc_intervals`."""
+    total = 0.0
+    r2 = radius * radius
+    for e in range(length.size):
+        abx = step_xy[e, 0] * length[e]
+        aby = step_xy[e, 1] * length[e]
+        relx = tail_xy[e, 0] - cx
+        rely = tail_xy[e, 1] - cy
+        a2 = max(abx * abx + aby * aby, 1e-300)
+        b = (abx * relx + aby * rely) / a2
+        disc = b * b - ((relx * relx + rely * rely) - r2) / a2
+        root = math.sqrt(max(disc, 0.0))
+        t0 = min(max(-b - root, 0.0), 1.0)
+        t1 = min(max(-b + root, 0.0), 1.0)
+        t1 = max(t1, t0) if disc > 0.0 else t0
+        s0[e] = t0 * length[e]
+        s1[e] = t1 * length[e]
+        total += s1[e] - s0[e]
+    return total
+
+
+@njit(cache=True)
+def systematic_row(w: FloatArray, u: float) -> IntArray:
+    """Systematic resampling of one row of weights ``w`` ``(N,)`` (positive sum) with offset
+    ``u`` in ``[0, 1)``: the ``(N,)`` indices of
+    :func:`~searchtrack.estimate.road_resampling.systematic_indices` for that row."""
+    n = w.size
+    total = 0.0
+    for k in range(n):
+        total += w[k]
+    cum = np.empty(n)
+    c = 0.0
+    for k in range(n):
+        c += w[k] / total
+        cum[k] = c
+    cum[n - 1] = 1.0
+    out = np.empty(n, dtype=np.int64)
+    k = 0
+    for j in range(n):
+        target = (u + j) / n
+        while k < n - 1 and cum[k] <= target:
+            k += 1
+        out[j] = k
+    return out
+
+
+@njit(cache=True)
+def miss_jumps(cum_length: FloatArray, length: FloatArray, tail_xy: FloatArray,
+               step_xy: FloatArray, ux: float, uy: float, radius2: float, p_fn: float,
+               scale: float, uniforms: FloatArray, edge: IntArray, s: FloatArray,
+               w: FloatArray) -> None:
+    """Jump draws of a miss into ``edge``, ``s`` and ``w`` ``(R, K)``: position ``x`` uniform by
+    length (``uniforms[0]`` picks the edge, ``uniforms[1]`` the arc, as
+    :meth:`~searchtrack.models.road_particles.DirectedRoads.uniform`) and weight
+    ``scale · p(z | x)`` (Eq. 11: ``P_FN`` within ``√radius2`` of the UAV at ``(ux, uy)``, else
+    1)."""
+    n_edges = length.size
+    span = cum_length[n_edges - 1]
+    for i in range(edge.shape[0]):
+        for k in range(edge.shape[1]):
+            e = min(np.searchsorted(cum_length, uniforms[0, i, k] * span, side="right"),
+                    n_edges - 1)
+            arc = uniforms[1, i, k] * length[e]
+            dx = tail_xy[e, 0] + arc * step_xy[e, 0] - ux
+            dy = tail_xy[e, 1] + arc * step_xy[e, 1] - uy
+            edge[i, k] = e
+            s[i, k] = arc
+            w[i, k] = scale * (p_fn if dx * dx + dy * dy <= radius2 else 1.0)
+
+
+@njit(cache=True)
+def move(edge: IntArray, s: FloatArray, normals: FloatArray, speed: float, sigma: float,
+         dt: float, length: FloatArray) -> IntArray:
+    """Eq. 9 in place on flat ``s``: ``s += max(speed + sigma · normal, 0) · dt``; returns the
+    indices of the particles now past the end of their edge (for :func:`turn`). With
+    :func:`turn`, the kernel form of :meth:`~searchtrack.models.road_particles.RoadMotion.step`
+    from the same normals and turn uniforms."""
+    over = np.empty(s.size, dtype=np.int64)
+    k = 0
+    for i in range(s.size):
+        s[i] = s[i] + max(speed + sigma * normals[i], 0.0) * dt
+        if s[i] > length[edge[i]]:
+            over[k] = i
+            k += 1
+    return over[:k]
+
+
+@njit(cache=True)
+def turn(edge: IntArray, s: FloatArray, over: IntArray, u: FloatArray, length: FloatArray,
+         successors: IntArray, successor_ptr: IntArray) -> IntArray:
+    """Carry the particles ``over`` (flat indices past their edge's end) onto a successor
+    edge picked by ``u`` ``(len(over),)`` in ``[0, 1)``, keeping the leftover arc; returns
+    those still past the end of their new edge."""
+    left = np.empty(over.size, dtype=np.int64)
+    k = 0
+    for j in range(over.size):
+        i = over[j]
+        d = edge[i]
+        s[i] -= length[d]
+        count = successor_ptr[d + 1] - successor_ptr[d]
+        edge[i] = successors[successor_ptr[d] + np.int64(u[j] * count)]
+        if s[i] > length[edge[i]]:
+            left[k] = i
+            k += 1
+    return left[:k]

@@ -113,6 +113,18 @@ def road_gaussian_integral(roads: DirectedRoads, y: FloatArray, sigma2_m2: float
     return float(np.sum(np.exp(-0.5 * h2 / sigma2_m2) * along) * sigma * math.sqrt(0.5 * math.pi))
 
 
+def disc_intervals(roads: DirectedRoads, centre_xy: FloatArray,
+                   radius_m: float) -> tuple[FloatArray, FloatArray, float]:
+    """:meth:`~searchtrack.models.road_particles.DirectedRoads.disc_intervals` by the numba
+    kernel, with the road length in the disc: ``(s0, s1, Σ (s1 − s0))``."""
+    s0 = np.empty(roads.n_edges)
+    s1 = np.empty(roads.n_edges)
+    inside = kern.disc_intervals(roads.tail_xy, roads.step_xy, roads.length,
+                                 float(centre_xy[0]), float(centre_xy[1]), float(radius_m),
+                                 s0, s1)
+    return s0, s1, float(inside)
+
+
 def detection_prior_likelihood(roads: DirectedRoads, sensor: DiscSensor, y: FloatArray,
                                clutter_density: float) -> float:
     """``∫ p(y | x) u(x) dx``: the likelihood of detection ``y`` (Eq. 10) for a target anywhere
@@ -125,9 +137,8 @@ def detection_prior_likelihood(roads: DirectedRoads, sensor: DiscSensor, y: Floa
 def miss_prior_likelihood(roads: DirectedRoads, sensor: DiscSensor, uav_xy: FloatArray) -> float:
     """``∫ p(z | x) u(x) dx``: the no-detection likelihood (Eq. 11) of a target anywhere on the
     roads, ``1 − (1 − P_FN) L_in / L``."""
-    s0, s1 = roads.disc_intervals(np.asarray(uav_xy, dtype=np.float64),
-                                  sensor.negative_radius_m)
-    return 1.0 - (1.0 - sensor.p_fn) * float((s1 - s0).sum()) / roads.total_length_m
+    inside = disc_intervals(roads, uav_xy, sensor.negative_radius_m)[2]
+    return 1.0 - (1.0 - sensor.p_fn) * inside / roads.total_length_m
 
 
 def detection_proposal(roads: DirectedRoads, sensor: DiscSensor, jumps: TargetJumps,
@@ -136,8 +147,7 @@ def detection_proposal(roads: DirectedRoads, sensor: DiscSensor, jumps: TargetJu
     inside its disc, the road length ``L_disc`` in it, the share ``α`` of ``u`` (1 when the
     disc holds no road) and the disc's radius ``ρ`` (m)."""
     radius = jumps.radius_sigmas * math.sqrt(sensor.sigma2_m2)
-    s0, s1 = roads.disc_intervals(np.asarray(y, dtype=np.float64), radius)
-    l_disc = float((s1 - s0).sum())
+    s0, s1, l_disc = disc_intervals(roads, y, radius)
     return s0, s1, l_disc, jumps.global_share if l_disc > 0.0 else 1.0, radius
 
 
@@ -152,7 +162,7 @@ def near_detection(roads: DirectedRoads, sensor: DiscSensor, jumps: TargetJumps,
     pick, u_edge, u_s = uniforms
     total = roads.total_length_m
     local = (pick >= alpha) & (l_disc > 0.0)
-    cdf = np.cumsum(roads.length)
+    cdf = roads.cum_length
     edge = np.minimum(np.searchsorted(cdf, u_edge * cdf[-1], side="right"), roads.n_edges - 1)
     s = u_s * roads.length[edge]
     if np.any(local):
@@ -192,7 +202,7 @@ def jump_detection(clouds: RoadClouds, jumps: TargetJumps, eps: float, rows: Int
     s = np.empty((rows.size, k))
     w = np.empty((rows.size, k))
     inside = s1 - s0
-    kern.detection_jumps(np.cumsum(roads.length), roads.length, roads.total_length_m,
+    kern.detection_jumps(roads.cum_length, roads.length, roads.total_length_m,
                          roads.tail_xy, roads.step_xy, s0, inside, np.cumsum(inside), l_disc,
                          alpha, radius * radius,
                          float(y[0]), float(y[1]), sensor.detection_gain,
@@ -206,6 +216,11 @@ def jump_miss(clouds: RoadClouds, jumps: TargetJumps, eps: float, rows: IntArray
     """After a miss of a UAV at ``uav_xy`` updated ``rows`` (no-detection likelihoods ``sums``
     before the update): join each row's jump draws from ``u``."""
     k = jumps.draws(clouds.shape[1], detection=False)
-    edge, s = clouds.roads.uniform((rows.size, k), rng)
-    lik = clouds.sensor.miss_likelihood(clouds.roads.point(edge, s), uav_xy)
-    join_jumps(clouds, rows, (1.0 - eps) * sums, edge, s, eps * lik / k, rng)
+    roads, sensor = clouds.roads, clouds.sensor
+    edge = np.empty((rows.size, k), dtype=np.int64)
+    s = np.empty((rows.size, k))
+    w = np.empty((rows.size, k))
+    kern.miss_jumps(roads.cum_length, roads.length, roads.tail_xy, roads.step_xy,
+                    float(uav_xy[0]), float(uav_xy[1]), sensor.negative_radius_m ** 2,
+                    sensor.p_fn, eps / k, rng.random((2, rows.size, k)), edge, s, w)
+    join_jumps(clouds, rows, (1.0 - eps) * sums, edge, s, w, rng)

@@ -100,8 +100,19 @@ class RoadClouds:
 
     def predict(self, motion: RoadMotion, dt_s: float, rng: np.random.Generator) -> None:
         """Eq. 2 with the motion model of Eq. 9, every particle ``dt_s`` seconds on."""
-        edge, s = motion.step(self.roads, self.edge, self.s, dt_s, rng)
-        self.edge, self.s = np.ascontiguousarray(edge), np.ascontiguousarray(s)
+        if type(motion) is not RoadMotion:
+            edge, s = motion.step(self.roads, self.edge, self.s, dt_s, rng)
+            self.edge, self.s = np.ascontiguousarray(edge), np.ascontiguousarray(s)
+            return
+        # RoadMotion.step by the kernels, from the same draws, in place.
+        dt = checks.non_negative("dt_s", dt_s)
+        self.edge, self.s = np.ascontiguousarray(self.edge), np.ascontiguousarray(self.s)
+        roads, e, pos = self.roads, self.edge.reshape(-1), self.s.reshape(-1)
+        over = kern.move(e, pos, rng.standard_normal(pos.size), motion.speed_mps,
+                         motion.sigma_mps, dt, roads.length)
+        while over.size:
+            over = kern.turn(e, pos, over, rng.random(over.size), roads.length,
+                             roads.successors, roads.successor_ptr)
 
     def detection_sums(self, y: FloatArray, clutter_density: float) -> FloatArray:
         """``(F,)`` ``Σ_n w p(y | x)`` per cloud (Eq. 16 with the Eq. 10 likelihood); keeps the

@@ -50,6 +50,7 @@ from numpy.typing import ArrayLike
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate import road_filter_kernels as kern
 from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
 from searchtrack.estimate.particle_belief import WeightedParticles
 from searchtrack.estimate.road_entropy import (
@@ -67,7 +68,6 @@ from searchtrack.estimate.road_jumps import (
 )
 from searchtrack.estimate.road_pf import RoadClouds, node_trackers
 from searchtrack.estimate.road_rbpf_config import RBPFConfig as RBPFConfig
-from searchtrack.estimate.road_resampling import systematic_indices
 from searchtrack.models.road_particles import DirectedRoads
 
 log = logging.getLogger("searchtrack.estimate.road_rbpf")
@@ -268,7 +268,7 @@ class RoadRBPF:
         self.scores = self.weights.copy()
         if not self.config.history_resample.due(self.weights[None])[0]:
             return
-        idx = systematic_indices(self.weights[None], rng.random(1))[0]
+        idx = kern.systematic_row(self.weights, float(rng.random(1)[0]))
         if not np.array_equal(idx, np.arange(self.n_histories)):
             m = self.n_targets
             self.clouds.take((idx[:, None] * m + np.arange(m)).ravel())

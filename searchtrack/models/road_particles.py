@@ -109,6 +109,14 @@ class DirectedRoads:
         return float(self.length.sum())
 
     @cached_property
+    def cum_length(self) -> FloatArray:
+        """``(2m,)`` cumulative directed edge lengths (m): the inverse CDF of a uniform position
+        by length (Eq. 1), read-only."""
+        out = np.cumsum(self.length)
+        out.setflags(write=False)
+        return out
+
+    @cached_property
     def successor_count(self) -> IntArray:
         """``(2m,)`` number of successors of each directed edge (≥ 1)."""
         out = np.diff(self.successor_ptr)
@@ -175,7 +183,7 @@ class DirectedRoads:
                 rng: np.random.Generator) -> tuple[IntArray, FloatArray]:
         """Positions drawn uniformly by length over the network (paper Eq. 1): the directed edge
         with probability proportional to its length, then ``s ~ U(0, length)``."""
-        cdf = np.cumsum(self.length)
+        cdf = self.cum_length
         u = rng.random(shape) * cdf[-1]
         edge = np.minimum(np.searchsorted(cdf, u, side="right"), self.n_edges - 1)
         s = rng.random(shape) * self.length[edge]

@@ -6,10 +6,12 @@ import numpy as np
 import pytest
 
 from searchtrack.estimate import road_filter_kernels as kern
-from searchtrack.estimate.road_resampling import systematic_indices
+from searchtrack.estimate.road_pf import RoadClouds
+from searchtrack.estimate.road_resampling import ResamplePolicy, systematic_indices
 from searchtrack.models import grid_network
 from searchtrack.models.disc_sensor import DiscSensor
-from searchtrack.models.road_particles import DirectedRoads
+from searchtrack.models.road_particles import DirectedRoads, RoadMotion
+from searchtrack.models.road_synthetic import random_network
 
 
 @pytest.fixture(scope="module")
@@ -117,3 +119,77 @@ def test_join_rows_is_systematic_resampling_of_the_union() -> None:
     kern.join_rows(edge, s, w, np.array([1]), np.array([0.0]), add_e[:1], add_s[:1], empty,
                    np.array([0.5]))
     np.testing.assert_array_equal(s[1], before[1][1])
+
+
+@pytest.fixture(scope="module")
+def town() -> DirectedRoads:
+    """A random planar road graph with edges of many lengths and directions."""
+    return DirectedRoads(random_network(40, 900.0, spacing_m=150.0, seed=4))
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_disc_intervals_equal_the_numpy_form(town: DirectedRoads, seed: int) -> None:
+    """Arcs inside a disc (some edges crossing it, some inside, some missing it) equal
+    DirectedRoads.disc_intervals, and the returned length is their sum."""
+    rng = np.random.default_rng(seed)
+    centre = rng.uniform(-100.0, 1000.0, 2)
+    radius = float(rng.uniform(0.0, 400.0))
+    s0, s1 = np.empty(town.n_edges), np.empty(town.n_edges)
+    inside = kern.disc_intervals(town.tail_xy, town.step_xy, town.length, centre[0], centre[1],
+                                 radius, s0, s1)
+    r0, r1 = town.disc_intervals(centre, radius)
+    np.testing.assert_allclose(s0, r0, rtol=0.0, atol=1e-9)
+    np.testing.assert_allclose(s1, r1, rtol=0.0, atol=1e-9)
+    assert inside == pytest.approx(float((r1 - r0).sum()), abs=1e-6)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_systematic_row_equals_systematic_indices(seed: int) -> None:
+    """One row, zero weights and spikes included, gives the NumPy form's indices."""
+    rng = np.random.default_rng(seed)
+    w = rng.random(int(rng.integers(1, 40))) ** 4
+    w[rng.random(w.size) < 0.3] = 0.0
+    w[int(rng.integers(w.size))] += 1.0
+    u = float(rng.random())
+    np.testing.assert_array_equal(kern.systematic_row(w, u),
+                                  systematic_indices(w[None], np.array([u]))[0])
+
+
+def test_miss_jumps_are_uniform_draws_weighed_by_eq_11(town: DirectedRoads) -> None:
+    """From the same uniforms: the positions of DirectedRoads.uniform and the weights
+    scale · DiscSensor.miss_likelihood."""
+    sensor = DiscSensor(fov_radius_m=250.0)
+    uav = np.array([450.0, 400.0])
+    uniforms = np.random.default_rng(2).random((2, 5, 300))
+    edge, s, w = np.empty((5, 300), dtype=np.int64), np.empty((5, 300)), np.empty((5, 300))
+    kern.miss_jumps(town.cum_length, town.length, town.tail_xy, town.step_xy, uav[0], uav[1],
+                    sensor.negative_radius_m ** 2, sensor.p_fn, 0.01, uniforms, edge, s, w)
+
+    class Replay:  # replays the uniforms as DirectedRoads.uniform draws them
+        def __init__(self) -> None:
+            self.k = 0
+
+        def random(self, shape: tuple[int, int]) -> np.ndarray:
+            self.k += 1
+            return np.asarray(uniforms[self.k - 1], dtype=np.float64)
+
+    ref_edge, ref_s = town.uniform((5, 300), Replay())  # type: ignore[arg-type]
+    np.testing.assert_array_equal(edge, ref_edge)
+    np.testing.assert_array_equal(s, ref_s)
+    ref_w = 0.01 * sensor.miss_likelihood(town.point(ref_edge, ref_s), uav)
+    assert 0 < np.count_nonzero(ref_w < 0.01) < ref_w.size  # some draws in view, some not
+    np.testing.assert_allclose(w, ref_w, rtol=1e-12)
+
+
+@pytest.mark.parametrize("dt", [0.1, 3.0, 40.0])
+def test_cloud_motion_kernels_equal_road_motion_step(town: DirectedRoads, dt: float) -> None:
+    """RoadClouds.predict (move + turn kernels, in place) gives RoadMotion.step's positions
+    from the same seed, several node crossings per step included."""
+    motion = RoadMotion(speed_mps=12.0, sigma_mps=5.0)
+    edge, s = town.uniform((4, 250), np.random.default_rng(0))
+    clouds = RoadClouds(town, edge, s, sensor=DiscSensor(), resample=ResamplePolicy())
+    clouds.predict(motion, dt, np.random.default_rng(9))
+    ref_edge, ref_s = motion.step(town, edge, s, dt, np.random.default_rng(9))
+    np.testing.assert_array_equal(clouds.edge, ref_edge)
+    np.testing.assert_allclose(clouds.s, ref_s, rtol=0.0, atol=1e-9)
+    town.check_positions(clouds.edge, clouds.s)
