@@ -24,6 +24,32 @@ from searchtrack.plan.optw.solve import BACKENDS
 MODES = ("search", "loiter", "reacquire", "route")
 
 
+#: The settings of the route strategies' search OPTW, as :class:`StrategyConfig` names them.
+SEARCH_SETTINGS = ("search_iterations", "search_horizon_s", "search_replan_s",
+                   "search_route_nodes", "search_cell_m", "search_serve_m")
+
+
+def whole_count(name: str, value: object) -> int:
+    """``value`` if it is an integer ≥ 1 (not a bool), else :class:`InvalidInputError`."""
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise InvalidInputError(name, value, "must be an integer ≥ 1")
+    return value
+
+
+def check_search_settings(spec: object) -> None:
+    """Check the :data:`SEARCH_SETTINGS` attributes of ``spec`` (a :class:`StrategyConfig` or
+    a mission's guidance spec): counts ≥ 1, times > 0, the cell side > 0 and the serve
+    distance ≥ 0 when given (``None``: derived from ``ρ``)."""
+    for name in ("search_iterations", "search_route_nodes"):
+        whole_count(name, getattr(spec, name))
+    for name in ("search_horizon_s", "search_replan_s"):
+        positive(name, getattr(spec, name))
+    for name, check in (("search_cell_m", positive), ("search_serve_m", non_negative)):
+        value = getattr(spec, name)
+        if value is not None:
+            check(name, value)
+
+
 @dataclass(frozen=True)
 class StrategyConfig:
     """Parameters of the Ch. 5 guidance laws (defaults: Tables 6.2 and 6.4).
@@ -125,18 +151,14 @@ class StrategyConfig:
         if self.optw_backend not in BACKENDS.names():
             raise InvalidInputError("optw_backend", self.optw_backend,
                                     f"must be one of {sorted(BACKENDS.names())}")
-        for name in ("max_route_nodes", "max_reacquire_steps", "search_route_nodes",
-                     "search_iterations"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
-                raise InvalidInputError(name, v, "must be an integer ≥ 1")
+        for name in ("max_route_nodes", "max_reacquire_steps"):
+            whole_count(name, getattr(self, name))
         set_(self, "coverage_weight", non_negative("coverage_weight", self.coverage_weight))
-        positive("search_horizon_s", self.search_horizon_s)
-        positive("search_replan_s", self.search_replan_s)
-        set_(self, "search_cell_m", math.sqrt(2.0) * rho if self.search_cell_m is None
-             else positive("search_cell_m", self.search_cell_m))
-        set_(self, "search_serve_m", 0.5 * rho if self.search_serve_m is None
-             else non_negative("search_serve_m", self.search_serve_m))
+        check_search_settings(self)
+        if self.search_cell_m is None:
+            set_(self, "search_cell_m", math.sqrt(2.0) * rho)
+        if self.search_serve_m is None:
+            set_(self, "search_serve_m", 0.5 * rho)
 
     @property
     def sigma(self) -> float:

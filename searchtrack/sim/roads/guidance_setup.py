@@ -9,6 +9,7 @@ from searchtrack.core.types import FloatArray
 from searchtrack.estimate import BeliefBank, GraphDiffusion, SearchField
 from searchtrack.models import RoadNetwork, UavState
 from searchtrack.plan.guidance import Guidance, GuidanceProblem, GuidanceView, StrategyConfig
+from searchtrack.plan.guidance.view import SEARCH_SETTINGS
 from searchtrack.sim.roads.scenario import Scenario
 
 
@@ -24,6 +25,7 @@ def strategy_config(scenario: Scenario) -> StrategyConfig:
         speed_mps=scenario.limits.speed_max_mps,
         optw_backend=g.optw_backend,
         coverage_weight=g.coverage_weight,
+        **{name: getattr(g, name) for name in SEARCH_SETTINGS},
     )
 
 

@@ -28,6 +28,7 @@ from searchtrack.models import (
 )
 from searchtrack.models.lrt_sensor import THESIS_ALTITUDES_M
 from searchtrack.plan.guidance.solve import BACKENDS as GUIDANCE_BACKENDS
+from searchtrack.plan.guidance.view import StrategyConfig, check_search_settings
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
 
 Mode = Literal["track", "detect"]
@@ -282,6 +283,11 @@ class GuidanceSpec:
         recently and toward road it has not (a rule of this library, the thesis has none; see
         :func:`~searchtrack.plan.guidance.forces.coverage_force` and
         :class:`~searchtrack.sim.roads.coverage.CoverageMemory`). 0 (default): the thesis's search.
+    search_iterations, search_horizon_s, search_replan_s, search_route_nodes, search_cell_m, \
+search_serve_m
+        The route strategies' search OPTW (:class:`~searchtrack.plan.guidance.view.
+        StrategyConfig`, whose defaults these are; ``None`` cell and serve distances derive
+        from the footprint ``ρ``). The thesis's strategies do not read them.
     """
 
     strategy: str = "search_and_loiter"
@@ -291,6 +297,12 @@ class GuidanceSpec:
     optw_backend: str = "auto"
     optw_budget_s: float = 0.03
     coverage_weight: float = 0.0
+    search_iterations: int = StrategyConfig.search_iterations
+    search_horizon_s: float = StrategyConfig.search_horizon_s
+    search_replan_s: float = StrategyConfig.search_replan_s
+    search_route_nodes: int = StrategyConfig.search_route_nodes
+    search_cell_m: float | None = StrategyConfig.search_cell_m
+    search_serve_m: float | None = StrategyConfig.search_serve_m
 
     def __post_init__(self) -> None:
         if self.strategy not in STRATEGIES:
@@ -308,6 +320,7 @@ class GuidanceSpec:
                                     "must be in (0, 1)")
         positive("optw_budget_s", self.optw_budget_s)
         non_negative("coverage_weight", self.coverage_weight)
+        check_search_settings(self)
 
 
 @dataclass(frozen=True)

@@ -218,6 +218,12 @@ def _guidance(t: Table) -> GuidanceSpec:
                               choices=tuple(OPTW_BACKENDS.names())),
         optw_budget_s=t.number("optw_budget_s", d.optw_budget_s),
         coverage_weight=t.number("coverage_weight", d.coverage_weight),
+        search_iterations=t.integer("search_iterations", d.search_iterations, minimum=1),
+        search_horizon_s=t.number("search_horizon_s", d.search_horizon_s, positive=True),
+        search_replan_s=t.number("search_replan_s", d.search_replan_s, positive=True),
+        search_route_nodes=t.integer("search_route_nodes", d.search_route_nodes, minimum=1),
+        search_cell_m=t.optional_number("search_cell_m", positive=True),
+        search_serve_m=t.optional_number("search_serve_m", minimum=0.0),
     )
     t.done()
     return spec

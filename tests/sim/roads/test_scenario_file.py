@@ -231,3 +231,43 @@ def test_the_rbpf_jump_rate_is_read_and_checked(tmp_path: Path) -> None:
     assert rbpf_config(load_scenario(write(tmp_path, text))).jumps is None
     with pytest.raises(ParseError, match=r"filter\.jump_rate_per_s"):
         load_scenario(write(tmp_path, text + "jump_rate_per_s = -1.0\n"))
+
+
+def test_the_search_route_settings_reach_the_guidance(tmp_path: Path) -> None:
+    """The route strategies' ``search_*`` settings are read into the GuidanceSpec and reach the
+    guidance's StrategyConfig; absent, they are StrategyConfig's own defaults (the cell side and
+    the serve distance then derived from ρ)."""
+    from searchtrack.plan.guidance.view import SEARCH_SETTINGS, StrategyConfig
+    from searchtrack.sim.roads.guidance_setup import strategy_config
+
+    given = {"search_iterations": 40, "search_horizon_s": 30.5, "search_replan_s": 4.0,
+             "search_route_nodes": 12, "search_cell_m": 150.0, "search_serve_m": 0.0}
+    assert set(given) == set(SEARCH_SETTINGS)
+    text = GRID + "[guidance]\nstrategy = 'route_loiter'\n" + "".join(
+        f"{k} = {v}\n" for k, v in given.items())
+    sc = load_scenario(write(tmp_path, text))
+    config = strategy_config(sc)
+    for name, value in given.items():
+        assert getattr(sc.guidance, name) == value
+        assert getattr(config, name) == value
+    plain = strategy_config(load_scenario(write(tmp_path, GRID)))
+    rho = plain.sensor_range_m
+    for name in SEARCH_SETTINGS[:4]:
+        assert getattr(plain, name) == getattr(StrategyConfig, name)
+    assert (plain.search_cell_m, plain.search_serve_m) == (math.sqrt(2.0) * rho, 0.5 * rho)
+
+
+@pytest.mark.parametrize("key,bad", [("search_iterations", "0"), ("search_iterations", "2.5"),
+                                     ("search_horizon_s", "0.0"), ("search_replan_s", "-1.0"),
+                                     ("search_route_nodes", "0"), ("search_cell_m", "0.0"),
+                                     ("search_serve_m", "-3.0")])
+def test_bad_search_route_settings_are_named(tmp_path: Path, key: str, bad: str) -> None:
+    """A bad ``search_*`` value in a file is named with the file and its dotted key, and the
+    spec refuses it from Python too."""
+    with pytest.raises(ParseError) as info:
+        load_scenario(write(tmp_path, GRID + f"[guidance]\n{key} = {bad}\n"))
+    assert info.value.field == f"guidance.{key}", str(info.value)
+    from searchtrack.core.errors import InvalidInputError
+
+    with pytest.raises(InvalidInputError, match=key):
+        GuidanceSpec(**{key: float(bad) if "." in bad else int(bad)})
