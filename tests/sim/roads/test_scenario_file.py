@@ -3,8 +3,10 @@ is named in the error with its file and dotted key."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -193,7 +195,6 @@ def test_bad_belief_keys_are_named(tmp_path: Path, text: str, key: str) -> None:
 def test_rbpf_demo_is_the_demo_on_the_rbpf() -> None:
     """The shipped ``demo_rbpf.toml`` is the demo with ``belief = "rbpf"`` at the paper's sizes
     and its own name; everything else is the same."""
-    import dataclasses
 
     demo = load_scenario(DEMO)
     rbpf = load_scenario(DEMO.with_name("demo_rbpf.toml"))
@@ -270,4 +271,5 @@ def test_bad_search_route_settings_are_named(tmp_path: Path, key: str, bad: str)
     from searchtrack.core.errors import InvalidInputError
 
     with pytest.raises(InvalidInputError, match=key):
-        GuidanceSpec(**{key: float(bad) if "." in bad else int(bad)})
+        options: dict[str, Any] = {key: float(bad) if "." in bad else int(bad)}
+        GuidanceSpec(**options)
