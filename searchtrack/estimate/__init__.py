@@ -90,7 +90,8 @@ if TYPE_CHECKING:
     from searchtrack.estimate.road_entropy import combined_entropy as road_combined_entropy
     from searchtrack.estimate.road_entropy import entropy as road_target_entropy
     from searchtrack.estimate.road_entropy import map_positions as road_map_positions
-    from searchtrack.estimate.road_pf import RoadClouds, RoadFilterBank, RoadParticleFilter
+    from searchtrack.estimate.road_filter_bank import RoadFilterBank
+    from searchtrack.estimate.road_pf import RoadClouds, RoadParticleFilter
     from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
     from searchtrack.estimate.road_resampling import (
         ResamplePolicy,
@@ -106,7 +107,7 @@ _HOME: dict[str, tuple[str, str]] = {
     "ResamplePolicy": ("road_resampling", "ResamplePolicy"),
     "RoadBins": ("road_entropy", "RoadBins"),
     "RoadClouds": ("road_pf", "RoadClouds"),
-    "RoadFilterBank": ("road_pf", "RoadFilterBank"),
+    "RoadFilterBank": ("road_filter_bank", "RoadFilterBank"),
     "RoadParticleFilter": ("road_pf", "RoadParticleFilter"),
     "RoadRBPF": ("road_rbpf", "RoadRBPF"),
     "effective_sample_size": ("road_resampling", "effective_sample_size"),

@@ -102,19 +102,20 @@ def miss_update(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray,
 
 
 @njit(cache=True)
-def _store_row(edge: IntArray, s: FloatArray, w: FloatArray, r: int, new_edge: IntArray,
-               new_s: FloatArray) -> None:
+def _store_row(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, r: int,
+               new_edge: IntArray, new_s: FloatArray, new_v: FloatArray) -> None:
     """Row ``r`` becomes the resampled particles ``new_*``, each of weight ``1/N``."""
     n_count = edge.shape[1]
     for j in range(n_count):
         edge[r, j] = new_edge[j]
         s[r, j] = new_s[j]
+        v[r, j] = new_v[j]
         w[r, j] = 1.0 / n_count
 
 
 @njit(cache=True)
-def resample_rows(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray,
-                  u: FloatArray) -> None:
+def resample_rows(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray,
+                  rows: IntArray, u: FloatArray) -> None:
     """Low-variance resampling in place of the listed rows, row ``rows[i]`` with offset
     ``u[i]`` in ``[0, 1)``; the weights of those rows become ``1/N``.
 
@@ -125,6 +126,7 @@ def resample_rows(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray,
     n_count = edge.shape[1]
     new_edge = np.empty(n_count, dtype=edge.dtype)
     new_s = np.empty(n_count, dtype=s.dtype)
+    new_v = np.empty(n_count, dtype=v.dtype)
     for i in range(rows.size):
         r = rows[i]
         total = 0.0
@@ -139,12 +141,14 @@ def resample_rows(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray,
                 c += w[r, k] / total
             new_edge[j] = edge[r, k]
             new_s[j] = s[r, k]
-        _store_row(edge, s, w, r, new_edge, new_s)
+            new_v[j] = v[r, k]
+        _store_row(edge, s, v, w, r, new_edge, new_s, new_v)
 
 
 @njit(cache=True)
-def join_rows(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray, mass: FloatArray,
-              add_edge: IntArray, add_s: FloatArray, add_w: FloatArray, u: FloatArray) -> None:
+def join_rows(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, rows: IntArray,
+              mass: FloatArray, add_edge: IntArray, add_s: FloatArray, add_v: FloatArray,
+              add_w: FloatArray, u: FloatArray) -> None:
     """Join draws to the listed rows and resample each union back to ``N``, in place.
 
     Row ``rows[i]``'s particles weigh ``mass[i] · w`` and its draws ``add_*[i]`` ``(K,)`` weigh
@@ -155,6 +159,7 @@ def join_rows(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray, mass
     n_count, k_count = edge.shape[1], add_edge.shape[1]
     new_edge = np.empty(n_count, dtype=edge.dtype)
     new_s = np.empty(n_count, dtype=s.dtype)
+    new_v = np.empty(n_count, dtype=v.dtype)
     for i in range(rows.size):
         r = rows[i]
         total = 0.0
@@ -174,10 +179,12 @@ def join_rows(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray, mass
             if idx < n_count:
                 new_edge[j] = edge[r, idx]
                 new_s[j] = s[r, idx]
+                new_v[j] = v[r, idx]
             else:
                 new_edge[j] = add_edge[i, idx - n_count]
                 new_s[j] = add_s[i, idx - n_count]
-        _store_row(edge, s, w, r, new_edge, new_s)
+                new_v[j] = add_v[i, idx - n_count]
+        _store_row(edge, s, v, w, r, new_edge, new_s, new_v)
 
 
 @njit(cache=True)
@@ -329,3 +336,28 @@ def turn(edge: IntArray, s: FloatArray, over: IntArray, u: FloatArray, length: F
             left[k] = i
             k += 1
     return left[:k]
+
+
+@njit(cache=True)
+def courier_move(edge: IntArray, s: FloatArray, v: FloatArray, mode: FloatArray,
+                 u: FloatArray, stop: float, go: float, lo: float, hi: float, dt: float,
+                 length: FloatArray) -> IntArray:
+    """:class:`~searchtrack.models.road_particles.CourierRoadMotion` in place on flat arrays:
+    switch each particle's mode by ``mode`` (stop below ``stop`` if driving, drive off below
+    ``go`` at ``lo + u (hi − lo)`` if stopped), move it ``v·dt``; returns the indices of the
+    particles past the end of their edge (for :func:`turn`)."""
+    over = np.empty(s.size, dtype=np.int64)
+    k = 0
+    for i in range(s.size):
+        if v[i] > 0.0:
+            if mode[i] < stop:
+                v[i] = 0.0
+        elif mode[i] < go:
+            v[i] = lo + u[i] * (hi - lo)
+        else:
+            v[i] = 0.0
+        s[i] = s[i] + v[i] * dt
+        if s[i] > length[edge[i]]:
+            over[k] = i
+            k += 1
+    return over[:k]

@@ -183,10 +183,12 @@ def join_jumps(clouds: RoadClouds, rows: IntArray, cloud_mass: FloatArray, edge:
     """Join jump draws ``(R, K)`` (edges, arcs, importance weights) to ``rows`` of ``clouds``,
     whose normalized weights count ``cloud_mass`` ``(R,)`` each, and resample each row back to
     ``N`` (low-variance, weights ``1/N``); a row whose union has no weight is left as it is."""
-    kern.join_rows(clouds.edge, clouds.s, clouds.w, np.ascontiguousarray(rows, dtype=np.int64),
+    v = clouds.new_speeds(np.shape(s), rng)
+    kern.join_rows(clouds.edge, clouds.s, clouds.v, clouds.w,
+                   np.ascontiguousarray(rows, dtype=np.int64),
                    np.ascontiguousarray(cloud_mass, dtype=np.float64),
                    np.ascontiguousarray(edge, dtype=clouds.edge.dtype),
-                   np.ascontiguousarray(s, dtype=np.float64),
+                   np.ascontiguousarray(s, dtype=np.float64), v,
                    np.ascontiguousarray(w, dtype=np.float64), rng.random(rows.size))
 
 

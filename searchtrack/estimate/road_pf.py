@@ -8,10 +8,11 @@ resamples by the low-variance method, after every update or when ``N_eff`` is lo
 :class:`~searchtrack.estimate.road_resampling.ResamplePolicy`).
 
 :class:`RoadClouds` holds ``F`` clouds of ``N`` particles as ``(F, N)`` arrays and updates any
-subset of them in place with numba kernels; :class:`RoadParticleFilter` (one target),
-:class:`RoadFilterBank` (``M`` targets with known association, Eq. 12) and the Rao-Blackwellized
-filter of :mod:`searchtrack.estimate.road_rbpf` are built on it. The filters are mutable: each
-``predict`` / ``update`` changes them in place (``copy()`` gives a snapshot).
+subset of them in place with numba kernels; :class:`RoadParticleFilter` (one target), the bank
+with known association (:mod:`searchtrack.estimate.road_filter_bank`, Eq. 12) and the
+Rao-Blackwellized filter of :mod:`searchtrack.estimate.road_rbpf` are built on it. The filters
+are mutable: each ``predict`` / ``update`` changes them in place (``copy()`` gives a
+snapshot).
 """
 
 from __future__ import annotations
@@ -25,12 +26,11 @@ from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate import road_filter_kernels as kern
-from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
-from searchtrack.estimate.particle_belief import WeightedParticles
-from searchtrack.estimate.road_entropy import RoadBins, combined_entropy, entropy, map_positions
+from searchtrack.estimate.node_tracker import NodeTracker
+from searchtrack.estimate.road_entropy import RoadBins, entropy, map_positions
 from searchtrack.estimate.road_resampling import ResamplePolicy, effective_sample_size
 from searchtrack.models.disc_sensor import DiscSensor
-from searchtrack.models.road_particles import DirectedRoads, RoadMotion
+from searchtrack.models.road_particles import CourierRoadMotion, DirectedRoads, RoadMotion
 
 
 class RoadClouds:
@@ -47,11 +47,18 @@ class RoadClouds:
         ``None``.
     sensor, resample
         The measurement model and when to resample.
+    speeds
+        The drive-and-stop model whose speed state the particles carry (``v``, ``(F, N)``,
+        resampled with them); ``None``: no speed state (``v`` all 0, as Eq. 9 needs none).
+    v
+        ``(F, N)`` initial speeds (m/s, ≥ 0); drawn from ``speeds``'s stationary law by
+        :meth:`uniform`, 0 if ``None``.
     """
 
     def __init__(self, roads: DirectedRoads, edge: ArrayLike, s: ArrayLike,
                  w: ArrayLike | None = None, *, sensor: DiscSensor,
-                 resample: ResamplePolicy) -> None:
+                 resample: ResamplePolicy, speeds: CourierRoadMotion | None = None,
+                 v: ArrayLike | None = None) -> None:
         e = np.array(edge, copy=True)
         if e.ndim != 2 or e.shape[0] < 1 or e.shape[1] < 1 or e.dtype.kind not in "iu":
             raise InvalidInputError("edge", e.shape, "must be an integer (F, N) array, F, N ≥ 1")
@@ -68,19 +75,32 @@ class RoadClouds:
                 raise InvalidInputError("w", ww.shape, f"must be {e.shape}, finite, ≥ 0, "
                                         "with positive row sums")
             ww /= total
+        vv = np.zeros(e.shape) if v is None else np.array(v, dtype=np.float64, copy=True)
+        if vv.shape != e.shape or not np.all(np.isfinite(vv)) or np.any(vv < 0.0):
+            raise InvalidInputError("v", vv.shape, f"must be {e.shape}, finite, ≥ 0")
         self.roads, self.sensor, self.resample_policy = roads, sensor, resample
-        self.edge, self.s, self.w = e, pos, ww
+        self.speeds = speeds
+        self.edge, self.s, self.w, self.v = e, pos, ww, vv
         self._lik = np.empty(e.shape)
 
     @classmethod
     def uniform(cls, roads: DirectedRoads, n_clouds: int, n_particles: int,
-                rng: np.random.Generator, *, sensor: DiscSensor,
-                resample: ResamplePolicy) -> RoadClouds:
-        """``n_clouds`` clouds drawn uniformly over the road length (Eq. 1)."""
+                rng: np.random.Generator, *, sensor: DiscSensor, resample: ResamplePolicy,
+                speeds: CourierRoadMotion | None = None) -> RoadClouds:
+        """``n_clouds`` clouds drawn uniformly over the road length (Eq. 1), with speeds from
+        the stationary law of ``speeds`` when given (drawn after the positions)."""
         f = checks.count("n_clouds", n_clouds, 1)
         n = checks.count("n_particles", n_particles, 1)
         edge, s = roads.uniform((f, n), checks.generator("rng", rng))
-        return cls(roads, edge, s, sensor=sensor, resample=resample)
+        v = None if speeds is None else speeds.initial_speeds((f, n), rng)
+        return cls(roads, edge, s, sensor=sensor, resample=resample, speeds=speeds, v=v)
+
+    def new_speeds(self, shape: tuple[int, ...], rng: np.random.Generator) -> FloatArray:
+        """Speeds for particles joined to the clouds (jump draws): the stationary law of
+        :attr:`speeds` (nothing drawn without a speed state: 0)."""
+        if self.speeds is None:
+            return np.zeros(shape)
+        return self.speeds.initial_speeds(shape, rng)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -90,7 +110,8 @@ class RoadClouds:
     def copy(self) -> RoadClouds:
         """An independent copy."""
         out = _copy.copy(self)
-        out.edge, out.s, out.w = self.edge.copy(), self.s.copy(), self.w.copy()
+        out.edge, out.s, out.w, out.v = (self.edge.copy(), self.s.copy(), self.w.copy(),
+                                         self.v.copy())
         out._lik = np.empty_like(self._lik)
         return out
 
@@ -98,8 +119,13 @@ class RoadClouds:
         """``(F, N, 2)`` planar points ``G(x)``."""
         return self.roads.point(self.edge, self.s)
 
-    def predict(self, motion: RoadMotion, dt_s: float, rng: np.random.Generator) -> None:
-        """Eq. 2 with the motion model of Eq. 9, every particle ``dt_s`` seconds on."""
+    def predict(self, motion: RoadMotion | CourierRoadMotion, dt_s: float,
+                rng: np.random.Generator) -> None:
+        """Eq. 2 with the motion model of Eq. 9 (or the drive-and-stop model, which moves and
+        updates the particles' speeds), every particle ``dt_s`` seconds on."""
+        if isinstance(motion, CourierRoadMotion):
+            self._courier(motion, dt_s, rng)
+            return
         if type(motion) is not RoadMotion:
             edge, s = motion.step(self.roads, self.edge, self.s, dt_s, rng)
             self.edge, self.s = np.ascontiguousarray(edge), np.ascontiguousarray(s)
@@ -110,9 +136,7 @@ class RoadClouds:
         roads, e, pos = self.roads, self.edge.reshape(-1), self.s.reshape(-1)
         over = kern.move(e, pos, rng.standard_normal(pos.size), motion.speed_mps,
                          motion.sigma_mps, dt, roads.length)
-        while over.size:
-            over = kern.turn(e, pos, over, rng.random(over.size), roads.length,
-                             roads.successors, roads.successor_ptr)
+        self._turn(over, rng)
 
     def detection_sums(self, y: FloatArray, clutter_density: float) -> FloatArray:
         """``(F,)`` ``Σ_n w p(y | x)`` per cloud (Eq. 16 with the Eq. 10 likelihood); keeps the
@@ -153,11 +177,35 @@ class RoadClouds:
             return
         rows = rows[self.resample_policy.due(self.w[rows])]
         if rows.size:
-            kern.resample_rows(self.edge, self.s, self.w, rows, rng.random(rows.size))
+            kern.resample_rows(self.edge, self.s, self.v, self.w, rows, rng.random(rows.size))
 
     def take(self, rows: IntArray) -> None:
         """Replace the clouds by ``rows`` of themselves (a top-level resampling)."""
-        self.edge, self.s, self.w = self.edge[rows], self.s[rows], self.w[rows]
+        self.edge, self.s, self.w, self.v = (self.edge[rows], self.s[rows], self.w[rows],
+                                             self.v[rows])
+
+    def _courier(self, motion: CourierRoadMotion, dt_s: float,
+                 rng: np.random.Generator) -> None:
+        """:meth:`CourierRoadMotion.step` by the kernels, from the same draws, in place."""
+        if self.speeds is None:
+            raise InvalidInputError("motion", motion, "the clouds carry no speed state: build "
+                                    "them with speeds=")
+        stop, go = motion.switch_chances(dt_s)
+        for name in ("edge", "s", "v"):
+            setattr(self, name, np.ascontiguousarray(getattr(self, name)))
+        roads, e, pos, v = self.roads, self.edge.reshape(-1), self.s.reshape(-1), self.v.reshape(-1)
+        mode, u = rng.random(pos.size), rng.random(pos.size)
+        over = kern.courier_move(e, pos, v, mode, u, stop, go, motion.min_speed_mps,
+                                 motion.max_speed_mps, float(dt_s), roads.length)
+        self._turn(over, rng)
+
+    def _turn(self, over: IntArray, rng: np.random.Generator) -> None:
+        """Carry the flat particles ``over`` onto successor edges until none is past its
+        edge's end (one uniform per crossing, as DirectedRoads.advance draws them)."""
+        roads, e, pos = self.roads, self.edge.reshape(-1), self.s.reshape(-1)
+        while over.size:
+            over = kern.turn(e, pos, over, rng.random(over.size), roads.length,
+                             roads.successors, roads.successor_ptr)
 
 
 def node_trackers(roads: DirectedRoads, edge: IntArray, s: FloatArray,
@@ -275,107 +323,3 @@ class RoadParticleFilter:
         c = self.clouds
         return np.asarray(map_positions(self._bins_of(bin_m), c.edge, c.s, c.w)[0],
                           dtype=np.float64)
-
-
-class RoadFilterBank:
-    """``M`` independent road particle filters with known association (paper §2.5, Eq. 12).
-
-    A detection labelled with its target updates that target's filter; every target without a
-    detection in the scan gets the negative update. It is a
-    :class:`~searchtrack.estimate.belief.RoadParticleBelief`: the belief of a planner that knows
-    the associations (the paper's ideal baseline knows even the positions).
-
-    Parameters
-    ----------
-    roads
-        The directed roads.
-    n_targets, n_particles
-        ``M ≥ 1`` and ``N ≥ 1``.
-    rng
-        Draws the uniform initial clouds.
-    motion, sensor, resample
-        As :class:`RoadParticleFilter`.
-    bin_m
-        Bin length (m) of :meth:`target_entropy` and :meth:`map_positions`.
-    """
-
-    def __init__(self, roads: DirectedRoads, n_targets: int, n_particles: int,
-                 rng: np.random.Generator, *, motion: RoadMotion | None = None,
-                 sensor: DiscSensor | None = None, resample: ResamplePolicy | None = None,
-                 bin_m: float = 5.0) -> None:
-        self.motion = motion or RoadMotion()
-        self.clouds = RoadClouds.uniform(roads, checks.count("n_targets", n_targets, 1),
-                                         n_particles, rng, sensor=sensor or DiscSensor(),
-                                         resample=resample or ResamplePolicy())
-        self.bins = RoadBins(roads, bin_m)
-
-    @property
-    def roads(self) -> DirectedRoads:
-        """The directed roads."""
-        return self.clouds.roads
-
-    @property
-    def n_targets(self) -> int:
-        """``M``."""
-        return self.clouds.shape[0]
-
-    def predict(self, dt_s: float, rng: np.random.Generator) -> None:
-        """Move every particle ``dt_s`` seconds on (Eq. 9)."""
-        self.clouds.predict(self.motion, dt_s, checks.generator("rng", rng))
-
-    def update(self, detections: ArrayLike, targets: ArrayLike, uav_xy: ArrayLike,
-               rng: np.random.Generator) -> None:
-        """One scan: detection ``j`` of ``detections`` ``(k, 2)`` came from target
-        ``targets[j]`` (−1: a false alarm, ignored); the targets without a detection get the
-        negative update (Eq. 11)."""
-        ys = checks.points("detections", detections)
-        ids = np.asarray(targets)
-        if ids.shape != (ys.shape[0],) or (ids.size and (ids.dtype.kind not in "iu"
-                                                         or ids.min() < -1
-                                                         or ids.max() >= self.n_targets)):
-            raise InvalidInputError("targets", targets, f"must be {ys.shape[0]} target indices "
-                                    f"in [-1, {self.n_targets})")
-        uav = checks.finite_array("uav_xy", uav_xy, (2,))
-        checks.generator("rng", rng)
-        density = self.clouds.sensor.clutter_density(self.roads, uav)
-        for y, m in zip(ys, ids.astype(np.int64), strict=True):
-            if m >= 0:
-                self.clouds.detection_sums(y, density)
-                self.clouds.weigh(np.array([m], dtype=np.int64), rng)
-        missed = np.setdiff1d(np.arange(self.n_targets), ids)
-        self.clouds.miss(uav, missed.astype(np.int64), rng)
-
-    def target_particles(self) -> tuple[IntArray, FloatArray, FloatArray]:
-        """``(edge, s, w)``, each ``(M, N)`` (copies)."""
-        c = self.clouds
-        return c.edge.copy(), c.s.copy(), c.w.copy()
-
-    def target_entropy(self) -> FloatArray:
-        """``(M,)`` entropy (nats) of each target on bins of ``bin_m``."""
-        c = self.clouds
-        return entropy(self.bins, c.edge, c.s, c.w)
-
-    def combined_entropy(self, bin_m: float | None = None) -> float:
-        """Entropy (nats) of all targets pooled (the paper's combined entropy)."""
-        bins = self.bins if bin_m is None else RoadBins(self.roads, bin_m)
-        c = self.clouds
-        return combined_entropy(bins, c.edge, c.s, c.w)
-
-    def map_positions(self) -> FloatArray:
-        """``(M, 2)`` centre of each target's densest bin."""
-        c = self.clouds
-        return map_positions(self.bins, c.edge, c.s, c.w)
-
-    def node_beliefs(self) -> tuple[NodeTracker, ...]:
-        """One node belief per target (each particle's weight on the nearer end node)."""
-        c = self.clouds
-        return node_trackers(self.roads, c.edge, c.s, c.w)
-
-    def belief_bank(self) -> TrackerBank:
-        """The node beliefs as a :class:`~searchtrack.estimate.belief.BeliefBank`."""
-        return TrackerBank(self.roads.network.n_nodes, self.node_beliefs(), self.n_targets)
-
-    def particle_belief(self) -> WeightedParticles:
-        """All particles as planar points, each target's weights summing to 1."""
-        c = self.clouds
-        return WeightedParticles(c.points().reshape(-1, 2), c.w.ravel())

@@ -93,7 +93,8 @@ class RoadRBPF:
             raise InvalidInputError("config", config, "must be an RBPFConfig")
         self._start(config, RoadClouds.uniform(
             roads, config.n_histories * config.n_targets, config.n_particles,
-            checks.generator("rng", rng), sensor=config.sensor, resample=config.resample))
+            checks.generator("rng", rng), sensor=config.sensor, resample=config.resample,
+            speeds=config.speeds))
 
     def _start(self, config: RBPFConfig, clouds: RoadClouds) -> None:
         roads, h = clouds.roads, config.n_histories
@@ -110,7 +111,8 @@ class RoadRBPF:
     def from_particles(cls, roads: DirectedRoads, config: RBPFConfig, edge: ArrayLike,
                        s: ArrayLike, w: ArrayLike | None = None) -> RoadRBPF:
         """A filter whose every history starts from the given target clouds ``(M, N)``
-        (uniform weights if ``w`` is None), e.g. an informative prior."""
+        (uniform weights if ``w`` is None), e.g. an informative prior; with the drive-and-stop
+        motion the particles start stopped."""
         if not isinstance(config, RBPFConfig):
             raise InvalidInputError("config", config, "must be an RBPFConfig")
         shape = (config.n_targets, config.n_particles)
@@ -123,7 +125,8 @@ class RoadRBPF:
         out._start(config, RoadClouds(roads, np.tile(arrays[0], (h, 1)),
                                       np.tile(arrays[1], (h, 1)),
                                       None if w is None else np.tile(arrays[2], (h, 1)),
-                                      sensor=config.sensor, resample=config.resample))
+                                      sensor=config.sensor, resample=config.resample,
+                                      speeds=config.speeds))
         return out
 
     @property

@@ -11,7 +11,7 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.road_jumps import TargetJumps
 from searchtrack.estimate.road_resampling import ResamplePolicy
 from searchtrack.models.disc_sensor import DiscSensor
-from searchtrack.models.road_particles import RoadMotion
+from searchtrack.models.road_particles import CourierRoadMotion, RoadMotion
 
 
 @dataclass(frozen=True)
@@ -27,7 +27,9 @@ class RBPFConfig:
     n_particles
         ``N ≥ 1`` particles per target filter (500).
     motion, sensor
-        Target motion (Eq. 9) and measurement model (Eq. 10–11).
+        Target motion (Eq. 9, or the drive-and-stop
+        :class:`~searchtrack.models.road_particles.CourierRoadMotion`, whose speeds the
+        particles then carry) and measurement model (Eq. 10–11).
     resample, history_resample
         When the target filters and the histories resample (default: every update).
     association
@@ -54,7 +56,7 @@ class RBPFConfig:
     n_targets: int
     n_histories: int = 10
     n_particles: int = 500
-    motion: RoadMotion = field(default_factory=RoadMotion)
+    motion: RoadMotion | CourierRoadMotion = field(default_factory=RoadMotion)
     sensor: DiscSensor = field(default_factory=DiscSensor)
     resample: ResamplePolicy = field(default_factory=ResamplePolicy)
     history_resample: ResamplePolicy = field(default_factory=ResamplePolicy)
@@ -70,8 +72,11 @@ class RBPFConfig:
     def __post_init__(self) -> None:
         for name in ("n_targets", "n_histories", "n_particles"):
             object.__setattr__(self, name, checks.count(name, getattr(self, name), 1))
-        for name, kind in (("motion", RoadMotion), ("sensor", DiscSensor),
-                           ("resample", ResamplePolicy), ("history_resample", ResamplePolicy)):
+        if not isinstance(self.motion, (RoadMotion, CourierRoadMotion)):
+            raise InvalidInputError("motion", self.motion,
+                                    "must be a RoadMotion or a CourierRoadMotion")
+        for name, kind in (("sensor", DiscSensor), ("resample", ResamplePolicy),
+                           ("history_resample", ResamplePolicy)):
             if not isinstance(getattr(self, name), kind):
                 raise InvalidInputError(name, getattr(self, name), f"must be a {kind.__name__}")
         if self.association not in ("sequential", "joint"):
@@ -83,3 +88,9 @@ class RBPFConfig:
         object.__setattr__(self, "bin_m", checks.positive("bin_m", self.bin_m))
         if self.jumps is not None and not isinstance(self.jumps, TargetJumps):
             raise InvalidInputError("jumps", self.jumps, "must be a TargetJumps or None")
+
+    @property
+    def speeds(self) -> CourierRoadMotion | None:
+        """The speed state the particles carry: the motion when it is the drive-and-stop
+        model, else ``None``."""
+        return self.motion if isinstance(self.motion, CourierRoadMotion) else None

@@ -20,6 +20,7 @@ U-turns only at dead ends, and a target never drives backwards.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -247,3 +248,73 @@ class RoadMotion:
         dt = checks.non_negative("dt_s", dt_s)
         speed = self.speed_mps + self.sigma_mps * rng.standard_normal(np.shape(s))
         return roads.advance(edge, s, np.maximum(speed, 0.0) * dt, rng)
+
+
+@dataclass(frozen=True)
+class CourierRoadMotion:
+    """Drives and stops along the roads, a particle carrying its speed (beyond paper 000).
+
+    The jump-Markov form of a courier (:class:`~searchtrack.models.targets.CourierModel`): each
+    particle has a speed ``v`` (0 while stopped). Every step of ``δt`` a driving particle stops
+    with chance ``1 − exp(−δt/T_d)`` and a stopped one drives off with chance
+    ``1 − exp(−δt/T_s)`` at a speed uniform in ``[v_lo, v_hi]``, kept until its next stop; then
+    it moves ``v·δt`` along the roads, turning at nodes as :class:`RoadMotion` does. Drives and
+    stops last exponential times of means ``T_d`` and ``T_s``; a share ``T_d / (T_d + T_s)`` of
+    the time is spent driving. Unlike Eq. 9, whose noise is drawn afresh every step, a cloud
+    keeps both its stopped particles and its fast and slow drivers, so it covers a target that
+    stopped or drives at its own speed for a long time.
+
+    Parameters
+    ----------
+    min_speed_mps, max_speed_mps
+        ``v_lo ≤ v_hi`` (m/s), ``v_lo ≥ 0``, ``v_hi > 0``.
+    mean_drive_s, mean_stop_s
+        ``T_d`` and ``T_s`` (s), > 0.
+    """
+
+    min_speed_mps: float = 5.0
+    max_speed_mps: float = 10.0
+    mean_drive_s: float = 60.0
+    mean_stop_s: float = 17.5
+
+    def __post_init__(self) -> None:
+        lo = checks.non_negative("min_speed_mps", self.min_speed_mps)
+        if checks.positive("max_speed_mps", self.max_speed_mps) < lo:
+            raise InvalidInputError("max_speed_mps", self.max_speed_mps,
+                                    f"must be ≥ min_speed_mps={lo!r}")
+        checks.positive("mean_drive_s", self.mean_drive_s)
+        checks.positive("mean_stop_s", self.mean_stop_s)
+
+    @property
+    def driving_share(self) -> float:
+        """``T_d / (T_d + T_s)``: the stationary chance that a particle is driving."""
+        return self.mean_drive_s / (self.mean_drive_s + self.mean_stop_s)
+
+    def switch_chances(self, dt_s: float) -> tuple[float, float]:
+        """``(stop, drive off)`` chances in a step of ``dt_s`` seconds."""
+        dt = checks.non_negative("dt_s", dt_s)
+        return -math.expm1(-dt / self.mean_drive_s), -math.expm1(-dt / self.mean_stop_s)
+
+    def initial_speeds(self, shape: int | tuple[int, ...],
+                       rng: np.random.Generator) -> FloatArray:
+        """Speeds from the stationary law: driving with chance :attr:`driving_share`, at a
+        uniform speed (two uniforms per particle: the mode, then the speed)."""
+        mode, u = rng.random(shape), rng.random(shape)
+        return np.where(mode < self.driving_share,
+                        self.min_speed_mps + u * (self.max_speed_mps - self.min_speed_mps), 0.0)
+
+    def step(self, roads: DirectedRoads, edge: IntArray, s: FloatArray, v: FloatArray,
+             dt_s: float, rng: np.random.Generator) -> tuple[IntArray, FloatArray, FloatArray]:
+        """Switch modes, then move ``dt_s`` seconds on; returns new ``(edge, s, v)`` arrays of
+        the same shape. Draws two uniforms per particle (the switch, the new speed), then one
+        per node crossing."""
+        stop, go = self.switch_chances(dt_s)
+        shape = np.shape(s)
+        mode, u = rng.random(shape), rng.random(shape)
+        speed = np.asarray(v, dtype=np.float64)
+        driving = speed > 0.0
+        new_v = np.where(driving, np.where(mode < stop, 0.0, speed),
+                         np.where(mode < go, self.min_speed_mps
+                                  + u * (self.max_speed_mps - self.min_speed_mps), 0.0))
+        edge2, s2 = roads.advance(edge, s, new_v * dt_s, rng)
+        return edge2, s2, new_v

@@ -10,7 +10,7 @@ from searchtrack.estimate.road_pf import RoadClouds
 from searchtrack.estimate.road_resampling import ResamplePolicy, systematic_indices
 from searchtrack.models import grid_network
 from searchtrack.models.disc_sensor import DiscSensor
-from searchtrack.models.road_particles import DirectedRoads, RoadMotion
+from searchtrack.models.road_particles import CourierRoadMotion, DirectedRoads, RoadMotion
 from searchtrack.models.road_synthetic import random_network
 
 
@@ -70,16 +70,19 @@ def test_miss_update_is_eq_11(roads: DirectedRoads) -> None:
 
 
 def test_resample_rows_matches_systematic_indices(roads: DirectedRoads) -> None:
-    """In-place resampling of some rows copies the particles the NumPy reference picks."""
+    """In-place resampling of some rows copies the particles (positions and speeds) the NumPy
+    reference picks."""
     edge, s, w = _cloud(roads, 2)
     w = w ** 3
+    v = np.random.default_rng(3).random(edge.shape) * 20.0
     rows, u = np.array([0, 3, 4]), np.array([0.2, 0.7, 0.0])
-    e2, s2, w2 = edge.copy(), s.copy(), w.copy()
-    kern.resample_rows(e2, s2, w2, rows, u)
+    e2, s2, v2, w2 = edge.copy(), s.copy(), v.copy(), w.copy()
+    kern.resample_rows(e2, s2, v2, w2, rows, u)
     idx = systematic_indices(w[rows], u)
     for i, r in enumerate(rows):
         np.testing.assert_array_equal(e2[r], edge[r][idx[i]])
         np.testing.assert_array_equal(s2[r], s[r][idx[i]])
+        np.testing.assert_array_equal(v2[r], v[r][idx[i]])
         np.testing.assert_allclose(w2[r], 1 / 400)
     for r in (1, 2, 5):
         np.testing.assert_array_equal(e2[r], edge[r])
@@ -99,25 +102,28 @@ def test_join_rows_is_systematic_resampling_of_the_union() -> None:
     add_e = rng.integers(5, 9, (2, k)).astype(np.int64)
     add_s = rng.random((2, k)) + 10.0
     add_w = rng.random((2, k)) * 0.2
+    v, add_v = rng.random((3, n)), rng.random((2, k)) + 5.0
     rows, mass = np.array([0, 2]), np.array([0.7, 0.0])
     u = np.array([0.3, 0.6])
     union_e = np.concatenate([edge[rows], add_e], axis=1)
     union_s = np.concatenate([s[rows], add_s], axis=1)
+    union_v = np.concatenate([v[rows], add_v], axis=1)
     union_w = np.concatenate([w[rows] * mass[:, None], add_w], axis=1)
     before = (edge.copy(), s.copy(), w.copy())
-    kern.join_rows(edge, s, w, rows, mass, add_e, add_s, add_w, u)
+    kern.join_rows(edge, s, v, w, rows, mass, add_e, add_s, add_v, add_w, u)
     for i, r in enumerate(rows):
         cum = np.cumsum(union_w[i]) / union_w[i].sum()
         idx = np.minimum(np.searchsorted(cum, (u[i] + np.arange(n)) / n, side="right"), n + k - 1)
         np.testing.assert_array_equal(edge[r], union_e[i, idx])
         np.testing.assert_array_equal(s[r], union_s[i, idx])
+        np.testing.assert_array_equal(v[r], union_v[i, idx])
         np.testing.assert_allclose(w[r], 1.0 / n)
     assert np.all(s[2] >= 10.0)          # mass 0: only the draws survive
     np.testing.assert_array_equal(edge[1], before[0][1])
     np.testing.assert_array_equal(w[1], before[2][1])
     empty = np.zeros((1, k))
-    kern.join_rows(edge, s, w, np.array([1]), np.array([0.0]), add_e[:1], add_s[:1], empty,
-                   np.array([0.5]))
+    kern.join_rows(edge, s, v, w, np.array([1]), np.array([0.0]), add_e[:1], add_s[:1],
+                   add_v[:1], empty, np.array([0.5]))
     np.testing.assert_array_equal(s[1], before[1][1])
 
 
@@ -192,4 +198,25 @@ def test_cloud_motion_kernels_equal_road_motion_step(town: DirectedRoads, dt: fl
     ref_edge, ref_s = motion.step(town, edge, s, dt, np.random.default_rng(9))
     np.testing.assert_array_equal(clouds.edge, ref_edge)
     np.testing.assert_allclose(clouds.s, ref_s, rtol=0.0, atol=1e-9)
+    town.check_positions(clouds.edge, clouds.s)
+
+
+@pytest.mark.parametrize("dt", [0.3, 5.0, 60.0])
+def test_courier_kernels_equal_courier_road_motion_step(town: DirectedRoads, dt: float) -> None:
+    """RoadClouds.predict with the drive-and-stop motion (courier_move + turn, in place) gives
+    CourierRoadMotion.step's positions and speeds from the same seed: stops, drive-offs and
+    node crossings included."""
+    motion = CourierRoadMotion(min_speed_mps=4.0, max_speed_mps=15.0, mean_drive_s=8.0,
+                               mean_stop_s=5.0)
+    rng = np.random.default_rng(1)
+    clouds = RoadClouds.uniform(town, 4, 250, rng, sensor=DiscSensor(),
+                                resample=ResamplePolicy(), speeds=motion)
+    edge, s, v = clouds.edge.copy(), clouds.s.copy(), clouds.v.copy()
+    assert 0 < np.count_nonzero(v == 0.0) < v.size      # stopped and driving particles
+    clouds.predict(motion, dt, np.random.default_rng(9))
+    ref_edge, ref_s, ref_v = motion.step(town, edge, s, v, dt, np.random.default_rng(9))
+    np.testing.assert_array_equal(clouds.edge, ref_edge)
+    np.testing.assert_array_equal(clouds.v, ref_v)
+    np.testing.assert_allclose(clouds.s, ref_s, rtol=0.0, atol=1e-9)
+    assert np.any((v > 0.0) & (ref_v == 0.0)) and np.any((v == 0.0) & (ref_v > 0.0))
     town.check_positions(clouds.edge, clouds.s)

@@ -13,11 +13,13 @@ one prediction over ``Δt`` (Eq. 9), last as in the thesis's mission.
 Models (the thesis's settings turned into the paper's; :func:`courier_motion`,
 :func:`thesis_disc_sensor`):
 
-- Motion (Eq. 9): the couriers' mean speed over drives *and* stops, and as ``σ_ν`` the standard
-  deviation of the courier's speed (0 while stopped, uniform in ``[f·V_max, V_max]`` while
-  driving), so that the particles' spread covers the stops. Eq. 9 draws the noise afresh every
-  step, so the spread grows like ``σ_ν √(Δt·t)``: slower than a stop of many seconds displaces a
-  courier; the detections re-localise the target.
+- Motion: the couriers' drives and stops (:class:`~searchtrack.models.road_particles.
+  CourierRoadMotion`, beyond the paper): each particle carries its speed, uniform in
+  ``[f·V_max, V_max]`` while driving and 0 while stopped, drives last exponential times of the
+  couriers' mean and stops of their mean dwell. Eq. 9 with the couriers' mean speed draws its
+  noise afresh every step, so its cloud spreads like ``σ_ν √(Δt·t)`` around the mean: a courier
+  that stops, or drives at its own speed, leaves it within seconds (tracks were lost at every
+  stop); the drive-and-stop cloud keeps stopped, slow and fast particles.
 - Sensor (Eq. 10–11): the field of view is the footprint disc ``ρ`` (the thesis sensor reports
   every target within ``ρ``), ``σ² = s²`` (position noise), ``P_FN = 1 − P_d``, and ``P_FA =
   1 − e^{−λ}``, the chance of at least one of the ``Poisson(λ)`` false alarms per footprint and
@@ -69,7 +71,7 @@ from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
 from searchtrack.estimate.stepping import RoadScan, RoadUpdate, TrackBirth, TrackPair
 from searchtrack.models import CourierModel, RoadNetwork, SensorModel, UavState
 from searchtrack.models.disc_sensor import DiscSensor
-from searchtrack.models.road_particles import DirectedRoads, RoadMotion
+from searchtrack.models.road_particles import CourierRoadMotion, DirectedRoads
 from searchtrack.sim.roads.scenario import Scenario
 from searchtrack.sim.roads.world import World
 
@@ -80,15 +82,19 @@ SCORE_FLOOR = -20.0
 #: Largest ``P_FA`` of the disc sensor (Eq. 10 needs ``P_FA < 1``).
 MAX_P_FA = 0.999
 
-def courier_motion(courier: CourierModel) -> RoadMotion:
-    """Eq. 9 for the thesis's couriers: the mean speed over drives and stops, and the standard
-    deviation of the speed (see the module docstring)."""
-    lo, hi = courier.min_speed_fraction * courier.max_speed_mps, courier.max_speed_mps
-    dwell = 0.5 * (courier.dwell_min_s + courier.dwell_max_s)
-    driving = courier.mean_drive_s / (courier.mean_drive_s + dwell)
-    mean = driving * 0.5 * (lo + hi)
-    square = driving * (lo * lo + lo * hi + hi * hi) / 3.0
-    return RoadMotion(speed_mps=mean, sigma_mps=math.sqrt(max(square - mean * mean, 0.0)))
+#: Shortest mean stop (s) of the particles' motion: couriers that never dwell stop for about a
+#: step at a time.
+MIN_MEAN_STOP_S = 1e-3
+
+
+def courier_motion(courier: CourierModel) -> CourierRoadMotion:
+    """The drive-and-stop motion of the thesis's couriers (see the module docstring): their
+    speed range and mean drive, and their mean dwell as the mean stop (at least
+    :data:`MIN_MEAN_STOP_S`)."""
+    return CourierRoadMotion(
+        min_speed_mps=courier.min_speed_fraction * courier.max_speed_mps,
+        max_speed_mps=courier.max_speed_mps, mean_drive_s=courier.mean_drive_s,
+        mean_stop_s=max(0.5 * (courier.dwell_min_s + courier.dwell_max_s), MIN_MEAN_STOP_S))
 
 
 def thesis_disc_sensor(sensor: SensorModel) -> DiscSensor:

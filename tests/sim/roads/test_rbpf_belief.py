@@ -47,20 +47,19 @@ def scenario(**changes: object) -> Scenario:
     return dataclasses.replace(base, **changes)  # type: ignore[arg-type]
 
 
-def test_courier_motion_is_the_mean_speed_with_its_spread() -> None:
-    """Eq. 9's speed is the couriers' mean over drives and stops; σ their speed's s.d.; without
-    stops and with one drive speed the motion is exact."""
+def test_courier_motion_is_the_couriers_drives_and_stops() -> None:
+    """The particles drive at the couriers' speeds for their mean drive and stop for their mean
+    dwell; couriers that never dwell give particles that stop for about a step."""
     c = CourierModel(max_speed_mps=20.0, min_speed_fraction=0.5, mean_drive_s=60.0,
                      dwell_min_s=10.0, dwell_max_s=30.0)
     m = courier_motion(c)
-    driving = 60.0 / 80.0
-    assert m.speed_mps == pytest.approx(driving * 15.0)
-    square = driving * (100.0 + 200.0 + 400.0) / 3.0
-    assert m.sigma_mps == pytest.approx(math.sqrt(square - m.speed_mps ** 2))
+    assert (m.min_speed_mps, m.max_speed_mps, m.mean_drive_s, m.mean_stop_s) == (
+        10.0, 20.0, 60.0, 20.0)
+    assert m.driving_share == pytest.approx(0.75)
     steady = courier_motion(CourierModel(max_speed_mps=12.0, min_speed_fraction=1.0,
                                          dwell_min_s=0.0, dwell_max_s=0.0))
-    assert steady.speed_mps == pytest.approx(12.0)
-    assert steady.sigma_mps == pytest.approx(0.0, abs=1e-6)
+    assert steady.min_speed_mps == steady.max_speed_mps == 12.0
+    assert steady.switch_chances(0.3)[1] == pytest.approx(1.0)
 
 
 def test_disc_sensor_is_the_thesis_sensor() -> None:
