@@ -149,6 +149,12 @@ class RoadClouds:
                                   self._lik, sums)
         return sums
 
+    @property
+    def likelihoods(self) -> FloatArray:
+        """``(F, N)`` the per-particle likelihoods of the last :meth:`detection_sums`
+        (read by the caller, not a copy)."""
+        return self._lik
+
     def weigh(self, rows: IntArray, rng: np.random.Generator, *, resample: bool = True) -> None:
         """Bayes' rule (Eq. 4) on ``rows`` with the likelihoods of the last
         :meth:`detection_sums`, then resampling as the policy says (unless ``resample`` is

@@ -53,6 +53,7 @@ from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate import road_filter_kernels as kern
 from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
 from searchtrack.estimate.particle_belief import WeightedParticles
+from searchtrack.estimate.road_births import birth_draws, join_births
 from searchtrack.estimate.road_entropy import (
     RoadBins,
     combined_entropy,
@@ -215,8 +216,14 @@ class RoadRBPF:
         assigned = np.full((h, ys.shape[0]), -1, dtype=np.int64)
         hist = np.arange(h)
         jumps = self.config.jumps if eps > 0.0 else None
+        births = self.config.births
         for j, y in enumerate(ys):
             sums = self.clouds.detection_sums(y, density)
+            draws = None
+            if births is not None:   # each cloud's prior regularised near y
+                k = births.draws(self.config.n_particles)
+                draws = birth_draws(self.clouds, births, y, density, rng.random((2, h * m, k)))
+                sums = draws.sums
             lik = sums.reshape(h, m)
             if jumps is not None:   # the robust prior: a target anywhere may explain y
                 lik = (1.0 - eps) * lik + eps * detection_prior_likelihood(
@@ -231,6 +238,11 @@ class RoadRBPF:
             live = c >= 0
             self.weights[live] *= factor[live]
             rows = hist[live] * m + c[live]
+            if draws is not None:
+                join_births(self.clouds, rows, draws, rng)
+                used[hist[live], c[live]] = True
+                assigned[:, j] = c
+                continue
             self.clouds.weigh(rows, rng, resample=jumps is None)
             if jumps is not None:
                 jump_detection(self.clouds, jumps, eps, rows, sums[rows], y, density, rng)

@@ -8,6 +8,7 @@ from typing import Literal
 
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.estimate.road_births import DetectionBirths
 from searchtrack.estimate.road_jumps import TargetJumps
 from searchtrack.estimate.road_resampling import ResamplePolicy
 from searchtrack.models.disc_sensor import DiscSensor
@@ -51,6 +52,10 @@ class RBPFConfig:
     jumps
         The robust prior of :mod:`searchtrack.estimate.road_jumps` (targets may leave their
         predicted clouds, beyond the paper); ``None``: paper 000's motion prior alone.
+    births
+        The rejuvenation near detections of :mod:`searchtrack.estimate.road_births` (each
+        cloud's prior regularised near a detection, beyond the paper); ``None``: the clouds
+        weighed as they are. Not with ``jumps`` (each replaces the detection update).
     """
 
     n_targets: int
@@ -68,6 +73,7 @@ class RBPFConfig:
     keep_history: bool = False
     break_symmetry: bool = True
     jumps: TargetJumps | None = None
+    births: DetectionBirths | None = None
 
     def __post_init__(self) -> None:
         for name in ("n_targets", "n_histories", "n_particles"):
@@ -88,6 +94,11 @@ class RBPFConfig:
         object.__setattr__(self, "bin_m", checks.positive("bin_m", self.bin_m))
         if self.jumps is not None and not isinstance(self.jumps, TargetJumps):
             raise InvalidInputError("jumps", self.jumps, "must be a TargetJumps or None")
+        if self.births is not None and not isinstance(self.births, DetectionBirths):
+            raise InvalidInputError("births", self.births, "must be a DetectionBirths or None")
+        if self.births is not None and self.jumps is not None:
+            raise InvalidInputError("births", self.births, "jumps are set: choose one of the "
+                                    "two detection proposals")
 
     @property
     def speeds(self) -> CourierRoadMotion | None:

@@ -26,6 +26,13 @@ Models (the thesis's settings turned into the paper's; :func:`courier_motion`,
   step (capped at 0.999). The negative update covers the whole footprint (``negative_radius_factor``
   1: the thesis's disc has no image-edge margin), and the clutter density is per metre of road
   in view (``"view"``), since the thesis's false alarms fall in the footprint.
+- Detections (beyond the paper): each cloud's prior is regularised near a detection and
+  particles are drawn there (:mod:`searchtrack.estimate.road_births`), so a cloud with no
+  particle near a target it has not found yet localises it within a few detections; on a city
+  map ``N`` particles per target are one every few hundred metres of road, and without it a
+  second target seen by a UAV was never taken up (its detections found no particle and were
+  read as clutter). With a jump rate (``filter.jump_rate_per_s > 0``) the robust prior of
+  :mod:`searchtrack.estimate.road_jumps` takes its place.
 - Associations within one scan are one-to-one (``"joint"``): a footprint sees a target once.
   A scan with no road in view keeps only its negative information: its detections (false
   alarms: the targets are on the roads) would have likelihood 0 under every history.
@@ -66,6 +73,7 @@ from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
+from searchtrack.estimate.road_births import DetectionBirths
 from searchtrack.estimate.road_jumps import TargetJumps
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
 from searchtrack.estimate.stepping import RoadScan, RoadUpdate, TrackBirth, TrackPair
@@ -117,12 +125,14 @@ def thesis_disc_sensor(sensor: SensorModel) -> DiscSensor:
 
 def rbpf_config(scenario: Scenario) -> RBPFConfig:
     """The RBPF of ``scenario``: ``M`` = its targets, ``H``, ``N`` and the jump rate from its
-    filter spec, the couriers' motion and the thesis sensor's disc."""
+    filter spec, the couriers' motion, the thesis sensor's disc, and the rejuvenation near
+    detections unless the spec asks for jumps (module docstring)."""
     f = scenario.filter
+    jumps = TargetJumps.at_rate(f.jump_rate_per_s)
     return RBPFConfig(n_targets=scenario.target_count, n_histories=f.histories,
                       n_particles=f.particles, motion=courier_motion(scenario.courier),
                       sensor=thesis_disc_sensor(scenario.sensor), association="joint",
-                      jumps=TargetJumps.at_rate(f.jump_rate_per_s))
+                      jumps=jumps, births=DetectionBirths() if jumps is None else None)
 
 
 class ParticleSearchField:

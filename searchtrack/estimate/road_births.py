@@ -1,0 +1,221 @@
+"""Measurement-driven rejuvenation of the road particle filters: particles drawn near a
+detection, weighed back to a smoothed motion prior (beyond Moore et al. 2021).
+
+On a map of a hundred kilometres of road, ``N`` = 500 particles spread one per few hundred
+metres: a cloud that has not yet found its target has no particle within a few ``σ`` of a
+detection, though its prior puts some mass there. Weighing its particles by Eq. 10 then sees
+nothing but the clutter floor, and consecutive detections of a target never accumulate: the
+filter cannot localise a target it is not already near.
+
+Here the prior of each cloud is regularised near the detection ``y``, in the disc ``D`` of road
+within ``ρ`` (a few sensor standard deviations) of ``y``, as in the regularised particle filter
+(Musso, Oudjane and Le Gland 2001): inside ``D`` it is ``(1 − β) p + β p̂``, with ``p`` the
+cloud and ``p̂`` its kernel estimate ``p̂(x) = Σ_n w_n k_b(‖G(x) − G(x_n)‖)`` (a Gaussian kernel
+per metre of road, planar distance standing for road distance; bandwidth ``b`` by Silverman's
+rule on the cloud's planar spread, ``b = 1.06 s N^{-1/5}``, at least ``min_bandwidth_m``);
+outside ``D`` it is ``p``. The ``β`` share is represented by ``K`` draws ``x_j`` uniform on the
+road of ``D`` (density ``g = 1/L_D``), each weighing ``β p̂(x_j) ℓ(x_j) L_D / K``; the cloud's
+particles weigh ``w_n ℓ(x_n)``, times ``1 − β`` inside ``D``. The union is an unbiased
+importance-sampling estimate of the posterior of the regularised prior, and its total weight of
+the predictive likelihood ``∫ p̃ ℓ``, which the association sampling (Eq. 15–16) and the history
+weights use. ``β = K / (K + n_D)`` with ``n_D`` the cloud's particles inside ``D``: the draws and
+the particles already there share ``D`` by count, so a cloud with nothing near ``y`` hands ``D``
+to the kernel estimate and a cloud on the target keeps most of its own particles.
+
+A cloud that is localised far from ``y`` has a small bandwidth and ``p̂ ≈ 0`` in ``D``: its
+draws weigh nothing. A diffuse cloud's ``p̂`` near ``y`` is its local density, so a few
+consecutive detections (each multiplying the odds of a target at ``y`` by about
+``gain / (P_FA c)``) localise it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from searchtrack.core import checks
+from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate import road_filter_kernels as kern
+from searchtrack.estimate.road_jumps import disc_intervals
+from searchtrack.estimate.road_pf import RoadClouds
+
+#: Beyond this exponent a Gaussian term is below 1e-304 of its peak: skip ``exp``.
+_MAX_EXPONENT = 700.0
+
+
+@dataclass(frozen=True)
+class DetectionBirths:
+    """The rejuvenation near detections (module docstring).
+
+    Parameters
+    ----------
+    draw_share
+        ``K`` as a share of the cloud's ``N`` (at least one draw), in ``(0, 1]``.
+    radius_sigmas
+        ``ρ`` in standard deviations of the sensor's position noise, > 0.
+    bandwidth_scale
+        The factor of Silverman's rule (1.06), > 0.
+    min_bandwidth_m
+        Smallest kernel bandwidth (m), > 0.
+    """
+
+    draw_share: float = 0.1
+    radius_sigmas: float = 5.0
+    bandwidth_scale: float = 1.06
+    min_bandwidth_m: float = 1.0
+
+    def __post_init__(self) -> None:
+        checks.real("draw_share", self.draw_share, low=0.0, high=1.0, low_open=True)
+        for name in ("radius_sigmas", "bandwidth_scale", "min_bandwidth_m"):
+            checks.positive(name, getattr(self, name))
+
+    def draws(self, n_particles: int) -> int:
+        """``K``: draws per cloud and detection."""
+        return max(1, math.ceil(self.draw_share * n_particles))
+
+
+@dataclass(frozen=True)
+class BirthDraws:
+    """The draws of one detection for every cloud, and what the clouds' particles keep.
+
+    Attributes
+    ----------
+    edge, s, w
+        ``(F, K)`` draws and their weights ``β p̂ ℓ L_D / K``.
+    keep
+        ``(F, N)`` factor of each cloud particle's ``w ℓ``: ``1 − β`` inside ``D``, 1 outside.
+    sums
+        ``(F,)`` the predictive likelihood estimate of each cloud (the union's total weight).
+    """
+
+    edge: IntArray
+    s: FloatArray
+    w: FloatArray
+    keep: FloatArray
+    sums: FloatArray
+
+
+def bandwidths(clouds: RoadClouds, births: DetectionBirths) -> FloatArray:
+    """``(F,)`` kernel bandwidth (m) of each cloud: Silverman's rule on its weighted planar
+    spread (the root mean of the two coordinates' variances), at least ``min_bandwidth_m``."""
+    pts = clouds.points()
+    w = clouds.w / clouds.w.sum(axis=1, keepdims=True)
+    mean = np.einsum("fn,fnk->fk", w, pts)
+    var = np.einsum("fn,fnk->f", w, (pts - mean[:, None, :]) ** 2) / 2.0
+    n_eff = 1.0 / np.einsum("fn,fn->f", w, w)
+    b = births.bandwidth_scale * np.sqrt(np.maximum(var, 0.0)) * n_eff ** -0.2
+    return np.asarray(np.maximum(b, births.min_bandwidth_m), dtype=np.float64)
+
+
+def birth_draws(clouds: RoadClouds, births: DetectionBirths, y: FloatArray,
+                clutter_density: float, uniforms: FloatArray) -> BirthDraws:
+    """The draws near detection ``y`` for every cloud of ``clouds`` from ``uniforms``
+    ``(2, F, K)`` (the edge by length inside ``D``, the arc), after
+    :meth:`~searchtrack.estimate.road_pf.RoadClouds.detection_sums` for ``y`` (whose
+    per-particle likelihoods the cloud particles' weights use). The clouds' weights are
+    normalized. A detection with no road in ``D`` gives no draw any weight (``β = 0``)."""
+    roads, sensor = clouds.roads, clouds.sensor
+    radius = births.radius_sigmas * math.sqrt(sensor.sigma2_m2)
+    s0, s1, l_disc = disc_intervals(roads, y, radius)
+    f, k = uniforms.shape[1], uniforms.shape[2]
+    edge = np.zeros((f, k), dtype=np.int64)
+    s = np.zeros((f, k))
+    w = np.zeros((f, k))
+    keep = np.empty(clouds.shape)
+    sums = np.empty(f)
+    inside = s1 - s0
+    _births(clouds.edge, clouds.s, clouds.w, clouds.likelihoods, roads.tail_xy, roads.step_xy,
+            s0, inside, np.cumsum(inside), l_disc, radius, float(y[0]), float(y[1]),
+            sensor.detection_gain, 0.5 / sensor.sigma2_m2, sensor.p_fa * clutter_density,
+            bandwidths(clouds, births), uniforms, edge, s, w, keep, sums)
+    return BirthDraws(edge, s, w, keep, sums)
+
+
+def join_births(clouds: RoadClouds, rows: IntArray, draws: BirthDraws,
+                rng: np.random.Generator) -> None:
+    """Bayes' rule on ``rows`` with the regularised prior: each row's particles weighed by
+    ``w ℓ`` (times ``1 − β`` inside ``D``) joined with its draws, and the union resampled back
+    to ``N`` (low-variance); a row whose union weighs nothing is left as it is."""
+    if rows.size == 0:
+        return
+    post = clouds.w[rows] * clouds.likelihoods[rows] * draws.keep[rows]
+    total = post.sum(axis=1)
+    live = rows[total > 0.0]
+    clouds.w[live] = post[total > 0.0] / total[total > 0.0, None]
+    v = clouds.new_speeds((rows.size, draws.edge.shape[1]), rng)
+    kern.join_rows(clouds.edge, clouds.s, clouds.v, clouds.w, np.ascontiguousarray(rows),
+                   np.where(total > 0.0, total, 0.0), np.ascontiguousarray(draws.edge[rows]),
+                   np.ascontiguousarray(draws.s[rows]), v,
+                   np.ascontiguousarray(draws.w[rows]), rng.random(rows.size))
+
+
+@njit(cache=True)
+def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_xy: FloatArray,
+            step_xy: FloatArray, s0: FloatArray, inside: FloatArray, cum_inside: FloatArray,
+            l_disc: float, radius: float, yx: float, yy: float, gain: float, inv_two_var: float,
+            floor: float, band: FloatArray, uniforms: FloatArray, out_edge: IntArray,
+            out_s: FloatArray, out_w: FloatArray, keep: FloatArray, sums: FloatArray) -> None:
+    """:func:`birth_draws` for every row (module docstring)."""
+    f_count, n_count = edge.shape
+    k_count = out_edge.shape[1]
+    n_edges = inside.size
+    r2 = radius * radius
+    px = np.empty(k_count)
+    py = np.empty(k_count)
+    lk = np.empty(k_count)
+    dens = np.empty(k_count)
+    for f in range(f_count):
+        # The cloud's own weight inside and outside D.
+        n_in = 0
+        for n in range(n_count):
+            e = edge[f, n]
+            dx = tail_xy[e, 0] + s[f, n] * step_xy[e, 0] - yx
+            dy = tail_xy[e, 1] + s[f, n] * step_xy[e, 1] - yy
+            if dx * dx + dy * dy <= r2:
+                n_in += 1
+        beta = k_count / (k_count + n_in) if l_disc > 0.0 else 0.0
+        acc = 0.0
+        for n in range(n_count):
+            e = edge[f, n]
+            dx = tail_xy[e, 0] + s[f, n] * step_xy[e, 0] - yx
+            dy = tail_xy[e, 1] + s[f, n] * step_xy[e, 1] - yy
+            keep[f, n] = 1.0 - beta if dx * dx + dy * dy <= r2 else 1.0
+            acc += w[f, n] * lik[f, n] * keep[f, n]
+        if beta == 0.0:
+            sums[f] = acc
+            continue
+        # Draws uniform on the road of D, their likelihood and the kernel estimate there.
+        for j in range(k_count):
+            d = min(np.searchsorted(cum_inside, uniforms[0, f, j] * cum_inside[n_edges - 1],
+                                    side="right"), n_edges - 1)
+            arc = s0[d] + uniforms[1, f, j] * inside[d]
+            out_edge[f, j] = d
+            out_s[f, j] = arc
+            px[j] = tail_xy[d, 0] + arc * step_xy[d, 0]
+            py[j] = tail_xy[d, 1] + arc * step_xy[d, 1]
+            q = ((px[j] - yx) ** 2 + (py[j] - yy) ** 2) * inv_two_var
+            lk[j] = floor + (gain * math.exp(-q) if q < _MAX_EXPONENT else 0.0)
+            dens[j] = 0.0
+        b = band[f]
+        inv_two_b2 = 0.5 / (b * b)
+        reach = radius + 8.0 * b
+        reach2 = reach * reach
+        for n in range(n_count):
+            e = edge[f, n]
+            qx = tail_xy[e, 0] + s[f, n] * step_xy[e, 0]
+            qy = tail_xy[e, 1] + s[f, n] * step_xy[e, 1]
+            if (qx - yx) ** 2 + (qy - yy) ** 2 > reach2:
+                continue
+            for j in range(k_count):
+                z = ((px[j] - qx) ** 2 + (py[j] - qy) ** 2) * inv_two_b2
+                if z < _MAX_EXPONENT:
+                    dens[j] += w[f, n] * math.exp(-z)
+        norm = beta * l_disc / (k_count * math.sqrt(2.0 * math.pi) * b)
+        for j in range(k_count):
+            out_w[f, j] = norm * dens[j] * lk[j]
+            acc += out_w[f, j]
+        sums[f] = acc
+
