@@ -45,6 +45,10 @@ from searchtrack.estimate.road_pf import RoadClouds
 #: Beyond this exponent a Gaussian term is below 1e-304 of its peak: skip ``exp``.
 _MAX_EXPONENT = 700.0
 
+#: Particles farther than this many bandwidths beyond the disc add nothing to the kernel
+#: estimate inside it (below ``exp(−8)`` of a kernel's peak each, 6e-5 of its mass beyond).
+_REACH_BANDWIDTHS = 4.0
+
 
 @dataclass(frozen=True)
 class DetectionBirths:
@@ -62,7 +66,7 @@ class DetectionBirths:
         Smallest kernel bandwidth (m), > 0.
     """
 
-    draw_share: float = 0.1
+    draw_share: float = 0.05
     radius_sigmas: float = 5.0
     bandwidth_scale: float = 1.06
     min_bandwidth_m: float = 1.0
@@ -89,6 +93,8 @@ class BirthDraws:
         ``(F, N)`` factor of each cloud particle's ``w ℓ``: ``1 − β`` inside ``D``, 1 outside.
     sums
         ``(F,)`` the predictive likelihood estimate of each cloud (the union's total weight).
+    bandwidth
+        ``(F,)`` each cloud's kernel bandwidth (m), :func:`bandwidths`.
     """
 
     edge: IntArray
@@ -96,11 +102,13 @@ class BirthDraws:
     w: FloatArray
     keep: FloatArray
     sums: FloatArray
+    bandwidth: FloatArray
 
 
 def bandwidths(clouds: RoadClouds, births: DetectionBirths) -> FloatArray:
     """``(F,)`` kernel bandwidth (m) of each cloud: Silverman's rule on its weighted planar
-    spread (the root mean of the two coordinates' variances), at least ``min_bandwidth_m``."""
+    spread (the root mean of the two coordinates' variances), at least ``min_bandwidth_m``.
+    The NumPy reference of the bandwidths :func:`birth_draws` computes in its kernel."""
     pts = clouds.points()
     w = clouds.w / clouds.w.sum(axis=1, keepdims=True)
     mean = np.einsum("fn,fnk->fk", w, pts)
@@ -126,12 +134,14 @@ def birth_draws(clouds: RoadClouds, births: DetectionBirths, y: FloatArray,
     w = np.zeros((f, k))
     keep = np.empty(clouds.shape)
     sums = np.empty(f)
+    band = np.empty(f)
     inside = s1 - s0
     _births(clouds.edge, clouds.s, clouds.w, clouds.likelihoods, roads.tail_xy, roads.step_xy,
             s0, inside, np.cumsum(inside), l_disc, radius, float(y[0]), float(y[1]),
             sensor.detection_gain, 0.5 / sensor.sigma2_m2, sensor.p_fa * clutter_density,
-            bandwidths(clouds, births), uniforms, edge, s, w, keep, sums)
-    return BirthDraws(edge, s, w, keep, sums)
+            births.bandwidth_scale, births.min_bandwidth_m, uniforms, edge, s, w, keep, sums,
+            band)
+    return BirthDraws(edge, s, w, keep, sums, band)
 
 
 def join_births(clouds: RoadClouds, rows: IntArray, draws: BirthDraws,
@@ -156,9 +166,10 @@ def join_births(clouds: RoadClouds, rows: IntArray, draws: BirthDraws,
 def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_xy: FloatArray,
             step_xy: FloatArray, s0: FloatArray, inside: FloatArray, cum_inside: FloatArray,
             l_disc: float, radius: float, yx: float, yy: float, gain: float, inv_two_var: float,
-            floor: float, band: FloatArray, uniforms: FloatArray, out_edge: IntArray,
-            out_s: FloatArray, out_w: FloatArray, keep: FloatArray, sums: FloatArray) -> None:
-    """:func:`birth_draws` for every row (module docstring)."""
+            floor: float, scale: float, min_band: float, uniforms: FloatArray,
+            out_edge: IntArray, out_s: FloatArray, out_w: FloatArray, keep: FloatArray,
+            sums: FloatArray, band: FloatArray) -> None:
+    """:func:`birth_draws` for every row (module docstring); rows of normalized weights."""
     f_count, n_count = edge.shape
     k_count = out_edge.shape[1]
     n_edges = inside.size
@@ -168,6 +179,22 @@ def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_
     lk = np.empty(k_count)
     dens = np.empty(k_count)
     for f in range(f_count):
+        # Silverman's bandwidth of the cloud (the reference is bandwidths()).
+        mx = 0.0
+        my = 0.0
+        w2 = 0.0
+        for n in range(n_count):
+            e = edge[f, n]
+            mx += w[f, n] * (tail_xy[e, 0] + s[f, n] * step_xy[e, 0])
+            my += w[f, n] * (tail_xy[e, 1] + s[f, n] * step_xy[e, 1])
+            w2 += w[f, n] * w[f, n]
+        var = 0.0
+        for n in range(n_count):
+            e = edge[f, n]
+            dx = tail_xy[e, 0] + s[f, n] * step_xy[e, 0] - mx
+            dy = tail_xy[e, 1] + s[f, n] * step_xy[e, 1] - my
+            var += w[f, n] * (dx * dx + dy * dy)
+        band[f] = max(scale * math.sqrt(max(var / 2.0, 0.0)) * w2 ** 0.2, min_band)
         # The cloud's own weight inside and outside D.
         n_in = 0
         for n in range(n_count):
@@ -201,7 +228,7 @@ def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_
             dens[j] = 0.0
         b = band[f]
         inv_two_b2 = 0.5 / (b * b)
-        reach = radius + 8.0 * b
+        reach = radius + _REACH_BANDWIDTHS * b
         reach2 = reach * reach
         for n in range(n_count):
             e = edge[f, n]

@@ -89,7 +89,9 @@ def test_the_union_weighs_the_regularised_predictive_likelihood(town: DirectedRo
     total = np.zeros(3)
     repeats = 2000
     for _ in range(repeats):
-        total += birth_draws(clouds, births, y, density, rng.random((2, 3, k))).sums
+        draws = birth_draws(clouds, births, y, density, rng.random((2, 3, k)))
+        total += draws.sums
+    np.testing.assert_allclose(draws.bandwidth, bandwidths(clouds, births), rtol=1e-9)
     ref = _reference(clouds, births, y, density, k)
     np.testing.assert_allclose(total / repeats, ref, rtol=0.03)
 
@@ -183,6 +185,7 @@ def test_births_configuration() -> None:
         with pytest.raises(InvalidInputError, match=name):
             DetectionBirths(**{name: value})
     assert DetectionBirths(draw_share=0.1).draws(500) == 50
+    assert DetectionBirths().draws(500) == 25
     with pytest.raises(InvalidInputError, match="births"):
         RBPFConfig(n_targets=1, births=DetectionBirths(), jumps=TargetJumps())
     with pytest.raises(InvalidInputError, match="births"):
