@@ -6,7 +6,9 @@ Timing (ms per call, mean over ``--repeats`` calls after a warm-up that compiles
 ``predict`` moves every particle by δt (Eq. 9); ``update (miss)`` is a scan without detections
 (negative update of every filter, Eq. 11); ``update (det)`` a scan with one detection of a true
 target under the UAV (DAS over every history, Eq. 15–16, the detection and negative updates,
-top-level resampling). ``total`` = predict + update (det), the worst case. Cases:
+top-level resampling). ``total`` = predict + update (det), the worst case. Rows per jump rate
+of the robust prior (``--jump-rates``, 0: the paper's prior) and one with the draws near
+detections (``births``, :mod:`searchtrack.estimate.road_births`). Cases:
 
 - the paper's simulation: 3×3 grid of 100 m roads, H = 10, M = 2, N = 500, δt = 0.1 s;
 - the bundled Aguascalientes map (17 834 directed edges of ≤ 10 m), H = 20, M = 10, N = 500,
@@ -31,6 +33,7 @@ import time
 import numpy as np
 from numpy.typing import NDArray
 
+from searchtrack.estimate.road_births import DetectionBirths
 from searchtrack.estimate.road_jumps import TargetJumps
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
 from searchtrack.models.road_particles import DirectedRoads, RoadMotion
@@ -41,12 +44,13 @@ FloatArray = NDArray[np.float64]
 
 
 def _time(roads: DirectedRoads, h: int, m: int, n: int, dt_s: float,
-          repeats: int, jump_rate: float = 0.0) -> tuple[float, float, float]:
+          repeats: int, jump_rate: float = 0.0,
+          births: DetectionBirths | None = None) -> tuple[float, float, float]:
     """Mean ms of predict, update without and with one detection (``jump_rate > 0``: with the
-    robust prior's jump draws at every update)."""
+    robust prior's jump draws at every update; ``births``: with the draws near detections)."""
     rng = np.random.default_rng(0)
     f = RoadRBPF(roads, RBPFConfig(n_targets=m, n_histories=h, n_particles=n,
-                                   jumps=TargetJumps.at_rate(jump_rate)), rng)
+                                   jumps=TargetJumps.at_rate(jump_rate), births=births), rng)
     te, ts = roads.uniform(m, rng)
     truth = roads.point(te, ts)
     for _ in range(3):  # warm-up: compile and reach a tracked state
@@ -115,10 +119,11 @@ def main() -> None:
     print(f"{'case':52s} {'particles':>9s} {'predict':>8s} {'upd miss':>8s} {'upd det':>8s} "
           f"{'total':>8s} {'target':>7s}   (ms per step)")
     for name, roads, h, m, n, dt, target in cases:
-        for rate in args.jump_rates:
-            p, miss, det = _time(roads, h, m, n, dt, args.repeats, rate)
-            label = name + (f", λ {rate:g}/s" if rate > 0.0 else "")
-            print(f"{label:52s} {h * m * n:9d} {p:8.3f} {miss:8.3f} {det:8.3f} "
+        variants = [(f", λ {rate:g}/s" if rate > 0.0 else "", rate, None)
+                    for rate in args.jump_rates] + [(", births", 0.0, DetectionBirths())]
+        for suffix, rate, births in variants:
+            p, miss, det = _time(roads, h, m, n, dt, args.repeats, rate, births)
+            print(f"{name + suffix:52s} {h * m * n:9d} {p:8.3f} {miss:8.3f} {det:8.3f} "
                   f"{p + det:8.3f} {target:7.1f}")
     print()
     print(f"association on the 3x3 map ({args.duration:g} s per run, scans at 1 Hz):")

@@ -20,7 +20,9 @@ importance-sampling estimate of the posterior of the regularised prior, and its 
 the predictive likelihood ``∫ p̃ ℓ``, which the association sampling (Eq. 15–16) and the history
 weights use. ``β = K / (K + n_D)`` with ``n_D`` the cloud's particles inside ``D``: the draws and
 the particles already there share ``D`` by count, so a cloud with nothing near ``y`` hands ``D``
-to the kernel estimate and a cloud on the target keeps most of its own particles.
+to the kernel estimate; a cloud with at least ``full_share · N`` particles in ``D`` represents it
+well already and gets ``β = 0`` (no draws; any ``β`` fixed by the cloud keeps the estimate
+unbiased).
 
 A cloud that is localised far from ``y`` has a small bandwidth and ``p̂ ≈ 0`` in ``D``: its
 draws weigh nothing. A diffuse cloud's ``p̂`` near ``y`` is its local density, so a few
@@ -64,15 +66,20 @@ class DetectionBirths:
         The factor of Silverman's rule (1.06), > 0.
     min_bandwidth_m
         Smallest kernel bandwidth (m), > 0.
+    full_share
+        A cloud with at least this share of its particles inside ``D`` gets no draws, in
+        ``(0, 1]`` (1: only a cloud entirely inside ``D``).
     """
 
     draw_share: float = 0.05
     radius_sigmas: float = 5.0
     bandwidth_scale: float = 1.06
     min_bandwidth_m: float = 1.0
+    full_share: float = 0.2
 
     def __post_init__(self) -> None:
-        checks.real("draw_share", self.draw_share, low=0.0, high=1.0, low_open=True)
+        for name in ("draw_share", "full_share"):
+            checks.real(name, getattr(self, name), low=0.0, high=1.0, low_open=True)
         for name in ("radius_sigmas", "bandwidth_scale", "min_bandwidth_m"):
             checks.positive(name, getattr(self, name))
 
@@ -139,8 +146,9 @@ def birth_draws(clouds: RoadClouds, births: DetectionBirths, y: FloatArray,
     _births(clouds.edge, clouds.s, clouds.w, clouds.likelihoods, roads.tail_xy, roads.step_xy,
             s0, inside, np.cumsum(inside), l_disc, radius, float(y[0]), float(y[1]),
             sensor.detection_gain, 0.5 / sensor.sigma2_m2, sensor.p_fa * clutter_density,
-            births.bandwidth_scale, births.min_bandwidth_m, uniforms, edge, s, w, keep, sums,
-            band)
+            births.bandwidth_scale, births.min_bandwidth_m,
+            math.ceil(births.full_share * clouds.shape[1] - 1e-9), uniforms, edge, s, w, keep,
+            sums, band)
     return BirthDraws(edge, s, w, keep, sums, band)
 
 
@@ -166,7 +174,7 @@ def join_births(clouds: RoadClouds, rows: IntArray, draws: BirthDraws,
 def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_xy: FloatArray,
             step_xy: FloatArray, s0: FloatArray, inside: FloatArray, cum_inside: FloatArray,
             l_disc: float, radius: float, yx: float, yy: float, gain: float, inv_two_var: float,
-            floor: float, scale: float, min_band: float, uniforms: FloatArray,
+            floor: float, scale: float, min_band: float, full: int, uniforms: FloatArray,
             out_edge: IntArray, out_s: FloatArray, out_w: FloatArray, keep: FloatArray,
             sums: FloatArray, band: FloatArray) -> None:
     """:func:`birth_draws` for every row (module docstring); rows of normalized weights."""
@@ -203,7 +211,7 @@ def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_
             dy = tail_xy[e, 1] + s[f, n] * step_xy[e, 1] - yy
             if dx * dx + dy * dy <= r2:
                 n_in += 1
-        beta = k_count / (k_count + n_in) if l_disc > 0.0 else 0.0
+        beta = k_count / (k_count + n_in) if l_disc > 0.0 and n_in < full else 0.0
         acc = 0.0
         for n in range(n_count):
             e = edge[f, n]

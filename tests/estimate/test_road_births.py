@@ -50,7 +50,8 @@ def _reference(clouds: RoadClouds, births: DetectionBirths, y: np.ndarray, densi
     s0, s1 = roads.disc_intervals(y, radius)
     pts = clouds.points()
     near = np.einsum("fnk,fnk->fn", pts - y, pts - y) <= radius * radius
-    beta = k / (k + near.sum(axis=1))
+    n_in = near.sum(axis=1)
+    beta = np.where(n_in < math.ceil(births.full_share * near.shape[1]), k / (k + n_in), 0.0)
     lik = sensor.likelihood(pts, y, density)
     cloud = (clouds.w * lik * np.where(near, 1.0 - beta[:, None], 1.0)).sum(axis=1)
     band = bandwidths(clouds, births)
@@ -74,7 +75,7 @@ def test_the_union_weighs_the_regularised_predictive_likelihood(town: DirectedRo
     """The mean over draws of each cloud's total weight is ∫ p̃ ℓ (quadrature) for clouds that
     are diffuse, tight on the detection and tight elsewhere."""
     rng = np.random.default_rng(seed)
-    births = DetectionBirths(draw_share=0.2)
+    births = DetectionBirths(draw_share=0.2, full_share=1.0 if seed < 2 else 0.2)
     y = town.point(np.array([7]), np.array([0.4 * town.length[7]]))[0] + rng.normal(0, 3, 2)
     diffuse_e, diffuse_s = town.uniform(60, rng)
     e_near, s_near = town.nearest(y + rng.normal(0.0, 8.0, (60, 2)))
@@ -98,9 +99,10 @@ def test_the_union_weighs_the_regularised_predictive_likelihood(town: DirectedRo
 
 def test_beta_follows_the_particles_near_the_detection() -> None:
     """β = K / (K + n_D): the particles inside the disc keep 1 − β of their weight, the others
-    all of it; with no road in the disc nothing is drawn."""
+    all of it; with no road in the disc, or full_share of the particles in it, nothing is
+    drawn."""
     line = _line()
-    births = DetectionBirths(draw_share=0.25)
+    births = DetectionBirths(draw_share=0.25, full_share=1.0)
     e, s = line.nearest(np.array([[100.0, 0.0], [110.0, 0.0], [120.0, 0.0], [900.0, 0.0]]))
     clouds = RoadClouds(line, e[None], s[None], sensor=SENSOR, resample=ResamplePolicy())
     y = np.array([110.0, 0.0])                   # ρ = 25 m: the first three are inside
@@ -113,6 +115,11 @@ def test_beta_follows_the_particles_near_the_detection() -> None:
     none = birth_draws(clouds, births, off, 1e-3, np.random.default_rng(0).random((2, 1, 1)))
     np.testing.assert_array_equal(none.keep, 1.0)
     assert none.w[0, 0] == 0.0
+    clouds.detection_sums(y, 1e-3)
+    full = birth_draws(clouds, DetectionBirths(draw_share=0.25, full_share=0.75), y, 1e-3,
+                       np.random.default_rng(0).random((2, 1, 1)))
+    np.testing.assert_array_equal(full.keep, 1.0)
+    assert full.w[0, 0] == 0.0
 
 
 def test_a_cloud_localised_elsewhere_gives_its_draws_no_weight() -> None:
@@ -181,7 +188,8 @@ def test_an_rbpf_with_births_localises_a_target_none_of_its_particles_were_near(
 def test_births_configuration() -> None:
     """Bad settings are named; births and jumps are two alternative proposals."""
     for name, value in (("draw_share", 0.0), ("draw_share", 1.5), ("radius_sigmas", 0.0),
-                        ("bandwidth_scale", -1.0), ("min_bandwidth_m", 0.0)):
+                        ("bandwidth_scale", -1.0), ("min_bandwidth_m", 0.0),
+                        ("full_share", 0.0), ("full_share", 1.1)):
         with pytest.raises(InvalidInputError, match=name):
             DetectionBirths(**{name: value})
     assert DetectionBirths(draw_share=0.1).draws(500) == 50
