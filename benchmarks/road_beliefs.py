@@ -19,7 +19,10 @@ so the targets drive alike until the UAVs' paths part). Same guidance, same sens
 - ms/step: median filter-and-plan time of a step (associate, update, initiate, guide, predict).
 
 The RBPF is sized as in the paper (H = 10 histories, N = 500 particles per target) unless
-``--histories`` / ``--particles`` say otherwise. Timings depend on the machine's load.
+``--histories`` / ``--particles`` say otherwise; it flies the couriers' drive-and-stop motion
+and the draws near detections (:mod:`searchtrack.sim.roads.rbpf_belief`), or the robust prior
+instead of those draws in the rows of a jump rate ``λ > 0``. Timings depend on the machine's
+load.
 """
 
 from __future__ import annotations

@@ -182,8 +182,8 @@ class RoadRBPF:
         if ys.shape[0] and density == 0.0:
             # No road in view: no target and no clutter can be there (Eq. 10 is 0 for every
             # history); the scan is read as seeing nothing.
-            log.warning("%d detections with no road in view of %s: taken as clutter and the "
-                        "scan as a miss", ys.shape[0], uav.tolist())
+            log.debug("%d detections with no road in view of %s: taken as clutter and the "
+                      "scan as a miss", ys.shape[0], uav.tolist())
             self.last_association = np.full((self.n_histories, ys.shape[0]), -1, dtype=np.int64)
             self._miss(uav, np.arange(self.n_histories * self.n_targets), eps, rng)
         elif ys.shape[0]:
