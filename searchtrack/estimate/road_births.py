@@ -68,14 +68,17 @@ class DetectionBirths:
         Smallest kernel bandwidth (m), > 0.
     full_share
         A cloud with at least this share of its particles inside ``D`` gets no draws, in
-        ``(0, 1]`` (1: only a cloud entirely inside ``D``).
+        ``(0, 1]``. 1 (default): only a cloud entirely inside ``D``; a smaller share saves
+        the kernel estimate of the clouds already on the target, but their draws also bring
+        fresh speed states (:class:`~searchtrack.models.road_particles.CourierRoadMotion`),
+        and in the thesis missions skipping them lost targets that stopped or sped up.
     """
 
     draw_share: float = 0.05
     radius_sigmas: float = 5.0
     bandwidth_scale: float = 1.06
     min_bandwidth_m: float = 1.0
-    full_share: float = 0.2
+    full_share: float = 1.0
 
     def __post_init__(self) -> None:
         for name in ("draw_share", "full_share"):
