@@ -96,8 +96,8 @@ class RoadClouds:
         return cls(roads, edge, s, sensor=sensor, resample=resample, speeds=speeds, v=v)
 
     def new_speeds(self, shape: tuple[int, ...], rng: np.random.Generator) -> FloatArray:
-        """Speeds for particles joined to the clouds (jump draws): the stationary law of
-        :attr:`speeds` (nothing drawn without a speed state: 0)."""
+        """Speeds for particles joined to the clouds (jump and birth draws): the stationary law
+        of :attr:`speeds` (nothing drawn without a speed state: 0)."""
         if self.speeds is None:
             return np.zeros(shape)
         return self.speeds.initial_speeds(shape, rng)

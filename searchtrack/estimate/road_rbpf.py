@@ -13,7 +13,9 @@ One cycle (the paper gives no pseudo-code; §3.1–3.3 read together):
    - No detection: negative update (Eq. 11) on every filter of every history (§3.1).
    - Each detection ``y`` in turn: per history, ``L_m = Σ_n w p(y | x^{h,m,n})`` (Eq. 16 with
      Eq. 10); the association ``c ~ Categorical(L / ΣL)`` (data association sampling, Eq. 15–16);
-     filter ``(h, c)`` is weighed by Eq. 10 and resampled.
+     filter ``(h, c)`` is weighed by Eq. 10 and resampled. With ``config.births`` (beyond the
+     paper) ``L_m`` and the update are those of the prior regularised near ``y``, with draws
+     there (:mod:`searchtrack.estimate.road_births`).
    - Optionally (``miss_undetected``, as the authors' code does when one target is seen) the
      filters that got no detection in the scan get the negative update.
    - Top-level weights, which the paper does not give: with DAS as the proposal, the importance
@@ -151,9 +153,10 @@ class RoadRBPF:
     # -- the cycle ------------------------------------------------------------------------------
 
     def predict(self, dt_s: float, rng: np.random.Generator) -> None:
-        """Move every particle of every filter ``dt_s`` seconds on (Eq. 2, Eq. 9); with
-        ``config.jumps`` the next update also weighs a jump anywhere on the roads, with chance
-        ``1 − exp(−λ t)`` for the time ``t`` predicted since the last update."""
+        """Move every particle of every filter ``dt_s`` seconds on (Eq. 2 with the config's
+        motion, Eq. 9 by default); with ``config.jumps`` the next update also weighs a jump
+        anywhere on the roads, with chance ``1 − exp(−λ t)`` for the time ``t`` predicted since
+        the last update."""
         self.clouds.predict(self.config.motion, dt_s, checks.generator("rng", rng))
         self._since_update_s += dt_s
 
@@ -240,12 +243,10 @@ class RoadRBPF:
             rows = hist[live] * m + c[live]
             if draws is not None:
                 join_births(self.clouds, rows, draws, rng)
-                used[hist[live], c[live]] = True
-                assigned[:, j] = c
-                continue
-            self.clouds.weigh(rows, rng, resample=jumps is None)
-            if jumps is not None:
-                jump_detection(self.clouds, jumps, eps, rows, sums[rows], y, density, rng)
+            else:
+                self.clouds.weigh(rows, rng, resample=jumps is None)
+                if jumps is not None:
+                    jump_detection(self.clouds, jumps, eps, rows, sums[rows], y, density, rng)
             used[hist[live], c[live]] = True
             assigned[:, j] = c
         self.last_association = assigned

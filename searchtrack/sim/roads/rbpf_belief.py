@@ -8,7 +8,7 @@ number of targets (known, as the paper assumes), ``H`` histories of ``N`` partic
 on :class:`~searchtrack.models.road_particles.DirectedRoads` of the mission's map, starting
 uniform (Eq. 1). Each step: one update per UAV (its position measurements as detections, its
 position as the scan centre; Eq. 10–11, 15–16), then the localisation below, the guidance, and
-one prediction over ``Δt`` (Eq. 9), last as in the thesis's mission.
+one prediction over ``Δt`` (the motion below), last as in the thesis's mission.
 
 Models (the thesis's settings turned into the paper's; :func:`courier_motion`,
 :func:`thesis_disc_sensor`):
@@ -321,5 +321,5 @@ class RBPFMissionBelief:
         return births
 
     def predict(self, dt_s: float) -> None:
-        """Eq. 9 over ``dt_s`` seconds."""
+        """The couriers' drive-and-stop motion over ``dt_s`` seconds."""
         self.rbpf.predict(dt_s, self.rng)
