@@ -40,8 +40,7 @@ from numba import njit
 
 from searchtrack.core import checks
 from searchtrack.core.types import FloatArray, IntArray
-from searchtrack.estimate import road_filter_kernels as kern
-from searchtrack.estimate.road_jumps import disc_intervals
+from searchtrack.estimate.road_jumps import disc_intervals, join_draws
 from searchtrack.estimate.road_pf import RoadClouds
 
 #: Beyond this exponent a Gaussian term is below 1e-304 of its peak: skip ``exp``.
@@ -164,13 +163,9 @@ def join_births(clouds: RoadClouds, rows: IntArray, draws: BirthDraws,
         return
     post = clouds.w[rows] * clouds.likelihoods[rows] * draws.keep[rows]
     total = post.sum(axis=1)
-    live = rows[total > 0.0]
-    clouds.w[live] = post[total > 0.0] / total[total > 0.0, None]
-    v = clouds.new_speeds((rows.size, draws.edge.shape[1]), rng)
-    kern.join_rows(clouds.edge, clouds.s, clouds.v, clouds.w, np.ascontiguousarray(rows),
-                   np.where(total > 0.0, total, 0.0), np.ascontiguousarray(draws.edge[rows]),
-                   np.ascontiguousarray(draws.s[rows]), v,
-                   np.ascontiguousarray(draws.w[rows]), rng.random(rows.size))
+    ok = total > 0.0
+    clouds.w[rows[ok]] = post[ok] / total[ok, None]
+    join_draws(clouds, rows, total, draws.edge[rows], draws.s[rows], draws.w[rows], rng)
 
 
 @njit(cache=True)
@@ -189,38 +184,38 @@ def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_
     py = np.empty(k_count)
     lk = np.empty(k_count)
     dens = np.empty(k_count)
+    qx = np.empty(n_count)   # the row's particles' points and squared distances to y
+    qy = np.empty(n_count)
+    qd2 = np.empty(n_count)
     for f in range(f_count):
+        for n in range(n_count):
+            e = edge[f, n]
+            qx[n] = tail_xy[e, 0] + s[f, n] * step_xy[e, 0]
+            qy[n] = tail_xy[e, 1] + s[f, n] * step_xy[e, 1]
+            dx = qx[n] - yx
+            dy = qy[n] - yy
+            qd2[n] = dx * dx + dy * dy
         # Silverman's bandwidth of the cloud (the reference is bandwidths()).
         mx = 0.0
         my = 0.0
         w2 = 0.0
         for n in range(n_count):
-            e = edge[f, n]
-            mx += w[f, n] * (tail_xy[e, 0] + s[f, n] * step_xy[e, 0])
-            my += w[f, n] * (tail_xy[e, 1] + s[f, n] * step_xy[e, 1])
+            mx += w[f, n] * qx[n]
+            my += w[f, n] * qy[n]
             w2 += w[f, n] * w[f, n]
         var = 0.0
-        for n in range(n_count):
-            e = edge[f, n]
-            dx = tail_xy[e, 0] + s[f, n] * step_xy[e, 0] - mx
-            dy = tail_xy[e, 1] + s[f, n] * step_xy[e, 1] - my
-            var += w[f, n] * (dx * dx + dy * dy)
-        band[f] = max(scale * math.sqrt(max(var / 2.0, 0.0)) * w2 ** 0.2, min_band)
-        # The cloud's own weight inside and outside D.
         n_in = 0
         for n in range(n_count):
-            e = edge[f, n]
-            dx = tail_xy[e, 0] + s[f, n] * step_xy[e, 0] - yx
-            dy = tail_xy[e, 1] + s[f, n] * step_xy[e, 1] - yy
-            if dx * dx + dy * dy <= r2:
+            dx = qx[n] - mx
+            dy = qy[n] - my
+            var += w[f, n] * (dx * dx + dy * dy)
+            if qd2[n] <= r2:   # the cloud's particles inside D
                 n_in += 1
+        band[f] = max(scale * math.sqrt(max(var / 2.0, 0.0)) * w2 ** 0.2, min_band)
         beta = k_count / (k_count + n_in) if l_disc > 0.0 and n_in < full else 0.0
         acc = 0.0
         for n in range(n_count):
-            e = edge[f, n]
-            dx = tail_xy[e, 0] + s[f, n] * step_xy[e, 0] - yx
-            dy = tail_xy[e, 1] + s[f, n] * step_xy[e, 1] - yy
-            keep[f, n] = 1.0 - beta if dx * dx + dy * dy <= r2 else 1.0
+            keep[f, n] = 1.0 - beta if qd2[n] <= r2 else 1.0
             acc += w[f, n] * lik[f, n] * keep[f, n]
         if beta == 0.0:
             sums[f] = acc
@@ -242,13 +237,10 @@ def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_
         reach = radius + _REACH_BANDWIDTHS * b
         reach2 = reach * reach
         for n in range(n_count):
-            e = edge[f, n]
-            qx = tail_xy[e, 0] + s[f, n] * step_xy[e, 0]
-            qy = tail_xy[e, 1] + s[f, n] * step_xy[e, 1]
-            if (qx - yx) ** 2 + (qy - yy) ** 2 > reach2:
+            if qd2[n] > reach2:
                 continue
             for j in range(k_count):
-                z = ((px[j] - qx) ** 2 + (py[j] - qy) ** 2) * inv_two_b2
+                z = ((px[j] - qx[n]) ** 2 + (py[j] - qy[n]) ** 2) * inv_two_b2
                 if z < _MAX_EXPONENT:
                     dens[j] += w[f, n] * math.exp(-z)
         norm = beta * l_disc / (k_count * math.sqrt(2.0 * math.pi) * b)

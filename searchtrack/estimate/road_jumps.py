@@ -178,11 +178,14 @@ def near_detection(roads: DirectedRoads, sensor: DiscSensor, jumps: TargetJumps,
     return edge.astype(np.int64), s, (1.0 / total) / g
 
 
-def join_jumps(clouds: RoadClouds, rows: IntArray, cloud_mass: FloatArray, edge: IntArray,
+def join_draws(clouds: RoadClouds, rows: IntArray, cloud_mass: FloatArray, edge: IntArray,
                s: FloatArray, w: FloatArray, rng: np.random.Generator) -> None:
-    """Join jump draws ``(R, K)`` (edges, arcs, importance weights) to ``rows`` of ``clouds``,
-    whose normalized weights count ``cloud_mass`` ``(R,)`` each, and resample each row back to
-    ``N`` (low-variance, weights ``1/N``); a row whose union has no weight is left as it is."""
+    """Join draws ``(R, K)`` (edges, arcs, importance weights: the jump draws here, the birth
+    draws of :mod:`searchtrack.estimate.road_births`) to ``rows`` of ``clouds``, whose
+    normalized weights count ``cloud_mass`` ``(R,)`` each, with speeds from the clouds'
+    stationary law (:meth:`~searchtrack.estimate.road_pf.RoadClouds.new_speeds`), and resample
+    each row back to ``N`` (low-variance, weights ``1/N``); a row whose union has no weight is
+    left as it is."""
     v = clouds.new_speeds(np.shape(s), rng)
     kern.join_rows(clouds.edge, clouds.s, clouds.v, clouds.w,
                    np.ascontiguousarray(rows, dtype=np.int64),
@@ -210,7 +213,7 @@ def jump_detection(clouds: RoadClouds, jumps: TargetJumps, eps: float, rows: Int
                          float(y[0]), float(y[1]), sensor.detection_gain,
                          0.5 / sensor.sigma2_m2, sensor.p_fa * clutter_density, eps / k,
                          rng.random((3, rows.size, k)), edge, s, w)
-    join_jumps(clouds, rows, (1.0 - eps) * sums, edge, s, w, rng)
+    join_draws(clouds, rows, (1.0 - eps) * sums, edge, s, w, rng)
 
 
 def jump_miss(clouds: RoadClouds, jumps: TargetJumps, eps: float, rows: IntArray,
@@ -225,4 +228,4 @@ def jump_miss(clouds: RoadClouds, jumps: TargetJumps, eps: float, rows: IntArray
     kern.miss_jumps(roads.cum_length, roads.length, roads.tail_xy, roads.step_xy,
                     float(uav_xy[0]), float(uav_xy[1]), sensor.negative_radius_m ** 2,
                     sensor.p_fn, eps / k, rng.random((2, rows.size, k)), edge, s, w)
-    join_jumps(clouds, rows, (1.0 - eps) * sums, edge, s, w, rng)
+    join_draws(clouds, rows, (1.0 - eps) * sums, edge, s, w, rng)

@@ -132,11 +132,10 @@ class RoadClouds:
             return
         # RoadMotion.step by the kernels, from the same draws, in place.
         dt = checks.non_negative("dt_s", dt_s)
-        self.edge, self.s = np.ascontiguousarray(self.edge), np.ascontiguousarray(self.s)
-        roads, e, pos = self.roads, self.edge.reshape(-1), self.s.reshape(-1)
+        e, pos, _ = self._flat()
         over = kern.move(e, pos, rng.standard_normal(pos.size), motion.speed_mps,
-                         motion.sigma_mps, dt, roads.length)
-        self._turn(over, rng)
+                         motion.sigma_mps, dt, self.roads.length)
+        self._turn(e, pos, over, rng)
 
     def detection_sums(self, y: FloatArray, clutter_density: float) -> FloatArray:
         """``(F,)`` ``Σ_n w p(y | x)`` per cloud (Eq. 16 with the Eq. 10 likelihood); keeps the
@@ -197,18 +196,25 @@ class RoadClouds:
             raise InvalidInputError("motion", motion, "the clouds carry no speed state: build "
                                     "them with speeds=")
         stop, go = motion.switch_chances(dt_s)
-        for name in ("edge", "s", "v"):
-            setattr(self, name, np.ascontiguousarray(getattr(self, name)))
-        roads, e, pos, v = self.roads, self.edge.reshape(-1), self.s.reshape(-1), self.v.reshape(-1)
+        e, pos, v = self._flat()
         mode, u = rng.random(pos.size), rng.random(pos.size)
         over = kern.courier_move(e, pos, v, mode, u, stop, go, motion.min_speed_mps,
-                                 motion.max_speed_mps, float(dt_s), roads.length)
-        self._turn(over, rng)
+                                 motion.max_speed_mps, float(dt_s), self.roads.length)
+        self._turn(e, pos, over, rng)
 
-    def _turn(self, over: IntArray, rng: np.random.Generator) -> None:
-        """Carry the flat particles ``over`` onto successor edges until none is past its
-        edge's end (one uniform per crossing, as DirectedRoads.advance draws them)."""
-        roads, e, pos = self.roads, self.edge.reshape(-1), self.s.reshape(-1)
+    def _flat(self) -> tuple[IntArray, FloatArray, FloatArray]:
+        """Flat views of ``edge``, ``s`` and ``v`` (C-contiguous first) for the motion kernels,
+        which update them in place."""
+        self.edge, self.s, self.v = (np.ascontiguousarray(self.edge),
+                                     np.ascontiguousarray(self.s), np.ascontiguousarray(self.v))
+        return self.edge.reshape(-1), self.s.reshape(-1), self.v.reshape(-1)
+
+    def _turn(self, e: IntArray, pos: FloatArray, over: IntArray,
+              rng: np.random.Generator) -> None:
+        """Carry the particles ``over`` (indices into the flat views ``e``, ``pos``) onto
+        successor edges until none is past its edge's end (one uniform per crossing, as
+        DirectedRoads.advance draws them)."""
+        roads = self.roads
         while over.size:
             over = kern.turn(e, pos, over, rng.random(over.size), roads.length,
                              roads.successors, roads.successor_ptr)

@@ -15,7 +15,7 @@ from searchtrack.estimate.road_jumps import (
     TargetJumps,
     detection_prior_likelihood,
     detection_proposal,
-    join_jumps,
+    join_draws,
     miss_prior_likelihood,
     near_detection,
     road_gaussian_integral,
@@ -149,7 +149,7 @@ def test_join_keeps_n_and_the_mass_split(grid3: DirectedRoads) -> None:
     new_e = np.full((2, 50), 5)
     new_s = np.full((2, 50), 1.2345)
     clouds_before = clouds.s.copy()
-    join_jumps(clouds, np.array([0, 1]), np.array([3.0, 0.0]), new_e, new_s,
+    join_draws(clouds, np.array([0, 1]), np.array([3.0, 0.0]), new_e, new_s,
                np.full((2, 50), 1.0 / 50), rng)
     assert clouds.shape == (2, n) and np.allclose(clouds.w, 1.0 / n)
     from_draws = np.count_nonzero(clouds.s == 1.2345, axis=1)

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.estimate.road_pf import RoadParticleFilter, node_trackers
+from searchtrack.estimate.road_pf import RoadClouds, RoadParticleFilter, node_trackers
 from searchtrack.estimate.road_resampling import ResamplePolicy
 from searchtrack.models import grid_network
 from searchtrack.models.disc_sensor import DiscSensor
-from searchtrack.models.road_particles import DirectedRoads, RoadMotion
+from searchtrack.models.road_particles import CourierRoadMotion, DirectedRoads, RoadMotion
 
 CENTRE = np.array([100.0, 100.0])
 
@@ -119,6 +119,18 @@ def test_from_particles_and_bad_input(roads: DirectedRoads) -> None:
         pf.update(None, [0.0, 0.0, 0.0], rng)
     with pytest.raises(InvalidInputError, match="rng"):
         pf.predict(0.1, 7)  # type: ignore[arg-type]
+
+
+def test_speed_state_bad_input(roads: DirectedRoads) -> None:
+    """Speeds of the wrong shape or not finite are refused by name; the drive-and-stop motion
+    needs clouds built with a speed state."""
+    edge, s = roads.uniform((2, 5), np.random.default_rng(1))
+    for v in (np.zeros((2, 4)), np.full((2, 5), np.nan), np.full((2, 5), -1.0)):
+        with pytest.raises(InvalidInputError, match=r"^v="):
+            RoadClouds(roads, edge, s, sensor=DiscSensor(), resample=ResamplePolicy(), v=v)
+    plain = RoadClouds(roads, edge, s, sensor=DiscSensor(), resample=ResamplePolicy())
+    with pytest.raises(InvalidInputError, match="motion"):
+        plain.predict(CourierRoadMotion(), 0.1, np.random.default_rng(0))
 
 
 def test_node_trackers_give_mass_to_the_nearer_end(roads: DirectedRoads) -> None:

@@ -7,7 +7,7 @@ import pytest
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.models import RoadNetwork, grid_network
-from searchtrack.models.road_particles import DirectedRoads, RoadMotion
+from searchtrack.models.road_particles import CourierRoadMotion, DirectedRoads, RoadMotion
 
 
 def _path(n: int, spacing_m: float = 10.0) -> DirectedRoads:
@@ -189,3 +189,39 @@ def test_leaving_lists_every_road_out_of_a_node_including_the_way_back() -> None
     assert np.all(roads.tail[out] == centre)
     for node in range(roads.network.n_nodes):
         assert set(roads.leaving(node).tolist()) == set(np.flatnonzero(roads.tail == node).tolist())
+
+
+@pytest.mark.parametrize("kwargs,field", [
+    ({"min_speed_mps": -1.0}, "min_speed_mps"),
+    ({"min_speed_mps": 12.0, "max_speed_mps": 10.0}, "max_speed_mps"),
+    ({"max_speed_mps": 0.0, "min_speed_mps": 0.0}, "max_speed_mps"),
+    ({"mean_drive_s": 0.0}, "mean_drive_s"),
+    ({"mean_stop_s": float("nan")}, "mean_stop_s"),
+])
+def test_courier_motion_bad_settings_name_the_field(kwargs: dict[str, float],
+                                                    field: str) -> None:
+    """A drive-and-stop motion with a bad speed range or mean refuses it by name."""
+    with pytest.raises(InvalidInputError, match=field):
+        CourierRoadMotion(**kwargs)
+    with pytest.raises(InvalidInputError, match="dt_s"):
+        CourierRoadMotion().switch_chances(-0.1)
+
+
+def test_courier_motion_drives_and_stops_at_its_rates() -> None:
+    """The stationary law drives a share T_d / (T_d + T_s) of the particles at speeds in the
+    range; stopped particles do not move; drives and stops end at the rates 1/T_d and 1/T_s."""
+    roads = DirectedRoads(grid_network(4, 4, 100.0, spacing_m=100.0))
+    motion = CourierRoadMotion(min_speed_mps=6.0, max_speed_mps=12.0, mean_drive_s=20.0,
+                               mean_stop_s=5.0)
+    rng = np.random.default_rng(0)
+    v = motion.initial_speeds(200_000, rng)
+    assert np.mean(v > 0.0) == pytest.approx(0.8, abs=0.005)
+    assert v[v > 0.0].min() >= 6.0 and v.max() <= 12.0
+    edge, s = roads.uniform(200_000, rng)
+    edge2, s2, v2 = motion.step(roads, edge, s, v, 0.5, rng)
+    still = (v == 0.0) & (v2 == 0.0)
+    assert np.all(s2[still] == s[still]) and np.all(edge2[still] == edge[still])
+    stop, go = motion.switch_chances(0.5)
+    assert np.mean(v2[v > 0.0] == 0.0) == pytest.approx(stop, abs=0.002)
+    assert np.mean(v2[v == 0.0] > 0.0) == pytest.approx(go, abs=0.005)
+    np.testing.assert_array_equal(v2[(v > 0.0) & (v2 > 0.0)], v[(v > 0.0) & (v2 > 0.0)])
