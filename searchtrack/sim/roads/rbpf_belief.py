@@ -42,9 +42,13 @@ Reading the filter (the best history, as the paper's planner does):
 - A target is *localised* while its node belief (each particle's weight on the nearer end node)
   has a peak probability ``≥ P_min``, the thesis's dissolution threshold (§4.2). The
   :class:`~searchtrack.estimate.belief.BeliefBank` is the node beliefs of the localised targets
-  (``track_id`` = the target's index in the filter): a target becoming localised is a tracker
-  birth, one spreading below ``P_min`` is dissolved. In ``detect`` mode the bank stays empty, as
-  the thesis's detect-mode trackers are dropped at birth.
+  (``track_id`` = the target's index in the filter) read at the sensor's resolution (beyond
+  the paper): blurred along the roads by a Gaussian of ``filter.node_resolution_m``, by
+  default the position noise ``s`` (:mod:`searchtrack.estimate.road_kernel`), so the peak
+  ``𝒫`` the guidance compares with ``ϱ`` (5.16) is on the scale of the thesis's trackers and
+  falls as soon as the cloud spreads beyond what a detection resolves. A target becoming
+  localised is a tracker birth, one spreading below ``P_min`` is dissolved. In ``detect`` mode
+  the bank stays empty, as the thesis's detect-mode trackers are dropped at birth.
 - The :class:`~searchtrack.estimate.belief.SearchField` is :class:`ParticleSearchField`: per node
   ``v``, the log ratio of the pooled mass of the targets not localised around ``v`` (a
   neighbourhood the size of the footprint disc) to what the uniform prior puts there, floored
@@ -75,6 +79,7 @@ from searchtrack.core.types import FloatArray
 from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
 from searchtrack.estimate.road_births import DetectionBirths
 from searchtrack.estimate.road_jumps import TargetJumps
+from searchtrack.estimate.road_kernel import RoadKernel
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
 from searchtrack.estimate.stepping import RoadScan, RoadUpdate, TrackBirth, TrackPair
 from searchtrack.models import CourierModel, RoadNetwork, SensorModel, UavState
@@ -121,6 +126,13 @@ def thesis_disc_sensor(sensor: SensorModel) -> DiscSensor:
                       sigma2_m2=sensor.position_noise_m ** 2,
                       p_fa=min(-math.expm1(-sensor.false_alarm_mean), MAX_P_FA),
                       p_fn=1.0 - sensor.pd, negative_radius_factor=1.0, clutter="view")
+
+
+def node_resolution(scenario: Scenario) -> float:
+    """The ``σ`` (m) the bank's node beliefs are read at: ``filter.node_resolution_m``, or the
+    sensor's position noise when that is ``None`` (0: the cloud's own beliefs)."""
+    sigma = scenario.filter.node_resolution_m
+    return scenario.sensor.position_noise_m if sigma is None else float(sigma)
 
 
 def rbpf_config(scenario: Scenario) -> RBPFConfig:
@@ -236,6 +248,9 @@ class RBPFMissionBelief:
         resampling (Eq. 15–16) and the motion noise (Eq. 9) all draw from it.
     roads
         The directed view of ``network`` (built when ``None``).
+    kernel
+        The road kernel the bank's node beliefs are read through (module docstring); built
+        from ``filter.node_resolution_m`` when ``None``, none when that is 0.
 
     Attributes
     ----------
@@ -248,7 +263,7 @@ class RBPFMissionBelief:
     """
 
     def __init__(self, scenario: Scenario, network: RoadNetwork, rng: np.random.Generator,
-                 roads: DirectedRoads | None = None) -> None:
+                 roads: DirectedRoads | None = None, kernel: RoadKernel | None = None) -> None:
         self.scenario = scenario
         self.network = network
         directed = roads if roads is not None else DirectedRoads(network)
@@ -257,6 +272,10 @@ class RBPFMissionBelief:
         self.rng = checks.generator("rng", rng)
         self.rbpf = RoadRBPF(directed, rbpf_config(scenario), self.rng)
         self.fields = ParticleFieldBuilder(network, scenario.sensor.footprint_radius_m)
+        sigma = node_resolution(scenario)
+        if kernel is not None and kernel.n_nodes != network.n_nodes:
+            raise InvalidInputError("kernel", kernel, "must be a road kernel of network")
+        self.kernel = kernel if kernel is not None or sigma == 0.0 else RoadKernel(network, sigma)
         m = scenario.target_count
         self.localised = np.zeros(m, dtype=bool)
         self._bank = TrackerBank(network.n_nodes, (), m)
@@ -266,8 +285,11 @@ class RBPFMissionBelief:
     @classmethod
     def for_mission(cls, scenario: Scenario, world: World,
                     rng: np.random.Generator) -> RBPFMissionBelief:
-        """The filter of ``scenario`` on ``world``'s network, drawing from ``rng``."""
-        return cls(scenario, world.network, rng)
+        """The filter of ``scenario`` on ``world``'s network, drawing from ``rng`` (the road
+        kernel the world keeps)."""
+        sigma = node_resolution(scenario)
+        return cls(scenario, world.network, rng,
+                   kernel=world.road_kernel(sigma) if sigma > 0.0 else None)
 
     @property
     def search_field(self) -> ParticleSearchField:
@@ -311,7 +333,8 @@ class RBPFMissionBelief:
                        for m in np.flatnonzero(now & ~self.localised).tolist())
         self.localised = now
         tracked = np.flatnonzero(now) if sc.mode != "detect" else np.empty(0, dtype=np.int64)
-        self._bank = TrackerBank(self.network.n_nodes, tuple(beliefs[m] for m in tracked),
+        self._bank = TrackerBank(self.network.n_nodes, tuple(self._read(beliefs[m])
+                                                             for m in tracked),
                                  sc.target_count)
         self.peaks_xy = map_xy[tracked]
         free = np.flatnonzero(~now)
@@ -319,6 +342,12 @@ class RBPFMissionBelief:
                 else np.zeros(self.network.n_nodes))
         self.field = self.fields.field(mass, int(free.size))
         return births
+
+    def _read(self, belief: NodeTracker) -> NodeTracker:
+        """``belief`` as the bank holds it: through the road kernel, if any."""
+        if self.kernel is None:
+            return belief
+        return NodeTracker(self.kernel.smooth(belief.probability), belief.track_id)
 
     def predict(self, dt_s: float) -> None:
         """The couriers' drive-and-stop motion over ``dt_s`` seconds."""

@@ -1,11 +1,13 @@
-"""What a road scenario builds once and its missions share: the road network and the diffusion
-operators of the LRT (3.8) and of the trackers (4.2)."""
+"""What a road scenario builds once and its missions share: the road network, the diffusion
+operators of the LRT (3.8) and of the trackers (4.2), and the road kernels the RBPF's node
+beliefs are read through."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from searchtrack.estimate.diffusion import GraphDiffusion
+from searchtrack.estimate.road_kernel import RoadKernel
 from searchtrack.models import RoadNetwork
 from searchtrack.sim.roads.scenario import Scenario
 
@@ -16,12 +18,14 @@ class World:
 
     The LRT diffuses at ``filter.alpha`` with decay ``C`` (3.8); the trackers (4.2), and with
     them the reacquisition horizon ``T_r`` of the guidance, at ``filter.tracker_alpha`` when
-    it is set, else at the same ``alpha`` (the thesis).
+    it is set, else at the same ``alpha`` (the thesis). Road kernels
+    (:mod:`searchtrack.estimate.road_kernel`) are built on first use and kept.
     """
 
     network: RoadNetwork
     lrt_diffusion: GraphDiffusion
     tracker_diffusion: GraphDiffusion
+    kernels: dict[float, RoadKernel] = field(default_factory=dict, repr=False)
 
     @classmethod
     def build(cls, scenario: Scenario, network: RoadNetwork | None = None) -> World:
@@ -35,6 +39,13 @@ class World:
         )
         _ = world.lrt_diffusion.operator, world.tracker_diffusion.operator  # build them now
         return world
+
+    def road_kernel(self, sigma_m: float) -> RoadKernel:
+        """The Gaussian road kernel of ``sigma_m`` (m) on the network, built once."""
+        key = float(sigma_m)
+        if key not in self.kernels:
+            self.kernels[key] = RoadKernel(self.network, key)
+        return self.kernels[key]
 
     def mismatch(self, scenario: Scenario) -> str | None:
         """Why this world's operators are not those ``scenario`` builds (``None``: they are):

@@ -206,3 +206,56 @@ def test_the_filter_owns_its_draws(network: RoadNetwork) -> None:
     for a, b in zip(runs[0], runs[1], strict=True):
         np.testing.assert_array_equal(a, b)
     assert not np.array_equal(runs[0][1], runs[2][1])
+
+
+def _tracked(belief: RBPFMissionBelief) -> None:
+    """Six fixes of target 0 under the UAV, the last one not predicted on (target 0 is then in
+    the bank, which the last update set)."""
+    for k in range(6):
+        if k:
+            belief.predict(0.3)
+        belief.update(_scan([[151.0, 100.0 + k]], [0], 0.3 * (k + 1)), UAV)
+    assert len(belief.bank) == 1
+
+
+@pytest.mark.parametrize("resolution", [None, 0.0, 12.0])
+def test_the_bank_reads_the_cloud_at_the_sensor_resolution(network: RoadNetwork,
+                                                           resolution: float | None) -> None:
+    """The bank holds each localised target's own node belief blurred by the road kernel of
+    ``filter.node_resolution_m`` (the sensor's ``s`` when unset; none at 0); the localisation
+    and the estimates read the cloud itself."""
+    sc = scenario(filter=FilterSpec(belief="rbpf", histories=3, particles=200,
+                                    node_resolution_m=resolution))
+    belief = RBPFMissionBelief(sc, network, np.random.default_rng(5))
+    _tracked(belief)
+    own = belief.rbpf.node_beliefs()[belief.bank[0].track_id].probability
+    sigma = SENSOR.position_noise_m if resolution is None else resolution
+    if sigma == 0.0:
+        assert belief.kernel is None
+        np.testing.assert_array_equal(belief.bank[0].probability, own)
+        return
+    assert belief.kernel is not None and belief.kernel.sigma_m == sigma
+    np.testing.assert_allclose(belief.bank[0].probability, own @ belief.kernel.matrix.toarray(),
+                               atol=1e-12)
+    assert belief.bank[0].peak_probability < own.max()
+    np.testing.assert_array_equal(belief.estimates_xy(), belief.rbpf.map_positions()[[0]])
+
+
+def test_a_mission_filter_shares_its_worlds_kernel(network: RoadNetwork) -> None:
+    """Filters built for missions on one world read through the kernel it keeps."""
+    from searchtrack.sim.roads.world import World
+
+    sc = scenario()
+    world = World.build(sc, network)
+    a = RBPFMissionBelief.for_mission(sc, world, np.random.default_rng(1))
+    b = RBPFMissionBelief.for_mission(sc, world, np.random.default_rng(2))
+    assert a.kernel is b.kernel is world.road_kernel(SENSOR.position_noise_m)
+
+
+def test_a_kernel_of_another_map_is_refused(network: RoadNetwork) -> None:
+    from searchtrack.estimate.road_kernel import RoadKernel
+
+    with pytest.raises(InvalidInputError) as info:
+        RBPFMissionBelief(scenario(), network, np.random.default_rng(0),
+                          kernel=RoadKernel(grid_network(2, 2), 5.0))
+    assert info.value.field == "kernel"

@@ -234,6 +234,23 @@ def test_the_rbpf_jump_rate_is_read_and_checked(tmp_path: Path) -> None:
         load_scenario(write(tmp_path, text + "jump_rate_per_s = -1.0\n"))
 
 
+def test_the_rbpf_node_resolution_is_read_and_checked(tmp_path: Path) -> None:
+    """``filter.node_resolution_m`` sets the σ the RBPF's bank is read at (unset: the sensor's
+    position noise; 0: none); a negative or non-numeric value is named."""
+    from searchtrack.sim.roads.rbpf_belief import node_resolution
+
+    text = 'name = "x"\n[map]\ngrid = { rows = 3, cols = 3 }\n[filter]\nbelief = "rbpf"\n'
+    unset = load_scenario(write(tmp_path, text))
+    assert unset.filter.node_resolution_m is None
+    assert node_resolution(unset) == unset.sensor.position_noise_m
+    for value in (0.0, 7.5):
+        s = load_scenario(write(tmp_path, text + f"node_resolution_m = {value}\n"))
+        assert s.filter.node_resolution_m == value and node_resolution(s) == value
+    for bad in ("-1.0", '"fine"'):
+        with pytest.raises(ParseError, match=r"filter\.node_resolution_m"):
+            load_scenario(write(tmp_path, text + f"node_resolution_m = {bad}\n"))
+
+
 def test_the_search_route_settings_reach_the_guidance(tmp_path: Path) -> None:
     """The route strategies' ``search_*`` settings are read into the GuidanceSpec and reach the
     guidance's StrategyConfig; absent, they are StrategyConfig's own defaults (the cell side and
