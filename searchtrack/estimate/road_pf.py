@@ -28,7 +28,11 @@ from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate import road_filter_kernels as kern
 from searchtrack.estimate.node_tracker import NodeTracker
 from searchtrack.estimate.road_entropy import RoadBins, entropy, map_positions
-from searchtrack.estimate.road_resampling import ResamplePolicy, effective_sample_size
+from searchtrack.estimate.road_resampling import (
+    ResamplePolicy,
+    SpeedRoughening,
+    effective_sample_size,
+)
 from searchtrack.models.disc_sensor import DiscSensor
 from searchtrack.models.road_particles import CourierRoadMotion, DirectedRoads, RoadMotion
 
@@ -53,12 +57,16 @@ class RoadClouds:
     v
         ``(F, N)`` initial speeds (m/s, ≥ 0); drawn from ``speeds``'s stationary law by
         :meth:`uniform`, 0 if ``None``.
+    roughening
+        Roughening of the speeds after each resampling
+        (:class:`~searchtrack.estimate.road_resampling.SpeedRoughening`; needs ``speeds``);
+        ``None``: none.
     """
 
     def __init__(self, roads: DirectedRoads, edge: ArrayLike, s: ArrayLike,
                  w: ArrayLike | None = None, *, sensor: DiscSensor,
                  resample: ResamplePolicy, speeds: CourierRoadMotion | None = None,
-                 v: ArrayLike | None = None) -> None:
+                 v: ArrayLike | None = None, roughening: SpeedRoughening | None = None) -> None:
         e = np.array(edge, copy=True)
         if e.ndim != 2 or e.shape[0] < 1 or e.shape[1] < 1 or e.dtype.kind not in "iu":
             raise InvalidInputError("edge", e.shape, "must be an integer (F, N) array, F, N ≥ 1")
@@ -78,22 +86,28 @@ class RoadClouds:
         vv = np.zeros(e.shape) if v is None else np.array(v, dtype=np.float64, copy=True)
         if vv.shape != e.shape or not np.all(np.isfinite(vv)) or np.any(vv < 0.0):
             raise InvalidInputError("v", vv.shape, f"must be {e.shape}, finite, ≥ 0")
+        if roughening is not None and (speeds is None
+                                       or not isinstance(roughening, SpeedRoughening)):
+            raise InvalidInputError("roughening", roughening, "must be a SpeedRoughening, with "
+                                    "speeds (the drive-and-stop motion)")
         self.roads, self.sensor, self.resample_policy = roads, sensor, resample
-        self.speeds = speeds
+        self.speeds, self.roughening = speeds, roughening
         self.edge, self.s, self.w, self.v = e, pos, ww, vv
         self._lik = np.empty(e.shape)
 
     @classmethod
     def uniform(cls, roads: DirectedRoads, n_clouds: int, n_particles: int,
                 rng: np.random.Generator, *, sensor: DiscSensor, resample: ResamplePolicy,
-                speeds: CourierRoadMotion | None = None) -> RoadClouds:
+                speeds: CourierRoadMotion | None = None,
+                roughening: SpeedRoughening | None = None) -> RoadClouds:
         """``n_clouds`` clouds drawn uniformly over the road length (Eq. 1), with speeds from
         the stationary law of ``speeds`` when given (drawn after the positions)."""
         f = checks.count("n_clouds", n_clouds, 1)
         n = checks.count("n_particles", n_particles, 1)
         edge, s = roads.uniform((f, n), checks.generator("rng", rng))
         v = None if speeds is None else speeds.initial_speeds((f, n), rng)
-        return cls(roads, edge, s, sensor=sensor, resample=resample, speeds=speeds, v=v)
+        return cls(roads, edge, s, sensor=sensor, resample=resample, speeds=speeds, v=v,
+                   roughening=roughening)
 
     def new_speeds(self, shape: tuple[int, ...], rng: np.random.Generator) -> FloatArray:
         """Speeds for particles joined to the clouds (jump and birth draws): the stationary law
@@ -177,12 +191,20 @@ class RoadClouds:
         return sums
 
     def resample(self, rows: IntArray, rng: np.random.Generator) -> None:
-        """Low-variance resampling of those ``rows`` the policy says are due."""
+        """Low-variance resampling of those ``rows`` the policy says are due (and the
+        roughening of their speeds, if any)."""
         if rows.size == 0:
             return
         rows = rows[self.resample_policy.due(self.w[rows])]
         if rows.size:
             kern.resample_rows(self.edge, self.s, self.v, self.w, rows, rng.random(rows.size))
+            self.roughen(rows, rng)
+
+    def roughen(self, rows: IntArray, rng: np.random.Generator) -> None:
+        """The roughening of ``rows``' speeds just resampled (nothing without one)."""
+        if self.roughening is not None and self.speeds is not None:
+            self.roughening.roughen(self.v, rows, self.speeds.min_speed_mps,
+                                    self.speeds.max_speed_mps, rng)
 
     def take(self, rows: IntArray) -> None:
         """Replace the clouds by ``rows`` of themselves (a top-level resampling)."""

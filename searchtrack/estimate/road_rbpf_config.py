@@ -10,7 +10,7 @@ from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.road_births import DetectionBirths
 from searchtrack.estimate.road_jumps import TargetJumps
-from searchtrack.estimate.road_resampling import ResamplePolicy
+from searchtrack.estimate.road_resampling import ResamplePolicy, SpeedRoughening
 from searchtrack.models.disc_sensor import DiscSensor
 from searchtrack.models.road_particles import CourierRoadMotion, RoadMotion
 
@@ -56,6 +56,10 @@ class RBPFConfig:
         The rejuvenation near detections of :mod:`searchtrack.estimate.road_births` (each
         cloud's prior regularised near a detection, beyond the paper); ``None``: the clouds
         weighed as they are. Not with ``jumps`` (each replaces the detection update).
+    roughening
+        Roughening of the particles' speeds after each resampling
+        (:class:`~searchtrack.estimate.road_resampling.SpeedRoughening`, beyond the paper;
+        needs the drive-and-stop motion); ``None``: none.
     """
 
     n_targets: int
@@ -74,6 +78,7 @@ class RBPFConfig:
     break_symmetry: bool = True
     jumps: TargetJumps | None = None
     births: DetectionBirths | None = None
+    roughening: SpeedRoughening | None = None
 
     def __post_init__(self) -> None:
         for name in ("n_targets", "n_histories", "n_particles"):
@@ -96,6 +101,10 @@ class RBPFConfig:
             raise InvalidInputError("jumps", self.jumps, "must be a TargetJumps or None")
         if self.births is not None and not isinstance(self.births, DetectionBirths):
             raise InvalidInputError("births", self.births, "must be a DetectionBirths or None")
+        if self.roughening is not None and (not isinstance(self.roughening, SpeedRoughening)
+                                            or self.speeds is None):
+            raise InvalidInputError("roughening", self.roughening, "must be a SpeedRoughening "
+                                    "or None, and needs the drive-and-stop motion")
         if self.births is not None and self.jumps is not None:
             raise InvalidInputError("births", self.births, "jumps are set: choose one of the "
                                     "two detection proposals")

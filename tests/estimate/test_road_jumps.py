@@ -22,10 +22,10 @@ from searchtrack.estimate.road_jumps import (
 )
 from searchtrack.estimate.road_pf import RoadClouds
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
-from searchtrack.estimate.road_resampling import ResamplePolicy
+from searchtrack.estimate.road_resampling import ResamplePolicy, SpeedRoughening
 from searchtrack.models import RoadNetwork, grid_network
 from searchtrack.models.disc_sensor import DiscSensor
-from searchtrack.models.road_particles import DirectedRoads, RoadMotion
+from searchtrack.models.road_particles import CourierRoadMotion, DirectedRoads, RoadMotion
 
 SENSOR = DiscSensor()
 
@@ -209,3 +209,21 @@ def test_at_rate_is_none_at_zero() -> None:
     assert TargetJumps.at_rate(0.3) == TargetJumps(rate_per_s=0.3)
     with pytest.raises(InvalidInputError):
         TargetJumps.at_rate(-0.1)
+
+
+def test_join_roughens_the_rows_it_resampled(grid3: DirectedRoads) -> None:
+    """With roughening, a joined row's copies drive at speeds of their own; a row whose union
+    weighs nothing is left as it was, speeds included."""
+    n = 300
+    rng = np.random.default_rng(5)
+    edge, s = grid3.uniform((2, n), rng)
+    motion = CourierRoadMotion(min_speed_mps=5.0, max_speed_mps=20.0)
+    v = np.full((2, n), 12.0)
+    v[:, 1] = 14.0
+    clouds = RoadClouds(grid3, edge, s, sensor=SENSOR, resample=ResamplePolicy(), speeds=motion,
+                        v=v, roughening=SpeedRoughening())
+    before = clouds.v[1].copy()
+    join_draws(clouds, np.array([0, 1]), np.array([1.0, 0.0]), np.full((2, 20), 5),
+               np.full((2, 20), 1.0), np.vstack([np.full(20, 0.05), np.zeros(20)]), rng)
+    assert np.unique(clouds.v[0][clouds.v[0] > 0.0]).size > n // 2
+    np.testing.assert_array_equal(clouds.v[1], before)

@@ -8,7 +8,7 @@ import pytest
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.road_pf import RoadClouds, RoadParticleFilter, node_trackers
-from searchtrack.estimate.road_resampling import ResamplePolicy
+from searchtrack.estimate.road_resampling import ResamplePolicy, SpeedRoughening
 from searchtrack.models import grid_network
 from searchtrack.models.disc_sensor import DiscSensor
 from searchtrack.models.road_particles import CourierRoadMotion, DirectedRoads, RoadMotion
@@ -142,3 +142,43 @@ def test_node_trackers_give_mass_to_the_nearer_end(roads: DirectedRoads) -> None
     p = tr.node_probability()
     assert p[tail] == pytest.approx(0.7) and p[head] == pytest.approx(0.3)
     assert tr.track_id == 0 and tr.peak_node() == tail
+
+
+def _speed_clouds(roads: DirectedRoads, roughening: SpeedRoughening | None) -> RoadClouds:
+    """Two clouds of 400 driving particles whose weight sits on three of them (speeds 10, 12
+    and 15 m/s), the rest of any speed."""
+    rng = np.random.default_rng(4)
+    edge, s = roads.uniform((2, 400), rng)
+    motion = CourierRoadMotion(min_speed_mps=5.0, max_speed_mps=20.0)
+    v = rng.uniform(5.0, 20.0, (2, 400))
+    v[:, :3] = [10.0, 12.0, 15.0]
+    w = np.full((2, 400), 1e-12)
+    w[:, :3] = 1.0
+    return RoadClouds(roads, edge, s, w, sensor=DiscSensor(), resample=ResamplePolicy(),
+                      speeds=motion, v=v, roughening=roughening)
+
+
+def test_roughening_parts_the_copies_of_a_resampling(roads: DirectedRoads) -> None:
+    """Resampled onto three particles, a row keeps three speeds without roughening; with it
+    every copy drives at a speed of its own, near its parent's, within the drive range; rows not
+    resampled keep theirs."""
+    rows = np.array([0])
+    plain = _speed_clouds(roads, None)
+    plain.resample(rows, np.random.default_rng(0))
+    assert set(np.unique(plain.v[0]).tolist()) == {10.0, 12.0, 15.0}
+    rough = _speed_clouds(roads, SpeedRoughening())
+    before = rough.v[1].copy()
+    rough.resample(rows, np.random.default_rng(0))
+    assert np.unique(rough.v[0]).size == 400
+    assert np.all((rough.v[0] >= 5.0) & (rough.v[0] <= 20.0))
+    h = SpeedRoughening().bandwidths(plain.v[[0]])[0]
+    assert np.max(np.abs(rough.v[0] - plain.v[0])) < 6.0 * h
+    np.testing.assert_array_equal(rough.v[1], before)
+
+
+def test_roughening_needs_speeds(roads: DirectedRoads) -> None:
+    edge, s = roads.uniform((1, 5), np.random.default_rng(0))
+    with pytest.raises(InvalidInputError) as info:
+        RoadClouds(roads, edge, s, sensor=DiscSensor(), resample=ResamplePolicy(),
+                   roughening=SpeedRoughening())
+    assert info.value.field == "roughening"

@@ -7,6 +7,8 @@ import pytest
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.road_jumps import TargetJumps
 from searchtrack.estimate.road_rbpf_config import RBPFConfig
+from searchtrack.estimate.road_resampling import SpeedRoughening
+from searchtrack.models.road_particles import CourierRoadMotion
 
 
 def test_paper_defaults() -> None:
@@ -23,3 +25,16 @@ def test_paper_defaults() -> None:
 def test_bad_settings_are_named(bad: dict[str, object]) -> None:
     with pytest.raises(InvalidInputError):
         RBPFConfig(**bad)  # type: ignore[arg-type]
+
+
+def test_roughening_needs_the_drive_and_stop_motion() -> None:
+    """Speed roughening is off by default (the paper), taken with the drive-and-stop motion, and
+    refused by name with Eq. 9's motion (no speeds) or when not a SpeedRoughening."""
+    assert RBPFConfig(n_targets=1).roughening is None
+    rough = RBPFConfig(n_targets=1, motion=CourierRoadMotion(), roughening=SpeedRoughening())
+    assert rough.roughening == SpeedRoughening()
+    for bad in ({"roughening": SpeedRoughening()},
+                {"motion": CourierRoadMotion(), "roughening": 1.0}):
+        with pytest.raises(InvalidInputError) as info:
+            RBPFConfig(n_targets=1, **bad)  # type: ignore[arg-type]
+        assert info.value.field == "roughening"

@@ -8,7 +8,9 @@ import pytest
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.road_resampling import (
     ResamplePolicy,
+    SpeedRoughening,
     effective_sample_size,
+    reflect,
     systematic_indices,
 )
 
@@ -85,3 +87,67 @@ def test_bad_input_names_the_field() -> None:
         systematic_indices(np.ones((1, 3)), np.array([1.0]))
     with pytest.raises(InvalidInputError, match=r"^u="):
         systematic_indices(np.ones((2, 3)), np.array([0.5]))
+
+
+def test_reflection_folds_into_the_range() -> None:
+    """Inside the range nothing moves; beyond an end a point comes back as far inside; many
+    widths out it still lands inside; a range of one point maps everything there."""
+    x = np.array([5.0, 6.5, 10.0, 4.0, 11.5, 5.0 - 12.0, 10.0 + 7.25])
+    np.testing.assert_allclose(reflect(x, 5.0, 10.0), [5.0, 6.5, 10.0, 6.0, 8.5, 7.0, 7.25])
+    rng = np.random.default_rng(0)
+    far = reflect(rng.normal(0.0, 100.0, 1000), -1.0, 2.0)
+    assert far.min() >= -1.0 and far.max() <= 2.0
+    np.testing.assert_array_equal(reflect(x, 3.0, 3.0), np.full(x.size, 3.0))
+
+
+def test_bandwidths_are_silvermans_rule_on_the_driving_speeds() -> None:
+    """Per row: c · 1.06 · (sample standard deviation of the driving speeds) · n^(-1/5);
+    stopped particles (speed 0) do not count; fewer than two driving particles give 0."""
+    rng = np.random.default_rng(1)
+    v = rng.uniform(5.0, 20.0, (4, 40))
+    v[0, :25] = 0.0
+    v[2, 1:] = 0.0
+    v[3] = 0.0
+    h = SpeedRoughening(scale=0.5).bandwidths(v)
+    for r in range(2):
+        d = v[r][v[r] > 0.0]
+        assert h[r] == pytest.approx(0.5 * 1.06 * d.std(ddof=1) * d.size ** -0.2, rel=1e-12)
+    assert h[2] == 0.0 and h[3] == 0.0
+
+
+def test_roughening_moves_driving_speeds_by_the_bandwidth() -> None:
+    """Listed rows only; stopped particles keep 0; driving ones stay in the range and, away
+    from its ends, move by a normal of standard deviation h (mean 0)."""
+    rng = np.random.default_rng(2)
+    n = 20000
+    v = np.vstack([rng.uniform(10.0, 11.0, n), rng.uniform(5.0, 20.0, n)])
+    v[0, ::4] = 0.0
+    before = v.copy()
+    rough = SpeedRoughening()
+    h = rough.bandwidths(v[[0]])[0]
+    rough.roughen(v, np.array([0]), 5.0, 20.0, rng)
+    np.testing.assert_array_equal(v[1], before[1])
+    np.testing.assert_array_equal(v[0, ::4], 0.0)
+    step = (v[0] - before[0])[before[0] > 0.0]
+    assert v[0].max() <= 20.0 and v[0][before[0] > 0.0].min() >= 5.0
+    assert abs(step.mean()) < 4.0 * h / np.sqrt(step.size)
+    assert step.std() == pytest.approx(h, rel=0.03)
+
+
+def test_roughening_keeps_the_uniform_speed_law() -> None:
+    """Speeds uniform on the drive range stay uniform after roughening (the reflection keeps
+    the law; clipping would pile mass on the ends)."""
+    rng = np.random.default_rng(3)
+    v = rng.uniform(5.0, 20.0, (1, 50000))
+    rough = SpeedRoughening(scale=40.0)   # a bandwidth wider than the range
+    for _ in range(3):
+        rough.roughen(v, np.array([0]), 5.0, 20.0, rng)
+    counts = np.histogram(v[0], bins=15, range=(5.0, 20.0))[0]
+    expected = v.size / 15
+    assert np.all(np.abs(counts - expected) < 5.0 * np.sqrt(expected))
+
+
+def test_bad_roughening_is_named() -> None:
+    for bad in (0.0, -1.0, float("nan"), "1"):
+        with pytest.raises(InvalidInputError, match="scale"):
+            SpeedRoughening(scale=bad)  # type: ignore[arg-type]

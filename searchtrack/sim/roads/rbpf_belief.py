@@ -19,7 +19,10 @@ Models (the thesis's settings turned into the paper's; :func:`courier_motion`,
   couriers' mean and stops of their mean dwell. Eq. 9 with the couriers' mean speed draws its
   noise afresh every step, so its cloud spreads like ``σ_ν √(Δt·t)`` around the mean: a courier
   that stops, or drives at its own speed, leaves it within seconds (tracks were lost at every
-  stop); the drive-and-stop cloud keeps stopped, slow and fast particles.
+  stop); the drive-and-stop cloud keeps stopped, slow and fast particles. Its speeds are
+  roughened after each resampling
+  (:class:`~searchtrack.estimate.road_resampling.SpeedRoughening`), so the copies a
+  resampling makes part instead of driving on as clumps.
 - Sensor (Eq. 10–11): the field of view is the footprint disc ``ρ`` (the thesis sensor reports
   every target within ``ρ``), ``σ² = s²`` (position noise), ``P_FN = 1 − P_d``, and ``P_FA =
   1 − e^{−λ}``, the chance of at least one of the ``Poisson(λ)`` false alarms per footprint and
@@ -81,6 +84,7 @@ from searchtrack.estimate.road_births import DetectionBirths
 from searchtrack.estimate.road_jumps import TargetJumps
 from searchtrack.estimate.road_kernel import RoadKernel
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
+from searchtrack.estimate.road_resampling import SpeedRoughening
 from searchtrack.estimate.stepping import RoadScan, RoadUpdate, TrackBirth, TrackPair
 from searchtrack.models import CourierModel, RoadNetwork, SensorModel, UavState
 from searchtrack.models.disc_sensor import DiscSensor
@@ -137,14 +141,15 @@ def node_resolution(scenario: Scenario) -> float:
 
 def rbpf_config(scenario: Scenario) -> RBPFConfig:
     """The RBPF of ``scenario``: ``M`` = its targets, ``H``, ``N`` and the jump rate from its
-    filter spec, the couriers' motion, the thesis sensor's disc, and the rejuvenation near
-    detections unless the spec asks for jumps (module docstring)."""
+    filter spec, the couriers' motion with its speeds roughened, the thesis sensor's disc, and
+    the rejuvenation near detections unless the spec asks for jumps (module docstring)."""
     f = scenario.filter
     jumps = TargetJumps.at_rate(f.jump_rate_per_s)
     return RBPFConfig(n_targets=scenario.target_count, n_histories=f.histories,
                       n_particles=f.particles, motion=courier_motion(scenario.courier),
                       sensor=thesis_disc_sensor(scenario.sensor), association="joint",
-                      jumps=jumps, births=DetectionBirths() if jumps is None else None)
+                      jumps=jumps, births=DetectionBirths() if jumps is None else None,
+                      roughening=SpeedRoughening())
 
 
 class ParticleSearchField:
