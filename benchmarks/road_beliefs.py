@@ -12,7 +12,8 @@ the dense 16 × 16 grid with 3 UAVs / 2 targets at 914.4 m, 300 s
 same seeds (the world's randomness is the mission's; the RBPF draws from a stream of its own,
 so the targets drive alike until the UAVs' paths part). Same guidance, same sensor, same scores:
 
-- MOC and PVT (thesis (6.8)), mean ± 95 % half-width over seeds;
+- MOC and PVT (thesis (6.8)), mean ± 95 % half-width over seeds, and Δ: the RBPF's minus the
+  LRT's on the same seed (paired, so the spread of the seeds' difficulty cancels);
 - first detection: the time (s) of the first valid tracker on any target, mean over the runs
   that had one (``found`` counts them);
 - detected: targets ever held by a valid tracker, mean per run;
@@ -84,13 +85,26 @@ def first_detection_s(log: MissionLog) -> float:
     return float(t.min()) if t.size else math.nan
 
 
-def row(name: str, belief: str, strategy: str, logs: list[MissionLog], wall_s: float) -> list[str]:
-    """One table row."""
+def paired(logs: list[MissionLog], reference: list[MissionLog] | None) -> tuple[str, str]:
+    """MOC and PVT (%) minus the reference's, seed by seed (mean ± 95 % half-width; a seed
+    without a PVT in either run is left out); blank without a reference."""
+    if reference is None or reference is logs:
+        return "", ""
+    moc = [a.score.moc_mean - b.score.moc_mean for a, b in zip(logs, reference, strict=True)]
+    pvt = [100.0 * (a.score.pvt - b.score.pvt) for a, b in zip(logs, reference, strict=True)
+           if a.score.pvt is not None and b.score.pvt is not None]
+    return str(estimate(moc)), str(estimate(pvt))
+
+
+def row(name: str, belief: str, strategy: str, logs: list[MissionLog], wall_s: float,
+        reference: list[MissionLog] | None = None) -> list[str]:
+    """One table row (the paired differences against ``reference``, the LRT's runs)."""
     first = [first_detection_s(lg) for lg in logs]
     ms = np.concatenate([lg.step_ms for lg in logs])
     return [name, belief, strategy, str(len(logs)),
             str(estimate([lg.score.moc_mean for lg in logs])),
             str(estimate([100.0 * lg.score.pvt for lg in logs if lg.score.pvt is not None])),
+            *paired(logs, reference),
             str(estimate(first)), f"{sum(math.isfinite(t) for t in first)}/{len(logs)}",
             f"{np.mean([lg.score.detected for lg in logs]):.2f}",
             f"{np.median(ms):.1f}", f"{wall_s:.0f}"]
@@ -110,24 +124,27 @@ def main() -> None:
     parser.add_argument("--jump-rates", type=float, nargs="+", default=[0.0],
                         help="RBPF rows for each jump rate λ (1/s) of its robust prior")
     args = parser.parse_args()
-    header = ["scenario", "belief", "strategy", "runs", "MOC", "PVT %", "first det. s", "found",
-              "detected", "ms/step", "wall s"]
+    header = ["scenario", "belief", "strategy", "runs", "MOC", "PVT %", "Δ MOC", "Δ PVT %",
+              "first det. s", "found", "detected", "ms/step", "wall s"]
     rows = []
     for name, base in scenarios(args.scenarios, args.duration).items():
         world = World.build(base)
         seeds = range(base.seed, base.seed + args.seeds)
         for strategy in args.strategies:
+            reference: list[MissionLog] | None = None
             for belief in FILTERS.names():
                 for rate in (args.jump_rates if belief == "rbpf" else [0.0]):
                     started = time.perf_counter()
                     sc = variant(base, belief, strategy, args.histories, args.particles, rate)
                     logs = fly_seeds(sc, seeds, world)
                     label = f"rbpf λ={rate:g}" if belief == "rbpf" and rate > 0.0 else belief
-                    rows.append(row(name, label, strategy, logs, time.perf_counter() - started))
+                    reference = logs if belief == "lrt" else reference
+                    rows.append(row(name, label, strategy, logs, time.perf_counter() - started,
+                                    reference))
                     print(f"  done {name} {strategy} {label}", file=sys.stderr, flush=True)
     print(f"\nThesis 001 road missions on two beliefs: lrt (thesis) and rbpf (Moore et al. 2021, "
           f"H = {args.histories}, N = {args.particles}); mean ± 95 % half-width over "
-          f"{args.seeds} seeds")
+          f"{args.seeds} seeds; Δ: minus the lrt row's, seed by seed")
     table(header, rows)
 
 

@@ -8,6 +8,7 @@ references are :meth:`~searchtrack.models.disc_sensor.DiscSensor.likelihood`,
 :meth:`~searchtrack.models.disc_sensor.DiscSensor.miss_likelihood`,
 :func:`~searchtrack.estimate.road_resampling.systematic_indices`,
 :func:`~searchtrack.estimate.road_jumps.near_detection`,
+:func:`~searchtrack.estimate.road_jumps.gaussian_integral_reference`,
 :meth:`~searchtrack.models.road_particles.DirectedRoads.disc_intervals`,
 :meth:`~searchtrack.models.road_particles.DirectedRoads.uniform` and
 :meth:`~searchtrack.models.road_particles.RoadMotion.step` (the motion kernels draw what it
@@ -361,3 +362,22 @@ def courier_move(edge: IntArray, s: FloatArray, v: FloatArray, mode: FloatArray,
             over[k] = i
             k += 1
     return over[:k]
+
+
+@njit(cache=True)
+def gaussian_road_integral(tail_xy: FloatArray, step_xy: FloatArray, length: FloatArray,
+                           yx: float, yy: float, sigma2: float) -> float:
+    """``∫ exp(−‖G(x) − y‖² / 2σ²) dx`` over the directed roads (m): per edge, with ``h`` the
+    distance from ``y`` to its line and ``t*`` the arc of the foot point,
+    ``exp(−h²/2σ²) σ √(π/2) [erf((ℓ − t*)/σ√2) + erf(t*/σ√2)]``."""
+    scale = math.sqrt(2.0 * sigma2)
+    total = 0.0
+    for e in range(length.size):
+        rx, ry = yx - tail_xy[e, 0], yy - tail_xy[e, 1]
+        t = rx * step_xy[e, 0] + ry * step_xy[e, 1]
+        h2 = max(rx * rx + ry * ry - t * t, 0.0)
+        if 0.5 * h2 / sigma2 > _MAX_EXPONENT:
+            continue
+        total += math.exp(-0.5 * h2 / sigma2) * (math.erf((length[e] - t) / scale)
+                                                 + math.erf(t / scale))
+    return total * math.sqrt(0.5 * math.pi * sigma2)

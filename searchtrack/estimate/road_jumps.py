@@ -101,8 +101,16 @@ class TargetJumps:
 
 
 def road_gaussian_integral(roads: DirectedRoads, y: FloatArray, sigma2_m2: float) -> float:
-    """``∫ exp(−‖G(x) − y‖² / 2σ²) dx`` over the directed roads (m), in closed form per edge:
-    with ``h`` the distance from ``y`` to the edge's line and ``t*`` the arc of its foot point,
+    """``∫ exp(−‖G(x) − y‖² / 2σ²) dx`` over the directed roads (m), in closed form per edge
+    (the numba kernel :func:`~searchtrack.estimate.road_filter_kernels.gaussian_road_integral`;
+    the NumPy form is :func:`gaussian_integral_reference`)."""
+    return float(kern.gaussian_road_integral(roads.tail_xy, roads.step_xy, roads.length,
+                                             float(y[0]), float(y[1]), float(sigma2_m2)))
+
+
+def gaussian_integral_reference(roads: DirectedRoads, y: FloatArray, sigma2_m2: float) -> float:
+    """:func:`road_gaussian_integral` in NumPy: with ``h`` the distance from ``y`` to an edge's
+    line and ``t*`` the arc of its foot point, each edge gives
     ``exp(−h²/2σ²) σ √(π/2) [erf((ℓ − t*)/σ√2) + erf(t*/σ√2)]``."""
     rel = np.asarray(y, dtype=np.float64) - roads.tail_xy          # (2m, 2)
     t_star = np.einsum("ij,ij->i", rel, roads.step_xy)             # arc of the foot point
@@ -187,7 +195,8 @@ def join_draws(clouds: RoadClouds, rows: IntArray, cloud_mass: FloatArray, edge:
     each row back to ``N`` (low-variance, weights ``1/N``; then the clouds' roughening, if any);
     a row whose union has no weight is left as it is."""
     v = clouds.new_speeds(np.shape(s), rng)
-    weighed = rows[cloud_mass * clouds.w[rows].sum(axis=1) + np.sum(w, axis=1) > 0.0]
+    weighed = (rows[cloud_mass * clouds.w[rows].sum(axis=1) + np.sum(w, axis=1) > 0.0]
+               if clouds.roughening is not None else rows[:0])
     kern.join_rows(clouds.edge, clouds.s, clouds.v, clouds.w,
                    np.ascontiguousarray(rows, dtype=np.int64),
                    np.ascontiguousarray(cloud_mass, dtype=np.float64),

@@ -15,6 +15,7 @@ from searchtrack.estimate.road_jumps import (
     TargetJumps,
     detection_prior_likelihood,
     detection_proposal,
+    gaussian_integral_reference,
     join_draws,
     miss_prior_likelihood,
     near_detection,
@@ -62,12 +63,15 @@ def _quadrature(roads: DirectedRoads, y: np.ndarray, sigma2: float) -> float:
 def test_road_gaussian_integral_is_the_quadrature(grid3: DirectedRoads, slanted: DirectedRoads,
                                                   y: list[float]) -> None:
     """On a junction, beside a road, on a slanted junction, far from every road, between roads:
-    the closed form is the quadrature to 1e-6 (relative) or 1e-9 (absolute)."""
+    the closed form (kernel and NumPy reference) is the quadrature to 1e-6 (relative) or 1e-9
+    (absolute), and the two agree to round-off."""
     for roads in (grid3, slanted):
         for sigma2 in (5.0, 60.0):
             exact = road_gaussian_integral(roads, np.array(y), sigma2)
             assert exact == pytest.approx(_quadrature(roads, np.array(y), sigma2),
                                           rel=1e-6, abs=1e-9)
+            assert exact == pytest.approx(
+                gaussian_integral_reference(roads, np.array(y), sigma2), rel=1e-12, abs=1e-300)
 
 
 def test_prior_likelihoods_are_the_monte_carlo_means(grid3: DirectedRoads) -> None:
