@@ -192,18 +192,15 @@ def join_draws(clouds: RoadClouds, rows: IntArray, cloud_mass: FloatArray, edge:
     draws of :mod:`searchtrack.estimate.road_births`) to ``rows`` of ``clouds``, whose
     normalized weights count ``cloud_mass`` ``(R,)`` each, with speeds from the clouds'
     stationary law (:meth:`~searchtrack.estimate.road_pf.RoadClouds.new_speeds`), and resample
-    each row back to ``N`` (low-variance, weights ``1/N``; then the clouds' roughening, if any);
-    a row whose union has no weight is left as it is."""
+    each row back to ``N`` (low-variance, weights ``1/N``; not roughened: the draws bring fresh
+    speeds); a row whose union has no weight is left as it is."""
     v = clouds.new_speeds(np.shape(s), rng)
-    weighed = (rows[cloud_mass * clouds.w[rows].sum(axis=1) + np.sum(w, axis=1) > 0.0]
-               if clouds.roughening is not None else rows[:0])
     kern.join_rows(clouds.edge, clouds.s, clouds.v, clouds.w,
                    np.ascontiguousarray(rows, dtype=np.int64),
                    np.ascontiguousarray(cloud_mass, dtype=np.float64),
                    np.ascontiguousarray(edge, dtype=clouds.edge.dtype),
                    np.ascontiguousarray(s, dtype=np.float64), v,
                    np.ascontiguousarray(w, dtype=np.float64), rng.random(rows.size))
-    clouds.roughen(weighed, rng)
 
 
 def jump_detection(clouds: RoadClouds, jumps: TargetJumps, eps: float, rows: IntArray,

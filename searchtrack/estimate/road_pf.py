@@ -58,9 +58,11 @@ class RoadClouds:
         ``(F, N)`` initial speeds (m/s, ≥ 0); drawn from ``speeds``'s stationary law by
         :meth:`uniform`, 0 if ``None``.
     roughening
-        Roughening of the speeds after each resampling
-        (:class:`~searchtrack.estimate.road_resampling.SpeedRoughening`; needs ``speeds``);
-        ``None``: none.
+        Roughening of the speeds after each resampling of :meth:`resample` (Bayes' rule,
+        negative information; :class:`~searchtrack.estimate.road_resampling.SpeedRoughening`,
+        needs ``speeds``); ``None``: none. A join with draws near a detection is not
+        roughened: its draws bring speeds of the stationary law, and roughening the union would
+        blur the speeds the detections have just taught the cloud.
     """
 
     def __init__(self, roads: DirectedRoads, edge: ArrayLike, s: ArrayLike,

@@ -57,8 +57,9 @@ class RBPFConfig:
         cloud's prior regularised near a detection, beyond the paper); ``None``: the clouds
         weighed as they are. Not with ``jumps`` (each replaces the detection update).
     roughening
-        Roughening of the particles' speeds after each resampling
-        (:class:`~searchtrack.estimate.road_resampling.SpeedRoughening`, beyond the paper;
+        Roughening of the particles' speeds after each resampling of the weights (not after a
+        join with draws near a detection, which bring fresh speeds;
+        :class:`~searchtrack.estimate.road_resampling.SpeedRoughening`, beyond the paper;
         needs the drive-and-stop motion); ``None``: none.
     """
 
