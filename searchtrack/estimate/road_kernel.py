@@ -24,14 +24,11 @@ does not change.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import ArrayLike
 
 from searchtrack.core import checks
-from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 from searchtrack.models.roads import RoadNetwork
 
@@ -59,9 +56,7 @@ class RoadKernel:
     """
 
     def __init__(self, network: RoadNetwork, sigma_m: float) -> None:
-        if not (isinstance(sigma_m, (int, float)) and math.isfinite(sigma_m) and sigma_m > 0.0):
-            raise InvalidInputError("sigma_m", sigma_m, "must be finite and > 0 (m)")
-        self.sigma_m = float(sigma_m)
+        self.sigma_m = checks.positive("sigma_m", sigma_m)
         n = network.n_nodes
         row, col, dist = [], [], []
         for start in range(0, n, BLOCK):

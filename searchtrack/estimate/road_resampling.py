@@ -13,15 +13,15 @@ below ``threshold · N`` (Grisetti et al. 2005; the paper's example is ``2N/3``)
 accumulating in between (Eq. 6).
 
 :class:`SpeedRoughening` (beyond the paper) roughens the speed state of the drive-and-stop
-particles (:class:`~searchtrack.models.road_particles.CourierRoadMotion`) after a resampling
-(Gordon, Salmond and Smith 1993). Those particles drive without per-step noise, so the copies a
-resampling makes of one particle would drive on as one for as long as they drive: a cloud
-seen for a while collapses onto a few speeds, and a cloud thinned by negative information onto
-a few clumps, each a node-belief peak where the target need not be. Each driving particle's speed
-moves by a Gaussian of Silverman's bandwidth ``h = c · 1.06 · σ̂_v · n^{-1/5}`` of its row's
-``n`` driving speeds (spread ``σ̂_v``), reflected into the drive-speed range; stopped particles
-keep 0. A cloud that has learned its target's speed (small ``σ̂_v``) is barely moved; copies
-part at about ``h``.
+particles (:class:`~searchtrack.models.road_particles.CourierRoadMotion`) after a resampling of
+the weights (Gordon, Salmond and Smith 1993). Those particles drive without per-step noise, so
+the copies a resampling makes of one particle would drive on as one for as long as they drive:
+a cloud seen for a while collapses onto a few speeds, and a cloud thinned by negative
+information onto a few clumps, each a node-belief peak where the target need not be. Each
+driving particle's speed moves by a Gaussian of Silverman's bandwidth
+``h = c · 1.06 · σ̂_v · n^{-1/5}`` of its row's ``n`` driving speeds (spread ``σ̂_v``),
+reflected into the drive-speed range; stopped particles keep 0. A cloud that has learned its
+target's speed (small ``σ̂_v``) is barely moved; copies part at about ``h``.
 """
 
 from __future__ import annotations
@@ -61,6 +61,10 @@ class ResamplePolicy:
         return np.asarray(effective_sample_size(w) < self.threshold * w.shape[1])
 
 
+#: The factor of Silverman's rule of thumb for a Gaussian kernel.
+SILVERMAN = 1.06
+
+
 @dataclass(frozen=True)
 class SpeedRoughening:
     """Roughening of the particles' speeds after each resampling (module docstring).
@@ -95,10 +99,6 @@ class SpeedRoughening:
         block = v[rows]
         moved = block + self.bandwidths(block)[:, None] * rng.standard_normal(block.shape)
         v[rows] = np.where(block > 0.0, reflect(moved, low_mps, high_mps), block)
-
-
-#: The factor of Silverman's rule of thumb for a Gaussian kernel.
-SILVERMAN = 1.06
 
 
 def reflect(x: FloatArray, low: float, high: float) -> FloatArray:

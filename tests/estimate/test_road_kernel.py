@@ -75,7 +75,7 @@ def test_a_point_mass_spreads_as_a_gaussian_along_a_road() -> None:
     assert out[20] == pytest.approx(1.0 / (4.0 * math.sqrt(2.0 * math.pi)), rel=0.01)
 
 
-@pytest.mark.parametrize("sigma", [0.0, -1.0, math.inf, math.nan, "10"])
+@pytest.mark.parametrize("sigma", [0.0, -1.0, math.inf, math.nan, "10", True])
 def test_bad_sigma_is_named(sigma: object) -> None:
     with pytest.raises(InvalidInputError, match="sigma_m"):
         RoadKernel(path_network(3), sigma)  # type: ignore[arg-type]
