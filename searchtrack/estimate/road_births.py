@@ -40,11 +40,10 @@ from numba import njit
 
 from searchtrack.core import checks
 from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate.road_filter_kernels import MAX_EXPONENT
 from searchtrack.estimate.road_jumps import disc_intervals, join_draws
 from searchtrack.estimate.road_pf import RoadClouds
-
-#: Beyond this exponent a Gaussian term is below 1e-304 of its peak: skip ``exp``.
-_MAX_EXPONENT = 700.0
+from searchtrack.estimate.road_resampling import SILVERMAN
 
 #: Particles farther than this many bandwidths beyond the disc add nothing to the kernel
 #: estimate inside it (below ``exp(−8)`` of a kernel's peak each, 6e-5 of its mass beyond).
@@ -62,7 +61,8 @@ class DetectionBirths:
     radius_sigmas
         ``ρ`` in standard deviations of the sensor's position noise, > 0.
     bandwidth_scale
-        The factor of Silverman's rule (1.06), > 0.
+        The factor of Silverman's rule (:data:`~searchtrack.estimate.road_resampling.SILVERMAN`,
+        1.06), > 0.
     min_bandwidth_m
         Smallest kernel bandwidth (m), > 0.
     full_share
@@ -75,7 +75,7 @@ class DetectionBirths:
 
     draw_share: float = 0.05
     radius_sigmas: float = 5.0
-    bandwidth_scale: float = 1.06
+    bandwidth_scale: float = SILVERMAN
     min_bandwidth_m: float = 1.0
     full_share: float = 1.0
 
@@ -230,7 +230,7 @@ def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_
             px[j] = tail_xy[d, 0] + arc * step_xy[d, 0]
             py[j] = tail_xy[d, 1] + arc * step_xy[d, 1]
             q = ((px[j] - yx) ** 2 + (py[j] - yy) ** 2) * inv_two_var
-            lk[j] = floor + (gain * math.exp(-q) if q < _MAX_EXPONENT else 0.0)
+            lk[j] = floor + (gain * math.exp(-q) if q < MAX_EXPONENT else 0.0)
             dens[j] = 0.0
         b = band[f]
         inv_two_b2 = 0.5 / (b * b)
@@ -241,7 +241,7 @@ def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_
                 continue
             for j in range(k_count):
                 z = ((px[j] - qx[n]) ** 2 + (py[j] - qy[n]) ** 2) * inv_two_b2
-                if z < _MAX_EXPONENT:
+                if z < MAX_EXPONENT:
                     dens[j] += w[f, n] * math.exp(-z)
         norm = beta * l_disc / (k_count * math.sqrt(2.0 * math.pi) * b)
         for j in range(k_count):

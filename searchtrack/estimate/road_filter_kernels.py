@@ -24,8 +24,9 @@ from numba import njit
 
 from searchtrack.core.types import FloatArray, IntArray
 
-#: Beyond this exponent the Gaussian term of Eq. 10 is below 1e-304 of its peak: skip ``exp``.
-_MAX_EXPONENT = 700.0
+#: Beyond this exponent a Gaussian term (Eq. 10, the kernels of the draws near detections) is
+#: below 1e-304 of its peak: skip ``exp``.
+MAX_EXPONENT = 700.0
 
 
 @njit(cache=True)
@@ -44,7 +45,7 @@ def detection_likelihood(edge: IntArray, s: FloatArray, w: FloatArray, tail_xy: 
             dy = tail_xy[e, 1] + s[f, n] * step_xy[e, 1] - yy
             q = (dx * dx + dy * dy) * inv_two_var
             p = floor
-            if q < _MAX_EXPONENT:
+            if q < MAX_EXPONENT:
                 p += gain * math.exp(-q)
             lik[f, n] = p
             acc += w[f, n] * p
@@ -220,7 +221,7 @@ def detection_jumps(cum_length: FloatArray, length: FloatArray, total_m: float,
             if d2 <= radius2 and l_disc > 0.0:
                 g += (1.0 - alpha) / l_disc
             z = d2 * inv_two_var
-            lik = (gain * math.exp(-z) if z < _MAX_EXPONENT else 0.0) + floor
+            lik = (gain * math.exp(-z) if z < MAX_EXPONENT else 0.0) + floor
             edge[i, k] = e
             s[i, k] = arc
             w[i, k] = scale * lik * ((1.0 / total_m) / g)
@@ -376,7 +377,7 @@ def gaussian_road_integral(tail_xy: FloatArray, step_xy: FloatArray, length: Flo
         rx, ry = yx - tail_xy[e, 0], yy - tail_xy[e, 1]
         t = rx * step_xy[e, 0] + ry * step_xy[e, 1]
         h2 = max(rx * rx + ry * ry - t * t, 0.0)
-        if 0.5 * h2 / sigma2 > _MAX_EXPONENT:
+        if 0.5 * h2 / sigma2 > MAX_EXPONENT:
             continue
         total += math.exp(-0.5 * h2 / sigma2) * (math.erf((length[e] - t) / scale)
                                                  + math.erf(t / scale))

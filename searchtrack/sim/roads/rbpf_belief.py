@@ -13,14 +13,14 @@ one prediction over ``Δt`` (the motion below), last as in the thesis's mission.
 Models (the thesis's settings turned into the paper's; :func:`courier_motion`,
 :func:`thesis_disc_sensor`):
 
-- Motion: the couriers' drives and stops (:class:`~searchtrack.models.road_particles.
-  CourierRoadMotion`, beyond the paper): each particle carries its speed, uniform in
-  ``[f·V_max, V_max]`` while driving and 0 while stopped, drives last exponential times of the
-  couriers' mean and stops of their mean dwell. Eq. 9 with the couriers' mean speed draws its
-  noise afresh every step, so its cloud spreads like ``σ_ν √(Δt·t)`` around the mean: a courier
-  that stops, or drives at its own speed, leaves it within seconds (tracks were lost at every
-  stop); the drive-and-stop cloud keeps stopped, slow and fast particles. Its speeds are
-  roughened after each resampling
+- Motion: the couriers' drives and stops
+  (:class:`~searchtrack.models.road_particles.CourierRoadMotion`, beyond the paper): each
+  particle carries its speed, uniform in ``[f·V_max, V_max]`` while driving and 0 while
+  stopped, drives last exponential times of the couriers' mean and stops of their mean dwell.
+  Eq. 9 with the couriers' mean speed draws its noise afresh every step, so its cloud spreads
+  like ``σ_ν √(Δt·t)`` around the mean: a courier that stops, or drives at its own speed, leaves
+  it within seconds (tracks were lost at every stop); the drive-and-stop cloud keeps stopped,
+  slow and fast particles. Its speeds are roughened after each resampling
   (:class:`~searchtrack.estimate.road_resampling.SpeedRoughening`), so the copies a
   resampling makes part instead of driving on as clumps.
 - Sensor (Eq. 10–11): the field of view is the footprint disc ``ρ`` (the thesis sensor reports
