@@ -12,22 +12,37 @@ within ``ρ`` (a few sensor standard deviations) of ``y``, as in the regularised
 (Musso, Oudjane and Le Gland 2001): inside ``D`` it is ``(1 − β) p + β p̂``, with ``p`` the
 cloud and ``p̂`` its kernel estimate ``p̂(x) = Σ_n w_n k_b(‖G(x) − G(x_n)‖)`` (a Gaussian kernel
 per metre of road, planar distance standing for road distance; bandwidth ``b`` by Silverman's
-rule on the cloud's planar spread, ``b = 1.06 s N^{-1/5}``, at least ``min_bandwidth_m``);
-outside ``D`` it is ``p``. The ``β`` share is represented by ``K`` draws ``x_j`` uniform on the
-road of ``D`` (density ``g = 1/L_D``), each weighing ``β p̂(x_j) ℓ(x_j) L_D / K``; the cloud's
-particles weigh ``w_n ℓ(x_n)``, times ``1 − β`` inside ``D``. The union is an unbiased
-importance-sampling estimate of the posterior of the regularised prior, and its total weight of
-the predictive likelihood ``∫ p̃ ℓ``, which the association sampling (Eq. 15–16) and the history
-weights use. ``β = K / (K + n_D)`` with ``n_D`` the cloud's particles inside ``D``: the draws and
-the particles already there share ``D`` by count, so a cloud with nothing near ``y`` hands ``D``
-to the kernel estimate; a cloud with at least ``full_share · N`` particles in ``D`` represents it
+rule on the cloud's planar spread, ``b = 1.06 s N^{-1/5}``, between ``min_bandwidth_m`` and
+``max_bandwidth_sigmas`` sensor standard deviations); outside ``D`` it is ``p``. The ``β``
+share is represented by ``K`` draws ``x_j`` uniform on the road of ``D`` (density
+``g = 1/L_D``), each weighing ``β p̂(x_j) ℓ(x_j) L_D / K``; the cloud's particles weigh
+``w_n ℓ(x_n)``, times ``1 − β`` inside ``D``. The union is an unbiased importance-sampling
+estimate of the posterior of the regularised prior, and its total weight of the predictive
+likelihood ``∫ p̃ ℓ``, which the association sampling (Eq. 15–16) and the history weights use.
+``β = K / (K + n_D)`` with ``n_D`` the cloud's particles inside ``D``: the draws and the
+particles already there share ``D`` by count, so a cloud with nothing near ``y`` hands ``D`` to
+the kernel estimate; a cloud with at least ``full_share · N`` particles in ``D`` represents it
 well already and gets ``β = 0`` (no draws; any ``β`` fixed by the cloud keeps the estimate
 unbiased).
 
-A cloud that is localised far from ``y`` has a small bandwidth and ``p̂ ≈ 0`` in ``D``: its
-draws weigh nothing. A diffuse cloud's ``p̂`` near ``y`` is its local density, so a few
-consecutive detections (each multiplying the odds of a target at ``y`` by about
-``gain / (P_FA c)``) localise it.
+The cap on ``b`` keeps the negative information. Silverman's rule gives a cloud spread over
+kilometres a bandwidth of many tens of metres; in a footprint the sensors have just swept (and
+emptied of particles), a kernel that wide reads the mass of the unswept road around it, so a
+single false alarm there would localise the cloud on nothing. Capped at a few ``σ``, the
+estimate reads the cloud at the sensor's own resolution: a detection between a diffuse cloud's
+particles still finds their density, a detection in an emptied footprint finds none.
+
+``p̂`` in ``D`` is the sum over the particles within ``ρ + 4b`` of ``y`` (the others add below
+``e^{-8}`` of a kernel's peak). When more than ``kernel_points`` are there (a cloud already on
+the target), it is read from ``kernel_points`` of them chosen by systematic resampling on their
+weights, each chosen one carrying ``1 / kernel_points`` of their mass: every particle's expected
+weight is its own, so ``p̂`` and the draws' weights stay unbiased, and the kernel work per cloud
+and detection is at most ``K · kernel_points``. A diffuse cloud's few particles near ``y`` are
+all read.
+
+A cloud that is localised far from ``y`` has ``p̂ ≈ 0`` in ``D``: its draws weigh nothing. A
+diffuse cloud's ``p̂`` near ``y`` is its local density, so a few consecutive detections (each
+multiplying the odds of a target at ``y`` by about ``gain / (P_FA c)``) localise it.
 """
 
 from __future__ import annotations
@@ -65,6 +80,11 @@ class DetectionBirths:
         1.06), > 0.
     min_bandwidth_m
         Smallest kernel bandwidth (m), > 0.
+    max_bandwidth_sigmas
+        Largest kernel bandwidth in standard deviations of the sensor's position noise, > 0
+        (a bandwidth below ``min_bandwidth_m`` is raised to it).
+    kernel_points
+        Most particles the kernel estimate is read from (systematic resampling), ≥ 1.
     full_share
         A cloud with at least this share of its particles inside ``D`` gets no draws, in
         ``(0, 1]``. 1 (default): only a cloud entirely inside ``D``; a smaller share saves
@@ -78,12 +98,22 @@ class DetectionBirths:
     bandwidth_scale: float = SILVERMAN
     min_bandwidth_m: float = 1.0
     full_share: float = 1.0
+    max_bandwidth_sigmas: float = 2.5
+    kernel_points: int = 64
 
     def __post_init__(self) -> None:
         for name in ("draw_share", "full_share"):
             checks.real(name, getattr(self, name), low=0.0, high=1.0, low_open=True)
-        for name in ("radius_sigmas", "bandwidth_scale", "min_bandwidth_m"):
+        for name in ("radius_sigmas", "bandwidth_scale", "min_bandwidth_m",
+                     "max_bandwidth_sigmas"):
             checks.positive(name, getattr(self, name))
+        checks.count("kernel_points", self.kernel_points, least=1)
+
+    def bandwidth_range(self, sigma_m: float) -> tuple[float, float]:
+        """``(lowest, highest)`` kernel bandwidth (m) for a sensor of position noise
+        ``sigma_m``."""
+        return self.min_bandwidth_m, max(self.max_bandwidth_sigmas * sigma_m,
+                                         self.min_bandwidth_m)
 
     def draws(self, n_particles: int) -> int:
         """``K``: draws per cloud and detection."""
@@ -116,21 +146,24 @@ class BirthDraws:
 
 def bandwidths(clouds: RoadClouds, births: DetectionBirths) -> FloatArray:
     """``(F,)`` kernel bandwidth (m) of each cloud: Silverman's rule on its weighted planar
-    spread (the root mean of the two coordinates' variances), at least ``min_bandwidth_m``.
-    The NumPy reference of the bandwidths :func:`birth_draws` computes in its kernel."""
+    spread (the root mean of the two coordinates' variances), clipped to
+    :meth:`DetectionBirths.bandwidth_range`. The NumPy reference of the bandwidths
+    :func:`birth_draws` computes in its kernel."""
     pts = clouds.points()
     w = clouds.w / clouds.w.sum(axis=1, keepdims=True)
     mean = np.einsum("fn,fnk->fk", w, pts)
     var = np.einsum("fn,fnk->f", w, (pts - mean[:, None, :]) ** 2) / 2.0
     n_eff = 1.0 / np.einsum("fn,fn->f", w, w)
     b = births.bandwidth_scale * np.sqrt(np.maximum(var, 0.0)) * n_eff ** -0.2
-    return np.asarray(np.maximum(b, births.min_bandwidth_m), dtype=np.float64)
+    low, high = births.bandwidth_range(math.sqrt(clouds.sensor.sigma2_m2))
+    return np.asarray(np.clip(b, low, high), dtype=np.float64)
 
 
 def birth_draws(clouds: RoadClouds, births: DetectionBirths, y: FloatArray,
                 clutter_density: float, uniforms: FloatArray) -> BirthDraws:
     """The draws near detection ``y`` for every cloud of ``clouds`` from ``uniforms``
-    ``(2, F, K)`` (the edge by length inside ``D``, the arc), after
+    ``(3, F, K)`` (the edge by length inside ``D``, the arc; the first of the third row
+    offsets the systematic choice of the kernel's particles), after
     :meth:`~searchtrack.estimate.road_pf.RoadClouds.detection_sums` for ``y`` (whose
     per-particle likelihoods the cloud particles' weights use). The clouds' weights are
     normalized. A detection with no road in ``D`` gives no draw any weight (``β = 0``)."""
@@ -145,10 +178,11 @@ def birth_draws(clouds: RoadClouds, births: DetectionBirths, y: FloatArray,
     sums = np.empty(f)
     band = np.empty(f)
     inside = s1 - s0
+    low, high = births.bandwidth_range(math.sqrt(sensor.sigma2_m2))
     _births(clouds.edge, clouds.s, clouds.w, clouds.likelihoods, roads.tail_xy, roads.step_xy,
             s0, inside, np.cumsum(inside), l_disc, radius, float(y[0]), float(y[1]),
             sensor.detection_gain, 0.5 / sensor.sigma2_m2, sensor.p_fa * clutter_density,
-            births.bandwidth_scale, births.min_bandwidth_m,
+            births.bandwidth_scale, low, high, births.kernel_points,
             math.ceil(births.full_share * clouds.shape[1] - 1e-9), uniforms, edge, s, w, keep,
             sums, band)
     return BirthDraws(edge, s, w, keep, sums, band)
@@ -172,7 +206,8 @@ def join_births(clouds: RoadClouds, rows: IntArray, draws: BirthDraws,
 def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_xy: FloatArray,
             step_xy: FloatArray, s0: FloatArray, inside: FloatArray, cum_inside: FloatArray,
             l_disc: float, radius: float, yx: float, yy: float, gain: float, inv_two_var: float,
-            floor: float, scale: float, min_band: float, full: int, uniforms: FloatArray,
+            floor: float, scale: float, min_band: float, max_band: float, n_kernel: int,
+            full: int, uniforms: FloatArray,
             out_edge: IntArray, out_s: FloatArray, out_w: FloatArray, keep: FloatArray,
             sums: FloatArray, band: FloatArray) -> None:
     """:func:`birth_draws` for every row (module docstring); rows of normalized weights."""
@@ -187,6 +222,7 @@ def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_
     qx = np.empty(n_count)   # the row's particles' points and squared distances to y
     qy = np.empty(n_count)
     qd2 = np.empty(n_count)
+    kw = np.empty(n_count)   # the kernel's weight of each particle
     for f in range(f_count):
         for n in range(n_count):
             e = edge[f, n]
@@ -211,7 +247,8 @@ def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_
             var += w[f, n] * (dx * dx + dy * dy)
             if qd2[n] <= r2:   # the cloud's particles inside D
                 n_in += 1
-        band[f] = max(scale * math.sqrt(max(var / 2.0, 0.0)) * w2 ** 0.2, min_band)
+        band[f] = min(max(scale * math.sqrt(max(var / 2.0, 0.0)) * w2 ** 0.2, min_band),
+                      max_band)
         beta = k_count / (k_count + n_in) if l_disc > 0.0 and n_in < full else 0.0
         acc = 0.0
         for n in range(n_count):
@@ -236,13 +273,39 @@ def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_
         inv_two_b2 = 0.5 / (b * b)
         reach = radius + _REACH_BANDWIDTHS * b
         reach2 = reach * reach
+        # The particles within reach of D carry the kernel estimate there: all of them when
+        # few, else a systematic choice of n_kernel by weight (each one's expected weight is
+        # its own).
+        n_reach = 0
+        m_reach = 0.0
         for n in range(n_count):
-            if qd2[n] > reach2:
+            kw[n] = 0.0
+            if qd2[n] <= reach2:
+                n_reach += 1
+                m_reach += w[f, n]
+        if n_reach <= n_kernel:
+            for n in range(n_count):
+                if qd2[n] <= reach2:
+                    kw[n] = w[f, n]
+        elif m_reach > 0.0:
+            step = m_reach / n_kernel
+            u = uniforms[2, f, 0] * step
+            cum = 0.0
+            for n in range(n_count):
+                if qd2[n] > reach2:
+                    continue
+                n_reach -= 1
+                cum = cum + w[f, n] if n_reach > 0 else 2.0 * m_reach   # the last: the rest
+                while u < cum and u < m_reach:
+                    kw[n] += step
+                    u += step
+        for n in range(n_count):
+            if kw[n] == 0.0:
                 continue
             for j in range(k_count):
                 z = ((px[j] - qx[n]) ** 2 + (py[j] - qy[n]) ** 2) * inv_two_b2
                 if z < MAX_EXPONENT:
-                    dens[j] += w[f, n] * math.exp(-z)
+                    dens[j] += kw[n] * math.exp(-z)
         norm = beta * l_disc / (k_count * math.sqrt(2.0 * math.pi) * b)
         for j in range(k_count):
             out_w[f, j] = norm * dens[j] * lk[j]

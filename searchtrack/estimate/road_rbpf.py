@@ -225,7 +225,7 @@ class RoadRBPF:
             draws = None
             if births is not None:   # each cloud's prior regularised near y
                 k = births.draws(self.config.n_particles)
-                draws = birth_draws(self.clouds, births, y, density, rng.random((2, h * m, k)))
+                draws = birth_draws(self.clouds, births, y, density, rng.random((3, h * m, k)))
                 sums = draws.sums
             lik = sums.reshape(h, m)
             if jumps is not None:   # the robust prior: a target anywhere may explain y

@@ -1,7 +1,9 @@
 """Rejuvenation near detections: the union's total weight is an unbiased estimate of the
-regularised prior's predictive likelihood (against quadrature), the share β follows the cloud's
-particles near the detection, a cloud localised elsewhere gives its draws no weight, and an RBPF
-on a long road localises a target that none of its particles were near."""
+regularised prior's predictive likelihood (against quadrature, with the kernel read from all
+particles or from a systematic choice of them), the share β follows the cloud's particles near
+the detection, a cloud localised elsewhere gives its draws no weight, an RBPF on a long road
+localises a target between its particles, and a false alarm in a footprint the sensor has
+emptied does not localise a diffuse cloud."""
 
 from __future__ import annotations
 
@@ -73,28 +75,58 @@ def _reference(clouds: RoadClouds, births: DetectionBirths, y: np.ndarray, densi
 def test_the_union_weighs_the_regularised_predictive_likelihood(town: DirectedRoads,
                                                                seed: int) -> None:
     """The mean over draws of each cloud's total weight is ∫ p̃ ℓ (quadrature) for clouds that
-    are diffuse, tight on the detection and tight elsewhere."""
+    are diffuse, tight on the detection, tight elsewhere, and half on it and half elsewhere:
+    with the capped bandwidth and the kernel read from every particle near the detection
+    (seed 0), from 16 of them (seed 1), and with Silverman's bandwidth uncapped and a full
+    share of 0.2 (seed 2)."""
     rng = np.random.default_rng(seed)
-    births = DetectionBirths(draw_share=0.2, full_share=1.0 if seed < 2 else 0.2)
+    births = (DetectionBirths(draw_share=0.2), DetectionBirths(draw_share=0.2, kernel_points=16),
+              DetectionBirths(draw_share=0.2, full_share=0.2, max_bandwidth_sigmas=100.0))[seed]
     y = town.point(np.array([7]), np.array([0.4 * town.length[7]]))[0] + rng.normal(0, 3, 2)
     diffuse_e, diffuse_s = town.uniform(60, rng)
     e_near, s_near = town.nearest(y + rng.normal(0.0, 8.0, (60, 2)))
     e_far, s_far = town.nearest(town.point(np.array([40]), np.array([1.0]))
                                 + rng.normal(0.0, 8.0, (60, 2)))
-    clouds = RoadClouds(town, np.stack([diffuse_e, e_near, e_far]),
-                        np.stack([diffuse_s, s_near, s_far]), rng.random((3, 60)) + 0.2,
+    half_e = np.concatenate([e_near[:30], e_far[30:]])
+    half_s = np.concatenate([s_near[:30], s_far[30:]])
+    clouds = RoadClouds(town, np.stack([diffuse_e, e_near, e_far, half_e]),
+                        np.stack([diffuse_s, s_near, s_far, half_s]), rng.random((4, 60)) + 0.2,
                         sensor=SENSOR, resample=ResamplePolicy())
     density = SENSOR.clutter_density(town, y)
     k = births.draws(60)
     clouds.detection_sums(y, density)
-    total = np.zeros(3)
+    total = np.zeros(4)
     repeats = 2000
     for _ in range(repeats):
-        draws = birth_draws(clouds, births, y, density, rng.random((2, 3, k)))
+        draws = birth_draws(clouds, births, y, density, rng.random((3, 4, k)))
         total += draws.sums
     np.testing.assert_allclose(draws.bandwidth, bandwidths(clouds, births), rtol=1e-9)
     ref = _reference(clouds, births, y, density, k)
     np.testing.assert_allclose(total / repeats, ref, rtol=0.03)
+
+
+def test_the_chosen_kernel_particles_estimate_the_kernel_without_bias(town: DirectedRoads) -> None:
+    """With the draws held (the same first two rows of uniforms), the mean weight of each draw
+    over systematic choices of 8 kernel particles is its weight with every particle read, for
+    a cloud of 80 unevenly weighted particles within reach of the detection."""
+    rng = np.random.default_rng(4)
+    y = town.point(np.array([7]), np.array([0.4 * town.length[7]]))[0]
+    e, s = town.nearest(y + rng.normal(0.0, 20.0, (1, 80, 2))[0])
+    clouds = RoadClouds(town, e[None], s[None], rng.random((1, 80)) ** 3 + 1e-3,
+                        sensor=SENSOR, resample=ResamplePolicy())
+    density = SENSOR.clutter_density(town, y)
+    clouds.detection_sums(y, density)
+    uniforms = rng.random((3, 1, 6))
+    every = birth_draws(clouds, DetectionBirths(draw_share=0.075, kernel_points=80), y, density,
+                        uniforms)
+    chosen = DetectionBirths(draw_share=0.075, kernel_points=8)
+    repeats = 4000
+    mean = np.zeros((1, 6))
+    for _ in range(repeats):
+        uniforms[2] = rng.random((1, 6))
+        mean += birth_draws(clouds, chosen, y, density, uniforms).w / repeats
+    assert np.all(every.w > 0.0)
+    np.testing.assert_allclose(mean, every.w, rtol=0.02)
 
 
 def test_beta_follows_the_particles_near_the_detection() -> None:
@@ -107,17 +139,17 @@ def test_beta_follows_the_particles_near_the_detection() -> None:
     clouds = RoadClouds(line, e[None], s[None], sensor=SENSOR, resample=ResamplePolicy())
     y = np.array([110.0, 0.0])                   # ρ = 25 m: the first three are inside
     clouds.detection_sums(y, SENSOR.clutter_density(line, y))
-    draws = birth_draws(clouds, births, y, 1e-3, np.random.default_rng(0).random((2, 1, 1)))
+    draws = birth_draws(clouds, births, y, 1e-3, np.random.default_rng(0).random((3, 1, 1)))
     np.testing.assert_allclose(draws.keep, [[0.75, 0.75, 0.75, 1.0]])
     assert draws.w[0, 0] > 0.0
     off = np.array([110.0, 500.0])                # no road within ρ
     clouds.detection_sums(off, 1e-3)
-    none = birth_draws(clouds, births, off, 1e-3, np.random.default_rng(0).random((2, 1, 1)))
+    none = birth_draws(clouds, births, off, 1e-3, np.random.default_rng(0).random((3, 1, 1)))
     np.testing.assert_array_equal(none.keep, 1.0)
     assert none.w[0, 0] == 0.0
     clouds.detection_sums(y, 1e-3)
     full = birth_draws(clouds, DetectionBirths(draw_share=0.25, full_share=0.75), y, 1e-3,
-                       np.random.default_rng(0).random((2, 1, 1)))
+                       np.random.default_rng(0).random((3, 1, 1)))
     np.testing.assert_array_equal(full.keep, 1.0)
     assert full.w[0, 0] == 0.0
 
@@ -130,7 +162,7 @@ def test_a_cloud_localised_elsewhere_gives_its_draws_no_weight() -> None:
     y = np.array([300.0, 0.0])
     clouds.detection_sums(y, 1e-3)
     draws = birth_draws(clouds, DetectionBirths(), y, 1e-3,
-                        np.random.default_rng(1).random((2, 1, 5)))
+                        np.random.default_rng(1).random((3, 1, 5)))
     assert np.all(draws.w < 1e-200)
 
 
@@ -146,7 +178,7 @@ def test_join_keeps_n_particles_with_their_speeds() -> None:
     density = SENSOR.clutter_density(line, y)
     clouds.detection_sums(y, density)
     draws = birth_draws(clouds, DetectionBirths(draw_share=0.5), y, density,
-                        rng.random((2, 2, 20)))
+                        rng.random((3, 2, 20)))
     join_births(clouds, np.array([1]), draws, rng)
     assert clouds.shape == (2, 40)
     np.testing.assert_allclose(clouds.w.sum(axis=1), 1.0)
@@ -155,41 +187,64 @@ def test_join_keeps_n_particles_with_their_speeds() -> None:
     assert np.all((clouds.v == 0.0) | ((clouds.v >= 5.0) & (clouds.v <= 9.0)))
 
 
-def _rbpf(roads: DirectedRoads, births: DetectionBirths | None) -> RoadRBPF:
-    """A one-target filter whose 100 particles spread over the first 9 km of the road."""
-    config = RBPFConfig(n_targets=1, n_histories=4, n_particles=100,
+def _rbpf(roads: DirectedRoads, births: DetectionBirths | None, x: np.ndarray) -> RoadRBPF:
+    """A one-target filter of standing particles at ``x`` on the road along the x axis."""
+    config = RBPFConfig(n_targets=1, n_histories=4, n_particles=x.size,
                         motion=RoadMotion(speed_mps=0.0, sigma_mps=0.0), sensor=SENSOR,
                         births=births)
-    x = np.random.default_rng(11).uniform(0.0, 9000.0, 100)
-    edge, s = roads.nearest(np.column_stack([x, np.zeros(100)]))
+    edge, s = roads.nearest(np.column_stack([x, np.zeros(x.size)]))
     return RoadRBPF.from_particles(roads, config, edge[None], s[None])
 
 
-def test_an_rbpf_with_births_localises_a_target_none_of_its_particles_were_near() -> None:
-    """A standing target 1.2 km beyond a cloud of 100 particles spread over 9 km of road (one
-    per 90 m): consecutive detections localise the cloud with births (its regularised prior
-    reaches there), and leave it where it was without them."""
+def _mass_near(births: DetectionBirths | None, x: np.ndarray, target: np.ndarray,
+               scans: int, seed: int) -> float:
+    """The filter's mass within 20 m of ``target`` after ``scans`` detections of it."""
     line = _line(n=201, step=100.0)
-    target = np.array([[10_203.0, 0.0]])
-    mass = {}
-    for name, births in (("paper", None), ("births", DetectionBirths())):
-        f = _rbpf(line, births)
-        rng = np.random.default_rng(5)
-        for _ in range(6):
-            f.predict(0.3, rng)
-            f.update(target + rng.normal(0.0, 3.0, (1, 2)), target[0], rng)
-        edge, s, w = f.target_particles()
-        near = np.abs(line.point(edge, s)[..., 0] - target[0, 0]) < 20.0
-        mass[name] = float((w * near).sum())
-    assert mass["births"] > 0.9
-    assert mass["paper"] == 0.0
+    f = _rbpf(line, births, x)
+    rng = np.random.default_rng(seed)
+    for _ in range(scans):
+        f.predict(0.3, rng)
+        f.update(target + rng.normal(0.0, 3.0, (1, 2)), target[0], rng)
+    edge, s, w = f.target_particles()
+    near = np.abs(line.point(edge, s)[..., 0] - target[0, 0]) < 20.0
+    return float((w * near).sum())
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_an_rbpf_with_births_localises_a_target_between_its_particles(seed: int) -> None:
+    """A standing target in the middle of a 100–115 m gap of a cloud of 100 particles spread
+    over 9 km of road (so more than 50 m, ten σ, from any particle): consecutive detections
+    localise the cloud with births, at the capped bandwidth, and leave it where it was
+    without them."""
+    x = np.sort(np.random.default_rng(11 + seed).uniform(0.0, 9000.0, 100))
+    gap = np.diff(x)
+    i = np.flatnonzero((gap > 100.0) & (gap < 115.0))[0]
+    target = np.array([[x[i] + gap[i] / 2.0, 0.0]])
+    assert _mass_near(DetectionBirths(), x, target, 6, seed) > 0.9
+    assert _mass_near(None, x, target, 6, seed) == 0.0
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_false_alarm_in_an_emptied_footprint_does_not_localise_a_diffuse_cloud(
+        seed: int) -> None:
+    """300 particles over 6 km of road, none within 200 m of 3 km (a footprint the sensor has
+    swept): one detection there is clutter to the exact posterior. At the capped bandwidth the
+    draws take none of the mass; with Silverman's bandwidth (about 200 m here) they would take
+    most of it."""
+    rng = np.random.default_rng(seed)
+    x = rng.uniform(0.0, 5600.0, 300)
+    x = np.where(x < 2800.0, x, x + 400.0)
+    target = np.array([[3000.0, 0.0]])
+    assert _mass_near(DetectionBirths(), x, target, 1, seed) < 1e-3
+    assert _mass_near(DetectionBirths(max_bandwidth_sigmas=1e3), x, target, 1, seed) > 0.5
 
 
 def test_births_configuration() -> None:
     """Bad settings are named; births and jumps are two alternative proposals."""
     for name, value in (("draw_share", 0.0), ("draw_share", 1.5), ("radius_sigmas", 0.0),
                         ("bandwidth_scale", -1.0), ("min_bandwidth_m", 0.0),
-                        ("full_share", 0.0), ("full_share", 1.1)):
+                        ("full_share", 0.0), ("full_share", 1.1),
+                        ("max_bandwidth_sigmas", 0.0), ("kernel_points", 0)):
         with pytest.raises(InvalidInputError, match=name):
             DetectionBirths(**{name: value})
     assert DetectionBirths(draw_share=0.1).draws(500) == 50
