@@ -29,8 +29,10 @@ The cap on ``b`` keeps the negative information. Silverman's rule gives a cloud 
 kilometres a bandwidth of many tens of metres; in a footprint the sensors have just swept (and
 emptied of particles), a kernel that wide reads the mass of the unswept road around it, so a
 single false alarm there would localise the cloud on nothing. Capped at a few ``σ``, the
-estimate reads the cloud at the sensor's own resolution: a detection between a diffuse cloud's
-particles still finds their density, a detection in an emptied footprint finds none.
+estimate reads the cloud at the sensor's own resolution: a detection a few bandwidths from a
+diffuse cloud's particles still finds their density (consecutive detections then localise it), a
+detection in an emptied footprint finds none. The price is a slower take-up of a target farther
+from every particle of its cloud than that.
 
 ``p̂`` in ``D`` is the sum over the particles within ``ρ + 4b`` of ``y`` (the others add below
 ``e^{-8}`` of a kernel's peak). When more than ``kernel_points`` are there (a cloud already on
