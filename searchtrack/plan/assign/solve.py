@@ -1,12 +1,17 @@
 """Solve an assignment problem by backend name; ``auto`` answers greedily, then proves or improves
 the answer within the time limit with an exact solver: the branch and bound for END (faster than
 the integer programs, ``benchmarks/assign.py``), enumeration for mutual information when the
-joint action space is small enough."""
+joint action space is small enough. The integer programs import OR-Tools within their time
+(:func:`~searchtrack.core.loading.loaded_within`): a first call whose limit runs out while it
+loads answers ``NO_SOLUTION``."""
 
 from __future__ import annotations
 
 import dataclasses
+from typing import TYPE_CHECKING
 
+from searchtrack.core.deadline import Deadline
+from searchtrack.core.loading import loaded_within, still_loading
 from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
 from searchtrack.core.result import Result
 from searchtrack.plan.assign.branch_and_bound import solve_branch_and_bound
@@ -16,18 +21,29 @@ from searchtrack.plan.assign.objectives import MutualInformationFunction, covera
 from searchtrack.plan.assign.problem import Assignment, AssignmentProblem
 from searchtrack.plan.assign.validate import answer_problems
 
+if TYPE_CHECKING:
+    from searchtrack.plan.assign.exact import MipSolver
 
-def _exact(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Result[Assignment]:
+
+def _program(problem: AssignmentProblem, time_limit_s: float, seed: int, backend: str,
+             solver: MipSolver, library: str) -> Result[Assignment]:
+    deadline = Deadline(time_limit_s)
+    if not loaded_within(library, deadline):
+        return still_loading(backend, "OR-Tools", deadline)
     from searchtrack.plan.assign.exact import solve_exact
 
-    return solve_exact(problem, time_limit_s=time_limit_s, seed=seed, solver="scip")
+    return solve_exact(problem, time_limit_s=max(1e-3, deadline.remaining()), seed=seed,
+                       solver=solver)
+
+
+def _exact(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Result[Assignment]:
+    return _program(problem, time_limit_s, seed, "exact", "scip", "ortools.linear_solver.pywraplp")
 
 
 def _exact_cpsat(problem: AssignmentProblem, *, time_limit_s: float,
                  seed: int) -> Result[Assignment]:
-    from searchtrack.plan.assign.exact import solve_exact
-
-    return solve_exact(problem, time_limit_s=time_limit_s, seed=seed, solver="cpsat")
+    return _program(problem, time_limit_s, seed, "exact_cpsat", "cpsat",
+                    "ortools.sat.python.cp_model")
 
 
 def _nlp(problem: AssignmentProblem, *, time_limit_s: float, seed: int) -> Result[Assignment]:

@@ -1,7 +1,10 @@
 """Solve an OPTW by backend name; ``auto`` answers with the heuristic, then improves or proves it.
 
 Every plan a backend returns is re-checked by the independent validator; a plan it rejects turns
-the result into ``ERROR`` (never a silent wrong answer).
+the result into ``ERROR`` (never a silent wrong answer). The backends on OR-Tools (``cpsat``,
+``bp``, ``mip``, and ``auto`` with two or more vehicles) import it within their time
+(:func:`~searchtrack.core.loading.loaded_within`): a first call whose limit runs out while it
+loads answers without it (``auto``: the ILS's answer).
 """
 
 from __future__ import annotations
@@ -9,6 +12,8 @@ from __future__ import annotations
 import logging
 import time
 
+from searchtrack.core.deadline import Deadline
+from searchtrack.core.loading import loaded_within, still_loading
 from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
 from searchtrack.core.result import Result, interrupted
 from searchtrack.plan.optw.instance import OPTWInstance, Routes
@@ -32,21 +37,32 @@ def _labelling(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[
 
 
 def _cpsat(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:
+    deadline = Deadline(time_limit_s)
+    if not loaded_within("searchtrack.plan.optw.cpsat", deadline):
+        return still_loading("cpsat", "OR-Tools", deadline)
     from searchtrack.plan.optw.cpsat import solve_cpsat
 
-    return solve_cpsat(inst, time_limit_s=time_limit_s, seed=seed)
+    return solve_cpsat(inst, time_limit_s=max(1e-3, deadline.remaining()), seed=seed)
 
 
-def _bp(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:
+def _bp(inst: OPTWInstance, *, time_limit_s: float, seed: int,
+        initial: Routes | None = None) -> Result[Routes]:
+    deadline = Deadline(time_limit_s)
+    if not loaded_within("searchtrack.plan.optw.bp", deadline):
+        return still_loading("bp", "OR-Tools", deadline)
     from searchtrack.plan.optw.bp import solve_bp
 
-    return solve_bp(inst, time_limit_s=time_limit_s, seed=seed)
+    return solve_bp(inst, time_limit_s=max(1e-3, deadline.remaining()), seed=seed,
+                    initial=initial)
 
 
 def _mip(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:
+    deadline = Deadline(time_limit_s)
+    if not loaded_within("searchtrack.plan.optw.mip", deadline):
+        return still_loading("mip", "OR-Tools", deadline)
     from searchtrack.plan.optw.mip import solve_mip
 
-    return solve_mip(inst, time_limit_s=time_limit_s, seed=seed)
+    return solve_mip(inst, time_limit_s=max(1e-3, deadline.remaining()), seed=seed)
 
 
 def heuristic_share(time_limit_s: float) -> float:
@@ -56,15 +72,14 @@ def heuristic_share(time_limit_s: float) -> float:
 
 
 def _auto(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:
-    from searchtrack.plan.optw.bp import solve_bp
     from searchtrack.plan.optw.ils import solve_ils
     from searchtrack.plan.optw.labelling import solve_labelling
 
-    exact_solve = solve_labelling if inst.vehicles == 1 else solve_bp
-
     def exact(problem: OPTWInstance, first: Result[Routes], limit_s: float,
               seed: int) -> Result[Routes]:
-        return exact_solve(problem, time_limit_s=limit_s, seed=seed, initial=first.plan)
+        if problem.vehicles == 1:
+            return solve_labelling(problem, time_limit_s=limit_s, seed=seed, initial=first.plan)
+        return _bp(problem, time_limit_s=limit_s, seed=seed, initial=first.plan)
 
     return heuristic_then_exact(inst, solve_ils, exact, time_limit_s=time_limit_s, seed=seed,
                                 heuristic_limit_s=heuristic_share(time_limit_s), tol=_TOL)

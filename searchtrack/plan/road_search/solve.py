@@ -2,11 +2,15 @@
 
 ``auto`` runs the beam search at once, then the CP-SAT program in the time left to improve or
 prove it (:func:`~searchtrack.core.registry.heuristic_then_exact`); its result names the stage
-whose plan it is. CP-SAT (OR-Tools) is imported only when ``exact`` or ``auto`` first needs it.
+whose plan it is. CP-SAT (OR-Tools) is imported only when ``exact`` or ``auto`` first needs it,
+within the stage's time (:func:`~searchtrack.core.loading.loaded_within`): a first call whose
+limit runs out while it loads answers without it (``auto``: the beam's answer).
 """
 
 from __future__ import annotations
 
+from searchtrack.core.deadline import Deadline
+from searchtrack.core.loading import loaded_within, still_loading
 from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
 from searchtrack.core.result import Result
 from searchtrack.plan.road_search.baselines import solve_ideal, solve_random, supports_ideal
@@ -16,18 +20,23 @@ from searchtrack.plan.road_search.greedy import solve_greedy
 from searchtrack.plan.road_search.problem import RoadPlan, RoadSearchProblem
 from searchtrack.plan.road_search.validator import answer_problems
 
+_EXACT = "searchtrack.plan.road_search.exact"
 
-def _exact(problem: RoadSearchProblem, *, time_limit_s: float, seed: int) -> Result[RoadPlan]:
+
+def _exact(problem: RoadSearchProblem, *, time_limit_s: float, seed: int,
+           initial: RoadPlan | None = None) -> Result[RoadPlan]:
+    deadline = Deadline(time_limit_s)
+    if not loaded_within(_EXACT, deadline):
+        return still_loading("exact", "OR-Tools", deadline)
     from searchtrack.plan.road_search.exact import solve_exact
 
-    return solve_exact(problem, time_limit_s=time_limit_s, seed=seed)
+    return solve_exact(problem, time_limit_s=max(1e-3, deadline.remaining()), seed=seed,
+                       initial=initial)
 
 
 def _prove(problem: RoadSearchProblem, first: Result[RoadPlan], limit_s: float,
            seed: int) -> Result[RoadPlan]:
-    from searchtrack.plan.road_search.exact import solve_exact
-
-    return solve_exact(problem, time_limit_s=limit_s, seed=seed, initial=first.plan)
+    return _exact(problem, time_limit_s=limit_s, seed=seed, initial=first.plan)
 
 
 def _auto(problem: RoadSearchProblem, *, time_limit_s: float, seed: int) -> Result[RoadPlan]:

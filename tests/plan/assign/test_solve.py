@@ -3,6 +3,8 @@ across every backend, determinism and tiny time limits."""
 
 from __future__ import annotations
 
+import importlib
+
 import numpy as np
 import pytest
 
@@ -134,3 +136,17 @@ def test_auto_reports_the_registry_name_of_the_answering_stage(objective: str,
                        objective=objective)
     result = solve(p, backend="auto", time_limit_s=10.0)
     assert result.status is Status.OPTIMAL and result.backend == stage
+
+
+def test_a_limit_spent_loading_or_tools_answers_no_solution(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """While OR-Tools is still loading when the limit runs out, the integer programs answer
+    NO_SOLUTION; ``auto`` (branch and bound) needs no OR-Tools."""
+    solve_module = importlib.import_module("searchtrack.plan.assign.solve")
+
+    monkeypatch.setattr(solve_module, "loaded_within", lambda name, deadline: False)
+    p = random_problem(np.random.default_rng(3))
+    for backend in ("exact", "exact_cpsat"):
+        res = solve(p, backend=backend, time_limit_s=1.0)
+        assert res.status is Status.NO_SOLUTION and "OR-Tools" in res.message, backend
+    assert solve(p, backend="auto", time_limit_s=5.0).status is Status.OPTIMAL

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 from pathlib import Path
 
 import numpy as np
@@ -103,3 +104,20 @@ def test_bad_arguments(kwargs: dict[str, object], field: str) -> None:
     with pytest.raises(InvalidInputError) as info:
         solve(_random(1, 5, 1, 0), **kwargs)  # type: ignore[arg-type]
     assert info.value.field == field
+
+
+def test_a_limit_spent_loading_or_tools_keeps_the_ils_answer(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """While OR-Tools is still loading when the limit runs out, its backends answer NO_SOLUTION
+    and ``auto`` with two vehicles the ILS's plan, unproved; one vehicle needs no OR-Tools."""
+    solve_module = importlib.import_module("searchtrack.plan.optw.solve")
+
+    monkeypatch.setattr(solve_module, "loaded_within", lambda name, deadline: False)
+    team = _random(8, 12, 2, 0)   # the ILS does not prove it
+    for backend in ("cpsat", "bp", "mip"):
+        res = solve(team, backend=backend, time_limit_s=1.0)
+        assert res.status is Status.NO_SOLUTION and "OR-Tools" in res.message, backend
+    auto = solve(team, backend="auto", time_limit_s=1.0, seed=1)
+    assert auto.status is Status.FEASIBLE and auto.backend == "ils"
+    one = _random(1, 7, 1, 0)
+    assert solve(one, backend="auto", time_limit_s=5.0).status is Status.OPTIMAL

@@ -3,6 +3,8 @@ the catalogue: every backend that says OPTIMAL has the exhaustive objective."""
 
 from __future__ import annotations
 
+import importlib
+
 import numpy as np
 import pytest
 
@@ -104,3 +106,20 @@ def test_nothing_to_see_is_optimal_at_zero() -> None:
     for backend in NAMES:
         res = solve(p, backend=backend)
         assert res.status is Status.OPTIMAL and res.objective == 0.0 and res.bound == 0.0
+
+
+def test_a_limit_spent_loading_or_tools_keeps_the_beam_answer(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """While OR-Tools is still loading when the limit runs out, ``exact`` answers NO_SOLUTION
+    and ``auto`` the beam's plan, unproved."""
+    solve_module = importlib.import_module("searchtrack.plan.road_search.solve")
+
+    monkeypatch.setattr(solve_module, "loaded_within", lambda name, deadline: False)
+    two = random_problem(grid_roads(), np.random.default_rng(1), uavs=2, lookahead=3)
+    exact = solve(two, backend="exact", time_limit_s=1.0)
+    assert exact.status is Status.NO_SOLUTION and exact.plan is None
+    assert "OR-Tools" in exact.message
+    beam = solve(two, backend="beam", time_limit_s=1.0)
+    auto = solve(two, backend="auto", time_limit_s=1.0)
+    assert auto.status is Status.FEASIBLE and auto.backend == "beam"
+    assert auto.objective == beam.objective and auto.bound == beam.bound
