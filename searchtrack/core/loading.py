@@ -12,6 +12,7 @@ loaded. An import that fails raises its error in the caller, as a plain import w
 from __future__ import annotations
 
 import importlib
+import math
 import sys
 import threading
 from typing import Any
@@ -49,7 +50,8 @@ def loaded_within(name: str, deadline: Deadline) -> bool:
                                       daemon=True)
             _THREADS[name] = thread
             thread.start()
-    thread.join(deadline.remaining())
+    remaining = deadline.remaining()
+    thread.join(remaining if math.isfinite(remaining) else None)
     if thread.is_alive():
         return False
     error = _ERRORS.get(name)

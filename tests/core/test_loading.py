@@ -5,6 +5,7 @@ the next call; a failing import raises in the caller; the still-loading answer h
 from __future__ import annotations
 
 import builtins
+import math
 import sys
 import textwrap
 import threading
@@ -43,6 +44,15 @@ def test_a_slow_import_goes_on_after_the_deadline(tmp_path: Path,
     gate.set()
     assert loaded_within("st_slow_module", Deadline(30.0))
     assert sys.modules["st_slow_module"].VALUE == 7
+
+
+def test_no_time_limit_waits_for_the_import(tmp_path: Path,
+                                            monkeypatch: pytest.MonkeyPatch) -> None:
+    """An infinite time limit waits for the import to finish."""
+    _module(tmp_path, "st_plain_module", "VALUE = 3\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert loaded_within("st_plain_module", Deadline(math.inf))
+    assert sys.modules["st_plain_module"].VALUE == 3
 
 
 def test_a_failing_import_raises_in_the_caller(tmp_path: Path,
