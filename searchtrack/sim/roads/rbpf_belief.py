@@ -254,8 +254,8 @@ class RBPFMissionBelief:
     roads
         The directed view of ``network`` (built when ``None``).
     kernel
-        The road kernel the bank's node beliefs are read through (module docstring); built
-        from ``filter.node_resolution_m`` when ``None``, none when that is 0.
+        The road kernel the bank's node beliefs are read through (module docstring), of
+        ``network`` at :func:`node_resolution`; built when ``None``, none when that is 0.
 
     Attributes
     ----------
@@ -278,8 +278,9 @@ class RBPFMissionBelief:
         self.rbpf = RoadRBPF(directed, rbpf_config(scenario), self.rng)
         self.fields = ParticleFieldBuilder(network, scenario.sensor.footprint_radius_m)
         sigma = node_resolution(scenario)
-        if kernel is not None and kernel.n_nodes != network.n_nodes:
-            raise InvalidInputError("kernel", kernel, "must be a road kernel of network")
+        if kernel is not None and (kernel.n_nodes != network.n_nodes or kernel.sigma_m != sigma):
+            raise InvalidInputError("kernel", kernel, f"must be a road kernel of network at the "
+                                    f"scenario's node resolution ({sigma:g} m)")
         self.kernel = kernel if kernel is not None or sigma == 0.0 else RoadKernel(network, sigma)
         m = scenario.target_count
         self.localised = np.zeros(m, dtype=bool)

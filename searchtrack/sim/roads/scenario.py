@@ -195,8 +195,7 @@ class FilterSpec:
         sensor's position noise ``s``, the resolution the thesis's trackers and its ``ϱ`` work
         at; 0: the cloud's own nearer-end-node beliefs (paper 000's binning), whose peak stays
         near 1 while a tight cloud drives on unseen, so under (5.16) a UAV comes back only once
-        the cloud has split (dense-grid search-and-loiter, 12 seeds: MOC 0.72 → 0.86 with the
-        default). Localisation (``p_min``) reads the cloud's own beliefs either way.
+        the cloud has split. Localisation (``p_min``) reads the cloud's own beliefs either way.
     tracker_alpha
         Diffusivity of the node trackers' prediction (4.2) (hops²/s), ``None`` (default): the
         thesis's one ``alpha`` for the LRT and the trackers. It also sets the reacquisition

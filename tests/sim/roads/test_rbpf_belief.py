@@ -252,10 +252,16 @@ def test_a_mission_filter_shares_its_worlds_kernel(network: RoadNetwork) -> None
     assert a.kernel is b.kernel is world.road_kernel(SENSOR.position_noise_m)
 
 
-def test_a_kernel_of_another_map_is_refused(network: RoadNetwork) -> None:
+def test_a_kernel_of_another_map_or_resolution_is_refused(network: RoadNetwork) -> None:
+    """A kernel of another network, or of another σ than the scenario's node resolution
+    (with no kernel wanted at all, 0), is named as bad input."""
     from searchtrack.estimate.road_kernel import RoadKernel
 
-    with pytest.raises(InvalidInputError) as info:
-        RBPFMissionBelief(scenario(), network, np.random.default_rng(0),
-                          kernel=RoadKernel(grid_network(2, 2), 5.0))
-    assert info.value.field == "kernel"
+    sc = scenario()
+    for kernel, spec in ((RoadKernel(grid_network(2, 2), SENSOR.position_noise_m), sc),
+                         (RoadKernel(network, 2.0 * SENSOR.position_noise_m), sc),
+                         (RoadKernel(network, SENSOR.position_noise_m), dataclasses.replace(
+                             sc, filter=dataclasses.replace(sc.filter, node_resolution_m=0.0)))):
+        with pytest.raises(InvalidInputError) as info:
+            RBPFMissionBelief(spec, network, np.random.default_rng(0), kernel=kernel)
+        assert info.value.field == "kernel" and "node resolution" in str(info.value)
