@@ -2,10 +2,11 @@
 
 The first import of a large solver library takes longer than the short time limits a planner
 in a closed loop gives its exact stage (OR-Tools: tenths of a second, once per process).
-Imported inside the stage, it made the first call overrun its limit. :func:`loaded_within` imports the module on a background thread and waits only for the
-time the stage has: when the import is not done by then, the stage answers without the
-library (``auto`` keeps its heuristic's answer) and the import goes on, so a later call finds it
-loaded. An import that fails raises its error in the caller, as a plain import would.
+Imported inside the stage, it made the first call overrun its limit. :func:`loaded_within`
+imports the module on a background thread and waits only for the time the stage has: when the
+import is not done by then, the stage answers without the library (``auto`` keeps its
+heuristic's answer) and the import goes on, so a later call finds it loaded. An import that
+fails raises its error in the caller, as a plain import would.
 """
 
 from __future__ import annotations
