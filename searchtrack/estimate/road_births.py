@@ -181,12 +181,12 @@ def birth_draws(clouds: RoadClouds, births: DetectionBirths, y: FloatArray,
     band = np.empty(f)
     inside = s1 - s0
     low, high = births.bandwidth_range(math.sqrt(sensor.sigma2_m2))
-    _births(clouds.edge, clouds.s, clouds.w, clouds.likelihoods, roads.tail_xy, roads.step_xy,
+    _births(clouds.edge, clouds.s, clouds.w, clouds.count, clouds.likelihoods, roads.tail_xy,
+            roads.step_xy,
             s0, inside, np.cumsum(inside), l_disc, radius, float(y[0]), float(y[1]),
             sensor.detection_gain, 0.5 / sensor.sigma2_m2, sensor.p_fa * clutter_density,
-            births.bandwidth_scale, low, high, births.kernel_points,
-            math.ceil(births.full_share * clouds.shape[1] - 1e-9), uniforms, edge, s, w, keep,
-            sums, band)
+            births.bandwidth_scale, low, high, births.kernel_points, births.full_share, uniforms,
+            edge, s, w, keep, sums, band)
     return BirthDraws(edge, s, w, keep, sums, band)
 
 
@@ -194,7 +194,8 @@ def join_births(clouds: RoadClouds, rows: IntArray, draws: BirthDraws,
                 rng: np.random.Generator) -> None:
     """Bayes' rule on ``rows`` with the regularised prior: each row's particles weighed by
     ``w ℓ`` (times ``1 − β`` inside ``D``) joined with its draws, and the union resampled back
-    to ``N`` (low-variance); a row whose union weighs nothing is left as it is."""
+    to ``N``, or to its KLD-sampling count (low-variance); a row whose union weighs nothing is
+    left as it is."""
     if rows.size == 0:
         return
     post = clouds.w[rows] * clouds.likelihoods[rows] * draws.keep[rows]
@@ -205,15 +206,16 @@ def join_births(clouds: RoadClouds, rows: IntArray, draws: BirthDraws,
 
 
 @njit(cache=True)
-def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_xy: FloatArray,
-            step_xy: FloatArray, s0: FloatArray, inside: FloatArray, cum_inside: FloatArray,
-            l_disc: float, radius: float, yx: float, yy: float, gain: float, inv_two_var: float,
-            floor: float, scale: float, min_band: float, max_band: float, n_kernel: int,
-            full: int, uniforms: FloatArray,
+def _births(edge: IntArray, s: FloatArray, w: FloatArray, count: IntArray, lik: FloatArray,
+            tail_xy: FloatArray, step_xy: FloatArray, s0: FloatArray, inside: FloatArray,
+            cum_inside: FloatArray, l_disc: float, radius: float, yx: float, yy: float,
+            gain: float, inv_two_var: float, floor: float, scale: float, min_band: float,
+            max_band: float, n_kernel: int, full_share: float, uniforms: FloatArray,
             out_edge: IntArray, out_s: FloatArray, out_w: FloatArray, keep: FloatArray,
             sums: FloatArray, band: FloatArray) -> None:
-    """:func:`birth_draws` for every row (module docstring); rows of normalized weights."""
-    f_count, n_count = edge.shape
+    """:func:`birth_draws` for every row (module docstring); rows of normalized weights, each
+    of its ``count`` particles (``keep`` 1 beyond)."""
+    f_count, cap = edge.shape
     k_count = out_edge.shape[1]
     n_edges = inside.size
     r2 = radius * radius
@@ -221,11 +223,15 @@ def _births(edge: IntArray, s: FloatArray, w: FloatArray, lik: FloatArray, tail_
     py = np.empty(k_count)
     lk = np.empty(k_count)
     dens = np.empty(k_count)
-    qx = np.empty(n_count)   # the row's particles' points and squared distances to y
-    qy = np.empty(n_count)
-    qd2 = np.empty(n_count)
-    kw = np.empty(n_count)   # the kernel's weight of each particle
+    qx = np.empty(cap)   # the row's particles' points and squared distances to y
+    qy = np.empty(cap)
+    qd2 = np.empty(cap)
+    kw = np.empty(cap)   # the kernel's weight of each particle
     for f in range(f_count):
+        n_count = count[f]
+        full = math.ceil(full_share * n_count - 1e-9)
+        for n in range(n_count, cap):
+            keep[f, n] = 1.0
         for n in range(n_count):
             e = edge[f, n]
             qx[n] = tail_xy[e, 0] + s[f, n] * step_xy[e, 0]

@@ -1,8 +1,11 @@
 """Numba kernels of the road particle filters (see :mod:`searchtrack.estimate.road_pf`).
 
 Particle clouds are ``(F, N)`` arrays: directed edge ``edge``, arc length ``s`` (m) and
-normalized weights ``w`` (each row sums to 1). A particle's planar point ``G(x)`` is
-``tail_xy[e] + s · step_xy[e]`` (:class:`~searchtrack.models.road_particles.DirectedRoads`).
+normalized weights ``w`` (each row sums to 1); row ``f`` holds ``count[f]`` particles in its
+first columns, and the kernels skip the columns beyond (weight 0, see
+:mod:`searchtrack.estimate.road_resample_kernels`, which holds the resampling kernels). A
+particle's planar point ``G(x)`` is ``tail_xy[e] + s · step_xy[e]``
+(:class:`~searchtrack.models.road_particles.DirectedRoads`).
 Random numbers are drawn by the caller's ``numpy.random.Generator`` and passed in. The NumPy
 references are :meth:`~searchtrack.models.disc_sensor.DiscSensor.likelihood`,
 :meth:`~searchtrack.models.disc_sensor.DiscSensor.miss_likelihood`,
@@ -30,16 +33,19 @@ MAX_EXPONENT = 700.0
 
 
 @njit(cache=True)
-def detection_likelihood(edge: IntArray, s: FloatArray, w: FloatArray, tail_xy: FloatArray,
-                         step_xy: FloatArray, yx: float, yy: float, gain: float,
-                         inv_two_var: float, floor: float, lik: FloatArray,
+def detection_likelihood(edge: IntArray, s: FloatArray, w: FloatArray, count: IntArray,
+                         tail_xy: FloatArray, step_xy: FloatArray, yx: float, yy: float,
+                         gain: float, inv_two_var: float, floor: float, lik: FloatArray,
                          sums: FloatArray) -> None:
-    """Eq. 10 for every particle into ``lik`` ``(F, N)``, and ``sums[f] = Σ_n w p(y | x)``
-    (Eq. 16) per row: ``p = gain · exp(−‖G(x) − y‖² · inv_two_var) + floor``."""
+    """Eq. 10 for every particle into ``lik`` ``(F, N)`` (0 beyond a row's count), and
+    ``sums[f] = Σ_n w p(y | x)`` (Eq. 16) per row:
+    ``p = gain · exp(−‖G(x) − y‖² · inv_two_var) + floor``."""
     f_count, n_count = edge.shape
     for f in range(f_count):
         acc = 0.0
-        for n in range(n_count):
+        for n in range(count[f], n_count):
+            lik[f, n] = 0.0
+        for n in range(count[f]):
             e = edge[f, n]
             dx = tail_xy[e, 0] + s[f, n] * step_xy[e, 0] - yx
             dy = tail_xy[e, 1] + s[f, n] * step_xy[e, 1] - yy
@@ -53,11 +59,11 @@ def detection_likelihood(edge: IntArray, s: FloatArray, w: FloatArray, tail_xy: 
 
 
 @njit(cache=True)
-def weigh_rows(w: FloatArray, lik: FloatArray, rows: IntArray) -> None:
+def weigh_rows(w: FloatArray, lik: FloatArray, rows: IntArray, count: IntArray) -> None:
     """Bayes' rule (Eq. 4, Eq. 6) on the listed rows: ``w ← w · lik``, normalized; a row whose
     product is all zero is left unchanged (the measurement cannot tell its particles apart)."""
-    n_count = w.shape[1]
     for r in rows:
+        n_count = count[r]
         acc = 0.0
         for n in range(n_count):
             acc += w[r, n] * lik[r, n]
@@ -67,7 +73,7 @@ def weigh_rows(w: FloatArray, lik: FloatArray, rows: IntArray) -> None:
 
 
 @njit(cache=True)
-def miss_update(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray,
+def miss_update(edge: IntArray, s: FloatArray, w: FloatArray, count: IntArray, rows: IntArray,
                 tail_xy: FloatArray, step_xy: FloatArray, cx: float, cy: float, r2: float,
                 p_fn: float, sums: FloatArray, touched: np.ndarray) -> None:
     """Negative information (Eq. 11 as intended) on the listed rows: weights of particles within
@@ -76,9 +82,9 @@ def miss_update(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray,
     ``sums[i]`` gets the row's no-detection likelihood ``Σ_n w p(z | x)`` (before normalizing)
     and ``touched[i]`` whether any weight changed; a row whose likelihood is 0 is left as is.
     """
-    n_count = edge.shape[1]
     for i in range(rows.size):
         r = rows[i]
+        n_count = count[r]
         acc = 0.0
         hit = False
         for n in range(n_count):
@@ -101,92 +107,6 @@ def miss_update(edge: IntArray, s: FloatArray, w: FloatArray, rows: IntArray,
                     w[r, n] = w[r, n] * p_fn / acc
                 else:
                     w[r, n] = w[r, n] / acc
-
-
-@njit(cache=True)
-def _store_row(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, r: int,
-               new_edge: IntArray, new_s: FloatArray, new_v: FloatArray) -> None:
-    """Row ``r`` becomes the resampled particles ``new_*``, each of weight ``1/N``."""
-    n_count = edge.shape[1]
-    for j in range(n_count):
-        edge[r, j] = new_edge[j]
-        s[r, j] = new_s[j]
-        v[r, j] = new_v[j]
-        w[r, j] = 1.0 / n_count
-
-
-@njit(cache=True)
-def resample_rows(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray,
-                  rows: IntArray, u: FloatArray) -> None:
-    """Low-variance resampling in place of the listed rows, row ``rows[i]`` with offset
-    ``u[i]`` in ``[0, 1)``; the weights of those rows become ``1/N``.
-
-    Output particle ``j`` copies the first input particle whose cumulative weight exceeds
-    ``(u + j) / N`` (the last one if round-off leaves none), as
-    :func:`~searchtrack.estimate.road_resampling.systematic_indices`.
-    """
-    n_count = edge.shape[1]
-    new_edge = np.empty(n_count, dtype=edge.dtype)
-    new_s = np.empty(n_count, dtype=s.dtype)
-    new_v = np.empty(n_count, dtype=v.dtype)
-    for i in range(rows.size):
-        r = rows[i]
-        total = 0.0
-        for n in range(n_count):
-            total += w[r, n]
-        k = 0
-        c = w[r, 0] / total
-        for j in range(n_count):
-            target = (u[i] + j) / n_count
-            while c <= target and k < n_count - 1:
-                k += 1
-                c += w[r, k] / total
-            new_edge[j] = edge[r, k]
-            new_s[j] = s[r, k]
-            new_v[j] = v[r, k]
-        _store_row(edge, s, v, w, r, new_edge, new_s, new_v)
-
-
-@njit(cache=True)
-def join_rows(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, rows: IntArray,
-              mass: FloatArray, add_edge: IntArray, add_s: FloatArray, add_v: FloatArray,
-              add_w: FloatArray, u: FloatArray) -> None:
-    """Join draws to the listed rows and resample each union back to ``N``, in place.
-
-    Row ``rows[i]``'s particles weigh ``mass[i] · w`` and its draws ``add_*[i]`` ``(K,)`` weigh
-    ``add_w[i]``; output ``j`` copies the first particle of the union (the row's, then its
-    draws) whose cumulative weight exceeds ``(u[i] + j) / N`` of the total; weights become
-    ``1/N``. A row whose union weighs nothing is left as it is.
-    """
-    n_count, k_count = edge.shape[1], add_edge.shape[1]
-    new_edge = np.empty(n_count, dtype=edge.dtype)
-    new_s = np.empty(n_count, dtype=s.dtype)
-    new_v = np.empty(n_count, dtype=v.dtype)
-    for i in range(rows.size):
-        r = rows[i]
-        total = 0.0
-        for n in range(n_count):
-            total += w[r, n] * mass[i]
-        for k in range(k_count):
-            total += add_w[i, k]
-        if not total > 0.0:
-            continue
-        idx = 0
-        c = w[r, 0] * mass[i] / total
-        for j in range(n_count):
-            target = (u[i] + j) / n_count
-            while c <= target and idx < n_count + k_count - 1:
-                idx += 1
-                c += (w[r, idx] * mass[i] if idx < n_count else add_w[i, idx - n_count]) / total
-            if idx < n_count:
-                new_edge[j] = edge[r, idx]
-                new_s[j] = s[r, idx]
-                new_v[j] = v[r, idx]
-            else:
-                new_edge[j] = add_edge[i, idx - n_count]
-                new_s[j] = add_s[i, idx - n_count]
-                new_v[j] = add_v[i, idx - n_count]
-        _store_row(edge, s, v, w, r, new_edge, new_s, new_v)
 
 
 @njit(cache=True)
@@ -305,18 +225,22 @@ def miss_jumps(cum_length: FloatArray, length: FloatArray, tail_xy: FloatArray,
 
 @njit(cache=True)
 def move(edge: IntArray, s: FloatArray, normals: FloatArray, speed: float, sigma: float,
-         dt: float, length: FloatArray) -> IntArray:
-    """Eq. 9 in place on flat ``s``: ``s += max(speed + sigma · normal, 0) · dt``; returns the
-    indices of the particles now past the end of their edge (for :func:`turn`). With
-    :func:`turn`, the kernel form of :meth:`~searchtrack.models.road_particles.RoadMotion.step`
-    from the same normals and turn uniforms."""
+         dt: float, length: FloatArray, count: IntArray) -> IntArray:
+    """Eq. 9 in place on flat ``s`` (rows of ``s.size / count.size`` columns, the columns
+    beyond a row's ``count`` left as they are): ``s += max(speed + sigma · normal, 0) · dt``;
+    returns the indices of the particles now past the end of their edge (for :func:`turn`).
+    With :func:`turn`, the kernel form of
+    :meth:`~searchtrack.models.road_particles.RoadMotion.step` from the same normals and turn
+    uniforms."""
     over = np.empty(s.size, dtype=np.int64)
     k = 0
-    for i in range(s.size):
-        s[i] = s[i] + max(speed + sigma * normals[i], 0.0) * dt
-        if s[i] > length[edge[i]]:
-            over[k] = i
-            k += 1
+    n_cap = s.size // count.size
+    for f in range(count.size):
+        for i in range(f * n_cap, f * n_cap + count[f]):
+            s[i] = s[i] + max(speed + sigma * normals[i], 0.0) * dt
+            if s[i] > length[edge[i]]:
+                over[k] = i
+                k += 1
     return over[:k]
 
 
@@ -343,25 +267,27 @@ def turn(edge: IntArray, s: FloatArray, over: IntArray, u: FloatArray, length: F
 @njit(cache=True)
 def courier_move(edge: IntArray, s: FloatArray, v: FloatArray, mode: FloatArray,
                  u: FloatArray, stop: float, go: float, lo: float, hi: float, dt: float,
-                 length: FloatArray) -> IntArray:
-    """:class:`~searchtrack.models.road_particles.CourierRoadMotion` in place on flat arrays:
-    switch each particle's mode by ``mode`` (stop below ``stop`` if driving, drive off below
-    ``go`` at ``lo + u (hi − lo)`` if stopped), move it ``v·dt``; returns the indices of the
-    particles past the end of their edge (for :func:`turn`)."""
+                 length: FloatArray, count: IntArray) -> IntArray:
+    """:class:`~searchtrack.models.road_particles.CourierRoadMotion` in place on flat arrays
+    (rows as :func:`move`): switch each particle's mode by ``mode`` (stop below ``stop`` if
+    driving, drive off below ``go`` at ``lo + u (hi − lo)`` if stopped), move it ``v·dt``;
+    returns the indices of the particles past the end of their edge (for :func:`turn`)."""
     over = np.empty(s.size, dtype=np.int64)
     k = 0
-    for i in range(s.size):
-        if v[i] > 0.0:
-            if mode[i] < stop:
+    n_cap = s.size // count.size
+    for f in range(count.size):
+        for i in range(f * n_cap, f * n_cap + count[f]):
+            if v[i] > 0.0:
+                if mode[i] < stop:
+                    v[i] = 0.0
+            elif mode[i] < go:
+                v[i] = lo + u[i] * (hi - lo)
+            else:
                 v[i] = 0.0
-        elif mode[i] < go:
-            v[i] = lo + u[i] * (hi - lo)
-        else:
-            v[i] = 0.0
-        s[i] = s[i] + v[i] * dt
-        if s[i] > length[edge[i]]:
-            over[k] = i
-            k += 1
+            s[i] = s[i] + v[i] * dt
+            if s[i] > length[edge[i]]:
+                over[k] = i
+                k += 1
     return over[:k]
 
 

@@ -19,8 +19,8 @@ update),
 
 whose expected total is the predictive likelihood ``(1 − ε) Σ_n w_n ℓ(x_n) + ε ∫ ℓ u`` (the
 draws are an unbiased importance-sampling estimate of the second term, for any ``g`` positive
-where ``ℓ u`` is); the union is resampled back to ``N`` (low-variance). The proposal is where the
-measurement points:
+where ``ℓ u`` is); the union is resampled back to ``N``, or to its KLD-sampling count
+(low-variance). The proposal is where the measurement points:
 
 - a detection ``y`` (Eq. 10): ``g = (1 − α)·uniform on the road within ρ of y + α·u``, with
   ``ρ`` a few sensor standard deviations (the disc carries all but ``exp(−ρ²/2σ²)`` of the
@@ -192,15 +192,8 @@ def join_draws(clouds: RoadClouds, rows: IntArray, cloud_mass: FloatArray, edge:
     draws of :mod:`searchtrack.estimate.road_births`) to ``rows`` of ``clouds``, whose
     normalized weights count ``cloud_mass`` ``(R,)`` each, with speeds from the clouds'
     stationary law (:meth:`~searchtrack.estimate.road_pf.RoadClouds.new_speeds`), and resample
-    each row back to ``N`` (low-variance, weights ``1/N``; not roughened: the draws bring fresh
-    speeds); a row whose union has no weight is left as it is."""
-    v = clouds.new_speeds(np.shape(s), rng)
-    kern.join_rows(clouds.edge, clouds.s, clouds.v, clouds.w,
-                   np.ascontiguousarray(rows, dtype=np.int64),
-                   np.ascontiguousarray(cloud_mass, dtype=np.float64),
-                   np.ascontiguousarray(edge, dtype=clouds.edge.dtype),
-                   np.ascontiguousarray(s, dtype=np.float64), v,
-                   np.ascontiguousarray(w, dtype=np.float64), rng.random(rows.size))
+    each row (:meth:`~searchtrack.estimate.road_pf.RoadClouds.join`)."""
+    clouds.join(rows, cloud_mass, edge, s, clouds.new_speeds(np.shape(s), rng), w, rng)
 
 
 def jump_detection(clouds: RoadClouds, jumps: TargetJumps, eps: float, rows: IntArray,

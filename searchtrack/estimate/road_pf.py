@@ -7,11 +7,13 @@ information of a miss (Eq. 11 as intended, see :mod:`searchtrack.models.disc_sen
 resamples by the low-variance method, after every update or when ``N_eff`` is low (Eq. 5–6,
 :class:`~searchtrack.estimate.road_resampling.ResamplePolicy`).
 
-:class:`RoadClouds` holds ``F`` clouds of ``N`` particles as ``(F, N)`` arrays and updates any
-subset of them in place with numba kernels; :class:`RoadParticleFilter` (one target), the bank
-with known association (:mod:`searchtrack.estimate.road_filter_bank`, Eq. 12) and the
-Rao-Blackwellized filter of :mod:`searchtrack.estimate.road_rbpf` are built on it. The filters
-are mutable: each ``predict`` / ``update`` changes them in place (``copy()`` gives a
+:class:`RoadClouds` holds ``F`` clouds of at most ``N`` particles as ``(F, N)`` arrays and
+updates any subset of them in place with numba kernels (with KLD-sampling, beyond the paper,
+each cloud's count follows its spread:
+:class:`~searchtrack.estimate.road_resampling.KLDSampling`); :class:`RoadParticleFilter` (one
+target), the bank with known association (:mod:`searchtrack.estimate.road_filter_bank`, Eq. 12)
+and the Rao-Blackwellized filter of :mod:`searchtrack.estimate.road_rbpf` are built on it. The
+filters are mutable: each ``predict`` / ``update`` changes them in place (``copy()`` gives a
 snapshot).
 """
 
@@ -26,9 +28,11 @@ from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate import road_filter_kernels as kern
+from searchtrack.estimate import road_resample_kernels as rkern
 from searchtrack.estimate.node_tracker import NodeTracker
 from searchtrack.estimate.road_entropy import RoadBins, entropy, map_positions
 from searchtrack.estimate.road_resampling import (
+    KLDSampling,
     ResamplePolicy,
     SpeedRoughening,
     effective_sample_size,
@@ -63,12 +67,23 @@ class RoadClouds:
         needs ``speeds``); ``None``: none. A join with draws near a detection is not
         roughened: its draws bring speeds of the stationary law, and roughening the union would
         blur the speeds the detections have just taught the cloud.
+    counts
+        KLD-sampling: each resampling keeps a number of particles that follows the cloud's
+        spread, at most ``N`` (:class:`~searchtrack.estimate.road_resampling.KLDSampling`);
+        ``None``: every cloud keeps ``N``.
+
+    Attributes
+    ----------
+    count
+        ``(F,)`` the particles each cloud holds, in its first columns (the columns beyond weigh
+        0); ``N`` until a resampling with ``counts`` changes it.
     """
 
     def __init__(self, roads: DirectedRoads, edge: ArrayLike, s: ArrayLike,
                  w: ArrayLike | None = None, *, sensor: DiscSensor,
                  resample: ResamplePolicy, speeds: CourierRoadMotion | None = None,
-                 v: ArrayLike | None = None, roughening: SpeedRoughening | None = None) -> None:
+                 v: ArrayLike | None = None, roughening: SpeedRoughening | None = None,
+                 counts: KLDSampling | None = None) -> None:
         e = np.array(edge, copy=True)
         if e.ndim != 2 or e.shape[0] < 1 or e.shape[1] < 1 or e.dtype.kind not in "iu":
             raise InvalidInputError("edge", e.shape, "must be an integer (F, N) array, F, N ≥ 1")
@@ -92,16 +107,27 @@ class RoadClouds:
                                        or not isinstance(roughening, SpeedRoughening)):
             raise InvalidInputError("roughening", roughening, "must be a SpeedRoughening, with "
                                     "speeds (the drive-and-stop motion)")
+        if counts is not None and not isinstance(counts, KLDSampling):
+            raise InvalidInputError("counts", counts, "must be a KLDSampling or None")
         self.roads, self.sensor, self.resample_policy = roads, sensor, resample
-        self.speeds, self.roughening = speeds, roughening
+        self.speeds, self.roughening, self.counts = speeds, roughening, counts
         self.edge, self.s, self.w, self.v = e, pos, ww, vv
+        self.count: IntArray = np.full(e.shape[0], e.shape[1], dtype=np.int64)
         self._lik = np.empty(e.shape)
+        if counts is None:
+            self._bins, self._seen = np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.bool_)
+            self._table, self._bin_m = np.zeros(0, dtype=np.int64), 1.0
+        else:
+            self._bins = RoadBins(roads, counts.bin_m).first_bin
+            self._seen = np.zeros(int(self._bins[-1]), dtype=np.bool_)
+            self._table, self._bin_m = counts.table(e.shape[1]), counts.bin_m
 
     @classmethod
     def uniform(cls, roads: DirectedRoads, n_clouds: int, n_particles: int,
                 rng: np.random.Generator, *, sensor: DiscSensor, resample: ResamplePolicy,
                 speeds: CourierRoadMotion | None = None,
-                roughening: SpeedRoughening | None = None) -> RoadClouds:
+                roughening: SpeedRoughening | None = None,
+                counts: KLDSampling | None = None) -> RoadClouds:
         """``n_clouds`` clouds drawn uniformly over the road length (Eq. 1), with speeds from
         the stationary law of ``speeds`` when given (drawn after the positions)."""
         f = checks.count("n_clouds", n_clouds, 1)
@@ -109,7 +135,7 @@ class RoadClouds:
         edge, s = roads.uniform((f, n), checks.generator("rng", rng))
         v = None if speeds is None else speeds.initial_speeds((f, n), rng)
         return cls(roads, edge, s, sensor=sensor, resample=resample, speeds=speeds, v=v,
-                   roughening=roughening)
+                   roughening=roughening, counts=counts)
 
     def new_speeds(self, shape: tuple[int, ...], rng: np.random.Generator) -> FloatArray:
         """Speeds for particles joined to the clouds (jump and birth draws): the stationary law
@@ -120,7 +146,7 @@ class RoadClouds:
 
     @property
     def shape(self) -> tuple[int, int]:
-        """``(F, N)``."""
+        """``(F, N)``: the clouds and their capacity."""
         return (int(self.edge.shape[0]), int(self.edge.shape[1]))
 
     def copy(self) -> RoadClouds:
@@ -128,6 +154,7 @@ class RoadClouds:
         out = _copy.copy(self)
         out.edge, out.s, out.w, out.v = (self.edge.copy(), self.s.copy(), self.w.copy(),
                                          self.v.copy())
+        out.count, out._seen = self.count.copy(), self._seen.copy()
         out._lik = np.empty_like(self._lik)
         return out
 
@@ -150,7 +177,7 @@ class RoadClouds:
         dt = checks.non_negative("dt_s", dt_s)
         e, pos, _ = self._flat()
         over = kern.move(e, pos, rng.standard_normal(pos.size), motion.speed_mps,
-                         motion.sigma_mps, dt, self.roads.length)
+                         motion.sigma_mps, dt, self.roads.length, self.count)
         self._turn(e, pos, over, rng)
 
     def detection_sums(self, y: FloatArray, clutter_density: float) -> FloatArray:
@@ -158,7 +185,8 @@ class RoadClouds:
         per-particle likelihoods for :meth:`weigh`."""
         sensor = self.sensor
         sums = np.empty(self.edge.shape[0])
-        kern.detection_likelihood(self.edge, self.s, self.w, self.roads.tail_xy, self.roads.step_xy,
+        kern.detection_likelihood(self.edge, self.s, self.w, self.count, self.roads.tail_xy,
+                                  self.roads.step_xy,
                                   float(y[0]), float(y[1]), sensor.detection_gain,
                                   0.5 / sensor.sigma2_m2, sensor.p_fa * clutter_density,
                                   self._lik, sums)
@@ -174,7 +202,7 @@ class RoadClouds:
         """Bayes' rule (Eq. 4) on ``rows`` with the likelihoods of the last
         :meth:`detection_sums`, then resampling as the policy says (unless ``resample`` is
         false: the caller resamples)."""
-        kern.weigh_rows(self.w, self._lik, rows)
+        kern.weigh_rows(self.w, self._lik, rows, self.count)
         if resample:
             self.resample(rows, rng)
 
@@ -185,7 +213,8 @@ class RoadClouds:
         likelihood ``Σ_n w p(z | x)`` (1 for a cloud outside the view)."""
         sums = np.empty(rows.size)
         touched = np.zeros(rows.size, dtype=np.bool_)
-        kern.miss_update(self.edge, self.s, self.w, rows, self.roads.tail_xy, self.roads.step_xy,
+        kern.miss_update(self.edge, self.s, self.w, self.count, rows, self.roads.tail_xy,
+                         self.roads.step_xy,
                          float(uav_xy[0]), float(uav_xy[1]), self.sensor.negative_radius_m ** 2,
                          self.sensor.p_fn, sums, touched)
         if resample:
@@ -197,21 +226,39 @@ class RoadClouds:
         roughening of their speeds, if any)."""
         if rows.size == 0:
             return
-        rows = rows[self.resample_policy.due(self.w[rows])]
+        rows = rows[self.resample_policy.due(self.w[rows], self.count[rows])]
         if rows.size:
-            kern.resample_rows(self.edge, self.s, self.v, self.w, rows, rng.random(rows.size))
+            rkern.resample_rows(self.edge, self.s, self.v, self.w, self.count, rows,
+                                rng.random(rows.size), self._bins, self._bin_m, self._seen,
+                                self._table)
             self.roughen(rows, rng)
+
+    def join(self, rows: IntArray, mass: FloatArray, edge: IntArray, s: FloatArray,
+             v: FloatArray, w: FloatArray, rng: np.random.Generator) -> None:
+        """Join draws ``(R, K)`` of weights ``w`` to ``rows``, whose normalized weights count
+        ``mass`` ``(R,)`` each, and resample each union (low-variance, to ``N`` or the
+        KLD-sampling count; not roughened); a row whose union weighs nothing is left as it
+        is."""
+        rkern.join_rows(self.edge, self.s, self.v, self.w, self.count,
+                        np.ascontiguousarray(rows, dtype=np.int64),
+                        np.ascontiguousarray(mass, dtype=np.float64),
+                        np.ascontiguousarray(edge, dtype=self.edge.dtype),
+                        np.ascontiguousarray(s, dtype=np.float64),
+                        np.ascontiguousarray(v, dtype=np.float64),
+                        np.ascontiguousarray(w, dtype=np.float64), rng.random(rows.size),
+                        self._bins, self._bin_m, self._seen, self._table)
 
     def roughen(self, rows: IntArray, rng: np.random.Generator) -> None:
         """The roughening of ``rows``' speeds just resampled (nothing without one)."""
         if self.roughening is not None and self.speeds is not None:
             self.roughening.roughen(self.v, rows, self.speeds.min_speed_mps,
-                                    self.speeds.max_speed_mps, rng)
+                                    self.speeds.max_speed_mps, rng, self.count)
 
     def take(self, rows: IntArray) -> None:
         """Replace the clouds by ``rows`` of themselves (a top-level resampling)."""
         self.edge, self.s, self.w, self.v = (self.edge[rows], self.s[rows], self.w[rows],
                                              self.v[rows])
+        self.count = self.count[rows]
 
     def _courier(self, motion: CourierRoadMotion, dt_s: float,
                  rng: np.random.Generator) -> None:
@@ -223,7 +270,8 @@ class RoadClouds:
         e, pos, v = self._flat()
         mode, u = rng.random(pos.size), rng.random(pos.size)
         over = kern.courier_move(e, pos, v, mode, u, stop, go, motion.min_speed_mps,
-                                 motion.max_speed_mps, float(dt_s), self.roads.length)
+                                 motion.max_speed_mps, float(dt_s), self.roads.length,
+                                 self.count)
         self._turn(e, pos, over, rng)
 
     def _flat(self) -> tuple[IntArray, FloatArray, FloatArray]:

@@ -97,7 +97,7 @@ class RoadRBPF:
         self._start(config, RoadClouds.uniform(
             roads, config.n_histories * config.n_targets, config.n_particles,
             checks.generator("rng", rng), sensor=config.sensor, resample=config.resample,
-            speeds=config.speeds, roughening=config.roughening))
+            speeds=config.speeds, roughening=config.roughening, counts=config.counts))
 
     def _start(self, config: RBPFConfig, clouds: RoadClouds) -> None:
         roads, h = clouds.roads, config.n_histories
@@ -129,7 +129,8 @@ class RoadRBPF:
                                       np.tile(arrays[1], (h, 1)),
                                       None if w is None else np.tile(arrays[2], (h, 1)),
                                       sensor=config.sensor, resample=config.resample,
-                                      speeds=config.speeds, roughening=config.roughening))
+                                      speeds=config.speeds, roughening=config.roughening,
+                                      counts=config.counts))
         return out
 
     @property

@@ -10,7 +10,7 @@ from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.road_births import DetectionBirths
 from searchtrack.estimate.road_jumps import TargetJumps
-from searchtrack.estimate.road_resampling import ResamplePolicy, SpeedRoughening
+from searchtrack.estimate.road_resampling import KLDSampling, ResamplePolicy, SpeedRoughening
 from searchtrack.models.disc_sensor import DiscSensor
 from searchtrack.models.road_particles import CourierRoadMotion, RoadMotion
 
@@ -26,7 +26,7 @@ class RBPFConfig:
     n_histories
         ``H ≥ 1`` top-level (association history) particles (10 in the paper).
     n_particles
-        ``N ≥ 1`` particles per target filter (500).
+        ``N ≥ 1`` particles per target filter (500), the cap when ``counts`` is set.
     motion, sensor
         Target motion (Eq. 9, or the drive-and-stop
         :class:`~searchtrack.models.road_particles.CourierRoadMotion`, whose speeds the
@@ -61,6 +61,10 @@ class RBPFConfig:
         join with draws near a detection, which bring fresh speeds;
         :class:`~searchtrack.estimate.road_resampling.SpeedRoughening`, beyond the paper;
         needs the drive-and-stop motion); ``None``: none.
+    counts
+        KLD-sampling (beyond the paper): each target filter's particle count follows its spread,
+        at most ``N`` (:class:`~searchtrack.estimate.road_resampling.KLDSampling`); ``None``:
+        ``N`` for every filter, as the paper.
     """
 
     n_targets: int
@@ -80,6 +84,7 @@ class RBPFConfig:
     jumps: TargetJumps | None = None
     births: DetectionBirths | None = None
     roughening: SpeedRoughening | None = None
+    counts: KLDSampling | None = None
 
     def __post_init__(self) -> None:
         for name in ("n_targets", "n_histories", "n_particles"):
@@ -106,6 +111,8 @@ class RBPFConfig:
                                             or self.speeds is None):
             raise InvalidInputError("roughening", self.roughening, "must be a SpeedRoughening "
                                     "or None, and needs the drive-and-stop motion")
+        if self.counts is not None and not isinstance(self.counts, KLDSampling):
+            raise InvalidInputError("counts", self.counts, "must be a KLDSampling or None")
         if self.births is not None and self.jumps is not None:
             raise InvalidInputError("births", self.births, "jumps are set: choose one of the "
                                     "two detection proposals")

@@ -22,11 +22,27 @@ driving particle's speed moves by a Gaussian of Silverman's bandwidth
 ``h = c · 1.06 · σ̂_v · n^{-1/5}`` of its row's ``n`` driving speeds (spread ``σ̂_v``),
 reflected into the drive-speed range; stopped particles keep 0. A cloud that has learned its
 target's speed (small ``σ̂_v``) is barely moved; copies part at about ``h``.
+
+:class:`KLDSampling` (beyond the paper) lets the number of particles of each cloud follow its
+spread (Fox 2003, "Adapting the sample size in particle filters through KLD-sampling"): with
+``k`` the road bins the posterior occupies, ``n(k) = χ²_{k−1, 1−δ} / (2ε)`` particles bound the
+Kullback-Leibler divergence between the sample-based and the true (binned) posterior by ``ε``
+with probability ``1 − δ``; the chi-square quantile is Wilson and Hilferty's,
+``n(k) ≈ (k−1)/(2ε) · (1 − 2/(9(k−1)) + z_{1−δ} √(2/(9(k−1))))³``. A cloud on its target
+(a few bins) keeps a few hundred particles; a cloud spread over a city takes the cap. Fox draws
+particles one at a time until their count reaches the bound of the bins they fill; here a
+resampling draws the cap's systematic sample, counts the bins it fills, and draws
+``clip(n(k), n_min, cap)`` systematically from the same weights (the bins of the cap's sample
+are at least those of the smaller one, so the count errs on the side of more particles). A cloud
+of ``n`` particles keeps them in its first ``n`` columns with weights ``1/n``; the columns
+beyond weigh 0 and every kernel skips them.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from statistics import NormalDist
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -54,11 +70,13 @@ class ResamplePolicy:
             object.__setattr__(self, "threshold", checks.real(
                 "threshold", self.threshold, low=0.0, high=1.0, low_open=True))
 
-    def due(self, w: FloatArray) -> BoolArray:
-        """For each row of normalized weights ``(B, N)``: whether to resample it now."""
+    def due(self, w: FloatArray, count: IntArray | None = None) -> BoolArray:
+        """For each row of normalized weights ``(B, N)``: whether to resample it now
+        (``count`` ``(B,)``: the particles each row holds, ``N`` if ``None``)."""
         if self.threshold is None:
             return np.ones(w.shape[0], dtype=bool)
-        return np.asarray(effective_sample_size(w) < self.threshold * w.shape[1])
+        n = w.shape[1] if count is None else count
+        return np.asarray(effective_sample_size(w) < self.threshold * n)
 
 
 #: The factor of Silverman's rule of thumb for a Gaussian kernel.
@@ -80,10 +98,13 @@ class SpeedRoughening:
     def __post_init__(self) -> None:
         object.__setattr__(self, "scale", checks.positive("scale", self.scale))
 
-    def bandwidths(self, v: FloatArray) -> FloatArray:
+    def bandwidths(self, v: FloatArray, count: IntArray | None = None) -> FloatArray:
         """``(B,)`` bandwidth ``h`` (m/s) of each row of speeds ``(B, N)`` (0 for a row with
-        fewer than two driving particles)."""
+        fewer than two driving particles); ``count`` ``(B,)``: only each row's first ``count``
+        particles are read (all if ``None``)."""
         drive = v > 0.0
+        if count is not None:
+            drive &= np.arange(v.shape[1]) < np.asarray(count)[:, None]
         n = drive.sum(axis=1)
         mean = np.where(drive, v, 0.0).sum(axis=1) / np.maximum(n, 1)
         var = np.where(drive, (v - mean[:, None]) ** 2, 0.0).sum(axis=1) / np.maximum(n - 1, 1)
@@ -91,14 +112,60 @@ class SpeedRoughening:
         return np.asarray(np.where(n >= 2, h, 0.0), dtype=np.float64)
 
     def roughen(self, v: FloatArray, rows: IntArray, low_mps: float, high_mps: float,
-                rng: np.random.Generator) -> None:
+                rng: np.random.Generator, count: IntArray | None = None) -> None:
         """Roughen ``rows`` of the speeds ``v`` ``(F, N)`` in place, reflecting into
-        ``[low_mps, high_mps]``; one standard normal per particle of those rows."""
+        ``[low_mps, high_mps]``; one standard normal per particle of those rows (``count``
+        ``(F,)``: the particles each row holds, for the bandwidths)."""
         if rows.size == 0:
             return
         block = v[rows]
-        moved = block + self.bandwidths(block)[:, None] * rng.standard_normal(block.shape)
+        live = None if count is None else np.asarray(count)[rows]
+        moved = block + self.bandwidths(block, live)[:, None] * rng.standard_normal(block.shape)
         v[rows] = np.where(block > 0.0, reflect(moved, low_mps, high_mps), block)
+
+
+@dataclass(frozen=True)
+class KLDSampling:
+    """Particle counts that follow each cloud's spread (module docstring).
+
+    Parameters
+    ----------
+    epsilon
+        ``ε``, the bound on the Kullback-Leibler divergence, in ``(0, 1)``.
+    quantile
+        ``1 − δ``, the probability the bound holds, in ``(0.5, 1)``.
+    bin_m
+        Bin length (m) along each directed edge, > 0.
+    min_particles
+        Fewest particles a cloud keeps, ≥ 2 (a cloud of one bin needs no more).
+    """
+
+    epsilon: float = 0.05
+    quantile: float = 0.99
+    bin_m: float = 10.0
+    min_particles: int = 50
+
+    def __post_init__(self) -> None:
+        checks.real("epsilon", self.epsilon, low=0.0, high=1.0, low_open=True, high_open=True)
+        checks.real("quantile", self.quantile, low=0.5, high=1.0, low_open=True, high_open=True)
+        checks.positive("bin_m", self.bin_m)
+        checks.count("min_particles", self.min_particles, least=2)
+
+    def bound(self, bins: int) -> float:
+        """``n(k)`` for ``k = bins`` occupied bins (Wilson-Hilferty; 0 for ``k ≤ 1``)."""
+        if bins <= 1:
+            return 0.0
+        d = bins - 1
+        a = 2.0 / (9.0 * d)
+        z = NormalDist().inv_cdf(self.quantile)
+        return d / (2.0 * self.epsilon) * (1.0 - a + math.sqrt(a) * z) ** 3
+
+    def table(self, cap: int) -> IntArray:
+        """``(cap + 1,)``: the particles a resampled cloud keeps when its cap-sized systematic
+        sample fills ``k`` bins, ``clip(⌈n(k)⌉, min_particles, cap)`` at index ``k``."""
+        n = checks.count("cap", cap, least=1)
+        out = [min(max(math.ceil(self.bound(k)), self.min_particles), n) for k in range(n + 1)]
+        return np.asarray(out, dtype=np.int64)
 
 
 def reflect(x: FloatArray, low: float, high: float) -> FloatArray:

@@ -187,6 +187,33 @@ def test_join_keeps_n_particles_with_their_speeds() -> None:
     assert np.all((clouds.v == 0.0) | ((clouds.v >= 5.0) & (clouds.v <= 9.0)))
 
 
+def test_the_draws_read_only_each_clouds_live_particles() -> None:
+    """A cloud holding 30 of its 80 columns (weight 0 beyond, those columns all at the
+    detection) gets the draws, weights and predictive likelihood of its 30 particles alone."""
+    line = _line()
+    rng = np.random.default_rng(5)
+    e, s = line.nearest(np.column_stack([600.0 + 400.0 * rng.random(30), np.zeros(30)]))
+    y = np.array([777.0, 0.0])
+    ey, sy = line.nearest(np.tile(y, (50, 1)))
+    w = rng.random(30)
+    compact = RoadClouds(line, e[None], s[None], w[None], sensor=SENSOR,
+                         resample=ResamplePolicy())
+    wide = RoadClouds(line, np.concatenate([e, ey])[None], np.concatenate([s, sy])[None],
+                      np.concatenate([w, np.zeros(50)])[None], sensor=SENSOR,
+                      resample=ResamplePolicy())
+    wide.count[0] = 30
+    uniforms = rng.random((3, 1, 6))
+    out = []
+    for clouds in (compact, wide):
+        clouds.detection_sums(y, 1e-3)
+        out.append(birth_draws(clouds, DetectionBirths(), y, 1e-3, uniforms))
+    np.testing.assert_array_equal(out[0].edge, out[1].edge)
+    np.testing.assert_allclose(out[1].w, out[0].w, rtol=1e-12)
+    np.testing.assert_allclose(out[1].sums, out[0].sums, rtol=1e-12)
+    np.testing.assert_array_equal(out[1].keep[0, :30], out[0].keep[0])
+    assert out[1].bandwidth[0] == pytest.approx(out[0].bandwidth[0], rel=1e-12)
+
+
 def _rbpf(roads: DirectedRoads, births: DetectionBirths | None, x: np.ndarray) -> RoadRBPF:
     """A one-target filter of standing particles at ``x`` on the road along the x axis."""
     config = RBPFConfig(n_targets=1, n_histories=4, n_particles=x.size,

@@ -34,7 +34,8 @@ def test_detection_likelihood_is_eq_10(roads: DirectedRoads) -> None:
     y = np.array([103.0, 60.0])
     density = sensor.clutter_density(roads)
     lik, sums = np.empty(edge.shape), np.empty(6)
-    kern.detection_likelihood(edge, s, w, np.ascontiguousarray(roads.tail_xy),
+    full = np.full(6, 400, dtype=np.int64)
+    kern.detection_likelihood(edge, s, w, full, np.ascontiguousarray(roads.tail_xy),
                               np.ascontiguousarray(roads.step_xy), y[0], y[1],
                               sensor.detection_gain, 0.5 / sensor.sigma2_m2,
                               sensor.p_fa * density, lik, sums)
@@ -42,7 +43,7 @@ def test_detection_likelihood_is_eq_10(roads: DirectedRoads) -> None:
     np.testing.assert_allclose(lik, ref, rtol=1e-12, atol=1e-300)
     np.testing.assert_allclose(sums, (w * ref).sum(axis=1), rtol=1e-12)
     w2 = w.copy()
-    kern.weigh_rows(w2, lik, np.array([1, 4]))
+    kern.weigh_rows(w2, lik, np.array([1, 4]), full)
     post = w[[1, 4]] * ref[[1, 4]]
     np.testing.assert_allclose(w2[[1, 4]], post / post.sum(axis=1, keepdims=True), rtol=1e-12)
     np.testing.assert_array_equal(w2[[0, 2, 3, 5]], w[[0, 2, 3, 5]])
@@ -57,7 +58,8 @@ def test_miss_update_is_eq_11(roads: DirectedRoads) -> None:
     uav = np.array([100.0, 100.0])
     rows = np.array([0, 2, 5])
     w2, sums, touched = w.copy(), np.empty(3), np.zeros(3, dtype=np.bool_)
-    kern.miss_update(edge, s, w2, rows, np.ascontiguousarray(roads.tail_xy),
+    kern.miss_update(edge, s, w2, np.full(6, 400, dtype=np.int64), rows,
+                     np.ascontiguousarray(roads.tail_xy),
                      np.ascontiguousarray(roads.step_xy), uav[0], uav[1],
                      sensor.negative_radius_m ** 2, sensor.p_fn, sums, touched)
     ref = sensor.miss_likelihood(roads.point(edge, s), uav)
@@ -67,64 +69,6 @@ def test_miss_update_is_eq_11(roads: DirectedRoads) -> None:
     np.testing.assert_allclose(w2[rows[:2]], (post / post.sum(axis=1, keepdims=True))[:2],
                                rtol=1e-12)
     np.testing.assert_array_equal(w2[[1, 3, 4, 5]], w[[1, 3, 4, 5]])
-
-
-def test_resample_rows_matches_systematic_indices(roads: DirectedRoads) -> None:
-    """In-place resampling of some rows copies the particles (positions and speeds) the NumPy
-    reference picks."""
-    edge, s, w = _cloud(roads, 2)
-    w = w ** 3
-    v = np.random.default_rng(3).random(edge.shape) * 20.0
-    rows, u = np.array([0, 3, 4]), np.array([0.2, 0.7, 0.0])
-    e2, s2, v2, w2 = edge.copy(), s.copy(), v.copy(), w.copy()
-    kern.resample_rows(e2, s2, v2, w2, rows, u)
-    idx = systematic_indices(w[rows], u)
-    for i, r in enumerate(rows):
-        np.testing.assert_array_equal(e2[r], edge[r][idx[i]])
-        np.testing.assert_array_equal(s2[r], s[r][idx[i]])
-        np.testing.assert_array_equal(v2[r], v[r][idx[i]])
-        np.testing.assert_allclose(w2[r], 1 / 400)
-    for r in (1, 2, 5):
-        np.testing.assert_array_equal(e2[r], edge[r])
-        np.testing.assert_array_equal(w2[r], w[r])
-
-
-def test_join_rows_is_systematic_resampling_of_the_union() -> None:
-    """Each listed row becomes the low-variance resample of its particles (weighed by the
-    row's mass) joined with its draws: the same copies as systematic_indices on the union;
-    an unlisted row and a row whose union weighs nothing stay as they were."""
-    rng = np.random.default_rng(4)
-    n, k = 9, 4
-    edge = rng.integers(0, 5, (3, n)).astype(np.int64)
-    s = rng.random((3, n))
-    w = rng.random((3, n))
-    w /= w.sum(axis=1, keepdims=True)
-    add_e = rng.integers(5, 9, (2, k)).astype(np.int64)
-    add_s = rng.random((2, k)) + 10.0
-    add_w = rng.random((2, k)) * 0.2
-    v, add_v = rng.random((3, n)), rng.random((2, k)) + 5.0
-    rows, mass = np.array([0, 2]), np.array([0.7, 0.0])
-    u = np.array([0.3, 0.6])
-    union_e = np.concatenate([edge[rows], add_e], axis=1)
-    union_s = np.concatenate([s[rows], add_s], axis=1)
-    union_v = np.concatenate([v[rows], add_v], axis=1)
-    union_w = np.concatenate([w[rows] * mass[:, None], add_w], axis=1)
-    before = (edge.copy(), s.copy(), w.copy())
-    kern.join_rows(edge, s, v, w, rows, mass, add_e, add_s, add_v, add_w, u)
-    for i, r in enumerate(rows):
-        cum = np.cumsum(union_w[i]) / union_w[i].sum()
-        idx = np.minimum(np.searchsorted(cum, (u[i] + np.arange(n)) / n, side="right"), n + k - 1)
-        np.testing.assert_array_equal(edge[r], union_e[i, idx])
-        np.testing.assert_array_equal(s[r], union_s[i, idx])
-        np.testing.assert_array_equal(v[r], union_v[i, idx])
-        np.testing.assert_allclose(w[r], 1.0 / n)
-    assert np.all(s[2] >= 10.0)          # mass 0: only the draws survive
-    np.testing.assert_array_equal(edge[1], before[0][1])
-    np.testing.assert_array_equal(w[1], before[2][1])
-    empty = np.zeros((1, k))
-    kern.join_rows(edge, s, v, w, np.array([1]), np.array([0.0]), add_e[:1], add_s[:1],
-                   add_v[:1], empty, np.array([0.5]))
-    np.testing.assert_array_equal(s[1], before[1][1])
 
 
 @pytest.fixture(scope="module")
@@ -220,3 +164,47 @@ def test_courier_kernels_equal_courier_road_motion_step(town: DirectedRoads, dt:
     np.testing.assert_allclose(clouds.s, ref_s, rtol=0.0, atol=1e-9)
     assert np.any((v > 0.0) & (ref_v == 0.0)) and np.any((v == 0.0) & (ref_v > 0.0))
     town.check_positions(clouds.edge, clouds.s)
+
+
+def test_kernels_skip_the_columns_beyond_each_rows_count(roads: DirectedRoads) -> None:
+    """Rows holding fewer particles than the capacity (weight 0 beyond): the likelihoods, the
+    Bayes and miss updates and both motions read and change only each row's first ``count``
+    particles, and give what the row's live particles give alone."""
+    edge, s, w = _cloud(roads, 9)
+    count = np.array([400, 150, 1, 400, 37, 200], dtype=np.int64)
+    for r, c in enumerate(count):
+        w[r, c:] = 0.0
+        w[r] /= w[r].sum()
+    sensor = DiscSensor()
+    y, uav = np.array([103.0, 60.0]), np.array([100.0, 100.0])
+    lik, sums = np.full(edge.shape, np.nan), np.empty(6)
+    args = (np.ascontiguousarray(roads.tail_xy), np.ascontiguousarray(roads.step_xy))
+    kern.detection_likelihood(edge, s, w, count, *args, y[0], y[1], sensor.detection_gain,
+                              0.5 / sensor.sigma2_m2, 0.01, lik, sums)
+    ref = sensor.likelihood(roads.point(edge, s), y, 0.01 / sensor.p_fa)
+    live = np.arange(400) < count[:, None]
+    np.testing.assert_allclose(lik[live], ref[live], rtol=1e-12, atol=1e-300)
+    np.testing.assert_array_equal(lik[~live], 0.0)
+    np.testing.assert_allclose(sums, (w * ref).sum(axis=1), rtol=1e-12)
+    w2 = w.copy()
+    kern.weigh_rows(w2, lik, np.arange(6), count)
+    np.testing.assert_array_equal(w2[~live], 0.0)
+    np.testing.assert_allclose(w2.sum(axis=1), 1.0)
+    w3, msum, touched = w.copy(), np.empty(6), np.zeros(6, dtype=np.bool_)
+    kern.miss_update(edge, s, w3, count, np.arange(6), *args, uav[0], uav[1],
+                     sensor.negative_radius_m ** 2, sensor.p_fn, msum, touched)
+    post = w * sensor.miss_likelihood(roads.point(edge, s), uav)
+    np.testing.assert_allclose(msum, post.sum(axis=1), rtol=1e-12)
+    np.testing.assert_array_equal(w3[~live], 0.0)
+    e_flat, s_flat = edge.copy().reshape(-1), s.copy().reshape(-1)
+    over = kern.move(e_flat, s_flat, np.ones(s_flat.size), 8.0, 0.0, 1.0, roads.length, count)
+    moved = (s_flat.reshape(6, 400) != s) | (e_flat.reshape(6, 400) != edge)
+    np.testing.assert_array_equal(moved[~live], False)
+    assert moved[live].mean() > 0.99
+    assert np.all(live.reshape(-1)[over])
+    v = np.full(s.size, 5.0)
+    e_flat, s_flat = edge.copy().reshape(-1), s.copy().reshape(-1)
+    kern.courier_move(e_flat, s_flat, v, np.ones(s.size), np.zeros(s.size), 0.0, 0.0, 5.0,
+                      10.0, 1.0, roads.length, count)
+    np.testing.assert_array_equal(s_flat.reshape(6, 400)[~live], s[~live])
+    np.testing.assert_array_equal(v.reshape(6, 400)[~live], 5.0)

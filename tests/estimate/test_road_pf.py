@@ -182,3 +182,41 @@ def test_roughening_needs_speeds(roads: DirectedRoads) -> None:
         RoadClouds(roads, edge, s, sensor=DiscSensor(), resample=ResamplePolicy(),
                    roughening=SpeedRoughening())
     assert info.value.field == "roughening"
+
+
+def test_kld_counts_follow_the_spread_and_every_reader_ignores_the_rest(
+        roads: DirectedRoads) -> None:
+    """With KLD-sampling a cloud that detections localised keeps far fewer particles than the
+    cap and a cloud seen by nothing keeps the cap; entropy, MAP position and node beliefs of
+    the clouds equal those of their live particles alone, and copy and take carry the
+    counts."""
+    from searchtrack.estimate.road_entropy import RoadBins, entropy, map_positions
+    from searchtrack.estimate.road_resampling import KLDSampling
+
+    rng = np.random.default_rng(11)
+    clouds = RoadClouds.uniform(roads, 2, 2000, rng, sensor=DiscSensor(),
+                                resample=ResamplePolicy(), counts=KLDSampling())
+    y = np.array([150.0, 100.0])
+    density = clouds.sensor.clutter_density(roads)
+    for _ in range(4):
+        clouds.detection_sums(y, density)
+        clouds.weigh(np.array([0]), rng)
+        clouds.predict(RoadMotion(speed_mps=1.0, sigma_mps=0.5), 0.1, rng)
+    clouds.miss(np.array([300.0, 300.0]), np.array([1]), rng)
+    assert clouds.count[0] < 400 and clouds.count[1] == 2000
+    np.testing.assert_array_equal(clouds.w[0, clouds.count[0]:], 0.0)
+    np.testing.assert_allclose(clouds.w.sum(axis=1), 1.0)
+    n = int(clouds.count[0])
+    live = (clouds.edge[:1, :n], clouds.s[:1, :n], clouds.w[:1, :n])
+    bins = RoadBins(roads)
+    assert entropy(bins, clouds.edge, clouds.s, clouds.w)[0] == pytest.approx(
+        entropy(bins, *live)[0], rel=1e-12)
+    np.testing.assert_array_equal(map_positions(bins, clouds.edge, clouds.s, clouds.w)[0],
+                                  map_positions(bins, *live)[0])
+    np.testing.assert_allclose(node_trackers(roads, clouds.edge, clouds.s, clouds.w)[0]
+                               .probability, node_trackers(roads, *live)[0].probability,
+                               rtol=1e-12)
+    snap = clouds.copy()
+    clouds.take(np.array([1, 0, 0]))
+    np.testing.assert_array_equal(clouds.count, [2000, n, n])
+    np.testing.assert_array_equal(snap.count, [n, 2000])

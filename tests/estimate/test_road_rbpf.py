@@ -13,6 +13,7 @@ from searchtrack.estimate.belief import BeliefBank, NodeBelief, RoadParticleBeli
 from searchtrack.estimate.particle_belief import ParticleBelief
 from searchtrack.estimate.road_entropy import map_positions
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
+from searchtrack.estimate.road_resampling import KLDSampling
 from searchtrack.models import RoadNetwork, grid_network
 from searchtrack.models.road_particles import DirectedRoads, RoadMotion
 
@@ -47,10 +48,13 @@ def _pt(x: float) -> np.ndarray:
     return np.array([x, 0.0])
 
 
-def test_single_target_is_tracked(grid3: DirectedRoads) -> None:
-    """M = 1, a UAV over the target scanning at 1 Hz: the MAP point ends within 10 m."""
+@pytest.mark.parametrize("counts", [None, KLDSampling()])
+def test_single_target_is_tracked(grid3: DirectedRoads, counts: KLDSampling | None) -> None:
+    """M = 1, a UAV over the target scanning at 1 Hz: the MAP point ends within 10 m; with
+    KLD-sampling the localised clouds hold far fewer particles than the cap."""
     rng = np.random.default_rng(0)
-    f = RoadRBPF(grid3, RBPFConfig(n_targets=1, n_histories=5, n_particles=500), rng)
+    f = RoadRBPF(grid3, RBPFConfig(n_targets=1, n_histories=5, n_particles=500,
+                                   counts=counts), rng)
     te, ts = grid3.uniform(1, rng)
     for k in range(200):
         te, ts = RoadMotion(10.0, 2.0).step(grid3, te, ts, 0.1, rng)
@@ -59,6 +63,7 @@ def test_single_target_is_tracked(grid3: DirectedRoads) -> None:
             truth = grid3.point(te, ts)
             f.update(f.config.sensor.detect(truth[0], truth, rng, grid3), truth[0], rng)
     assert np.hypot(*(f.map_positions()[0] - grid3.point(te, ts)[0])) < 10.0
+    assert np.all(f.clouds.count < 300) if counts else np.all(f.clouds.count == 500)
 
 
 def test_a_miss_moves_mass_out_of_the_view_in_every_history(grid3: DirectedRoads) -> None:
@@ -121,12 +126,16 @@ def test_history_weights_use_negative_information(line: DirectedRoads) -> None:
         np.testing.assert_allclose(f.weights, 0.5)
 
 
-@pytest.mark.parametrize("weight", ["marginal", "sampled"])
-def test_association_is_accurate_on_a_simulated_run(grid3: DirectedRoads, weight: str) -> None:
+@pytest.mark.parametrize(("weight", "counts"), [("marginal", None), ("sampled", None),
+                                               ("marginal", KLDSampling())])
+def test_association_is_accurate_on_a_simulated_run(grid3: DirectedRoads, weight: str,
+                                                    counts: KLDSampling | None) -> None:
     """Two targets on the 3×3 map, a UAV chasing them in turn: ≥ 90 % of the scans with true
-    detections get the right labels in the best history (labels up to one permutation)."""
+    detections get the right labels in the best history (labels up to one permutation), with
+    fixed counts and with KLD-sampling."""
     rng = np.random.default_rng(5)
-    f = RoadRBPF(grid3, RBPFConfig(n_targets=2, history_weight=weight), rng)  # type: ignore[arg-type]
+    f = RoadRBPF(grid3, RBPFConfig(n_targets=2, history_weight=weight,  # type: ignore[arg-type]
+                                   counts=counts), rng)
     te, ts = grid3.uniform(2, rng)
     uav, chase, scans = CENTRE.copy(), 0, []
     for k in range(900):

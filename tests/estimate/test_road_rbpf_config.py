@@ -7,7 +7,7 @@ import pytest
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.road_jumps import TargetJumps
 from searchtrack.estimate.road_rbpf_config import RBPFConfig
-from searchtrack.estimate.road_resampling import SpeedRoughening
+from searchtrack.estimate.road_resampling import KLDSampling, SpeedRoughening
 from searchtrack.models.road_particles import CourierRoadMotion
 
 
@@ -38,3 +38,12 @@ def test_roughening_needs_the_drive_and_stop_motion() -> None:
         with pytest.raises(InvalidInputError) as info:
             RBPFConfig(n_targets=1, **bad)  # type: ignore[arg-type]
         assert info.value.field == "roughening"
+
+
+def test_kld_counts_are_optional_and_checked() -> None:
+    """Fixed counts by default (the paper); KLD-sampling taken, anything else refused by name."""
+    assert RBPFConfig(n_targets=1).counts is None
+    assert RBPFConfig(n_targets=1, counts=KLDSampling()).counts == KLDSampling()
+    with pytest.raises(InvalidInputError) as info:
+        RBPFConfig(n_targets=1, counts=0.05)  # type: ignore[arg-type]
+    assert info.value.field == "counts"

@@ -7,6 +7,7 @@ import pytest
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.road_resampling import (
+    KLDSampling,
     ResamplePolicy,
     SpeedRoughening,
     effective_sample_size,
@@ -113,6 +114,54 @@ def test_bandwidths_are_silvermans_rule_on_the_driving_speeds() -> None:
         d = v[r][v[r] > 0.0]
         assert h[r] == pytest.approx(0.5 * 1.06 * d.std(ddof=1) * d.size ** -0.2, rel=1e-12)
     assert h[2] == 0.0 and h[3] == 0.0
+
+
+def test_bandwidths_read_each_rows_count() -> None:
+    """With counts, only each row's first ``count`` speeds enter its bandwidth."""
+    rng = np.random.default_rng(4)
+    v = rng.uniform(5.0, 20.0, (2, 40))
+    h = SpeedRoughening().bandwidths(v, np.array([40, 12]))
+    assert h[0] == SpeedRoughening().bandwidths(v[[0]])[0]
+    assert h[1] == pytest.approx(SpeedRoughening().bandwidths(v[[1], :12])[0], rel=1e-12)
+
+
+def test_policy_compares_n_eff_with_each_rows_count() -> None:
+    """A selective policy compares N_eff with q times the particles a row holds."""
+    w = np.zeros((2, 10))
+    w[:, :4] = 0.25                      # N_eff = 4 in both rows
+    due = ResamplePolicy(0.5).due(w, np.array([10, 4]))
+    np.testing.assert_array_equal(due, [True, False])
+
+
+def test_kld_bound_is_the_chi_square_quantile() -> None:
+    """n(k) is χ²_{k−1, 1−δ} / (2ε) (Fox 2003) to within the Wilson-Hilferty error."""
+    from scipy.stats import chi2
+
+    for eps, q in ((0.05, 0.99), (0.02, 0.95), (0.1, 0.9)):
+        counts = KLDSampling(epsilon=eps, quantile=q)
+        for k in (3, 10, 50, 400):
+            exact = chi2.ppf(q, k - 1) / (2.0 * eps)
+            assert counts.bound(k) == pytest.approx(exact, rel=0.02)
+    assert KLDSampling().bound(1) == 0.0
+
+
+def test_kld_table_is_clipped_and_grows_with_the_bins() -> None:
+    counts = KLDSampling(epsilon=0.05, min_particles=30)
+    table = counts.table(500)
+    assert table.shape == (501,)
+    assert table[0] == table[1] == 30    # one bin: the floor
+    assert np.all(np.diff(table) >= 0) and table[-1] == 500
+    for k in (2, 20):
+        assert table[k] == int(np.ceil(counts.bound(k)))
+    np.testing.assert_array_equal(KLDSampling(min_particles=80).table(40), 40)
+
+
+@pytest.mark.parametrize(("field", "value"), [
+    ("epsilon", 0.0), ("epsilon", 1.0), ("quantile", 0.5), ("quantile", 1.0),
+    ("bin_m", 0.0), ("min_particles", 1), ("min_particles", 2.5)])
+def test_bad_kld_sampling_is_named(field: str, value: float) -> None:
+    with pytest.raises(InvalidInputError, match=field):
+        KLDSampling(**{field: value})  # type: ignore[arg-type]
 
 
 def test_roughening_moves_driving_speeds_by_the_bandwidth() -> None:

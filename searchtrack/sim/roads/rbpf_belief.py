@@ -84,7 +84,7 @@ from searchtrack.estimate.road_births import DetectionBirths
 from searchtrack.estimate.road_jumps import TargetJumps
 from searchtrack.estimate.road_kernel import RoadKernel
 from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
-from searchtrack.estimate.road_resampling import SpeedRoughening
+from searchtrack.estimate.road_resampling import KLDSampling, SpeedRoughening
 from searchtrack.estimate.stepping import RoadScan, RoadUpdate, TrackBirth, TrackPair
 from searchtrack.models import CourierModel, RoadNetwork, SensorModel, UavState
 from searchtrack.models.disc_sensor import DiscSensor
@@ -141,15 +141,18 @@ def node_resolution(scenario: Scenario) -> float:
 
 def rbpf_config(scenario: Scenario) -> RBPFConfig:
     """The RBPF of ``scenario``: ``M`` = its targets, ``H``, ``N`` and the jump rate from its
-    filter spec, the couriers' motion with its speeds roughened, the thesis sensor's disc, and
-    the rejuvenation near detections unless the spec asks for jumps (module docstring)."""
+    filter spec, the couriers' motion with its speeds roughened, the thesis sensor's disc, the
+    rejuvenation near detections unless the spec asks for jumps (module docstring), and
+    KLD-sampling on bins of the sensor's position noise when the spec sets ``kld_epsilon``."""
     f = scenario.filter
     jumps = TargetJumps.at_rate(f.jump_rate_per_s)
+    counts = None if f.kld_epsilon is None else KLDSampling(
+        epsilon=f.kld_epsilon, bin_m=scenario.sensor.position_noise_m)
     return RBPFConfig(n_targets=scenario.target_count, n_histories=f.histories,
                       n_particles=f.particles, motion=courier_motion(scenario.courier),
                       sensor=thesis_disc_sensor(scenario.sensor), association="joint",
                       jumps=jumps, births=DetectionBirths() if jumps is None else None,
-                      roughening=SpeedRoughening())
+                      roughening=SpeedRoughening(), counts=counts)
 
 
 class ParticleSearchField:

@@ -188,6 +188,13 @@ class FilterSpec:
         ``λ ≥ 0`` of the RBPF's robust prior (:mod:`searchtrack.estimate.road_jumps`, beyond
         paper 000): the rate at which a target may leave its predicted cloud; 0 (default): the
         paper's prior. Used when ``belief = "rbpf"``.
+    kld_epsilon
+        KLD-sampling of the RBPF (beyond paper 000; Fox 2003, see
+        :class:`~searchtrack.estimate.road_resampling.KLDSampling`): each target filter's
+        particle count follows its spread, at most ``particles``, bounding the
+        Kullback-Leibler error by this ``ε`` in ``(0, 1)`` on road bins of the sensor's position
+        noise. ``None`` (default): every filter keeps ``particles``. Used when
+        ``belief = "rbpf"``.
     node_resolution_m
         The RBPF's node beliefs as the guidance reads them (``belief = "rbpf"``): each
         localised target's node belief blurred along the roads by a Gaussian of this standard
@@ -229,6 +236,7 @@ class FilterSpec:
     histories: int = 10
     particles: int = 500
     jump_rate_per_s: float = 0.0
+    kld_epsilon: float | None = None
     node_resolution_m: float | None = None
     tracker_alpha: float | None = None
     handover: bool = True
@@ -239,6 +247,9 @@ class FilterSpec:
         if self.tracker_alpha is not None:
             positive("tracker_alpha", self.tracker_alpha)
         non_negative("jump_rate_per_s", self.jump_rate_per_s)
+        if self.kld_epsilon is not None and not (
+                isinstance(self.kld_epsilon, (int, float)) and 0.0 < self.kld_epsilon < 1.0):
+            raise InvalidInputError("kld_epsilon", self.kld_epsilon, "must be in (0, 1) or unset")
         if self.node_resolution_m is not None:
             non_negative("node_resolution_m", self.node_resolution_m)
         if not isinstance(self.handover, bool):

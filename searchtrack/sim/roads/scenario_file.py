@@ -190,6 +190,7 @@ def _filter(t: Table) -> FilterSpec:
         histories=t.integer("histories", d.histories, minimum=1),
         particles=t.integer("particles", d.particles, minimum=1),
         jump_rate_per_s=t.number("jump_rate_per_s", d.jump_rate_per_s, minimum=0.0),
+        kld_epsilon=t.optional_number("kld_epsilon", positive=True, maximum=1.0),
         node_resolution_m=t.optional_number("node_resolution_m", minimum=0.0),
         tracker_alpha=t.optional_number("tracker_alpha"),
         handover=t.boolean("handover", d.handover),

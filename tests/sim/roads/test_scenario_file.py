@@ -251,6 +251,22 @@ def test_the_rbpf_node_resolution_is_read_and_checked(tmp_path: Path) -> None:
             load_scenario(write(tmp_path, text + f"node_resolution_m = {bad}\n"))
 
 
+def test_the_rbpf_kld_sampling_is_read_and_checked(tmp_path: Path) -> None:
+    """``filter.kld_epsilon`` turns on the RBPF's KLD-sampling (bins of the sensor's position
+    noise, the cap ``particles``); unset: fixed counts; outside (0, 1) it is named."""
+    from searchtrack.sim.roads.rbpf_belief import rbpf_config
+
+    text = 'name = "x"\n[map]\ngrid = { rows = 3, cols = 3 }\n[filter]\nbelief = "rbpf"\n'
+    assert rbpf_config(load_scenario(write(tmp_path, text))).counts is None
+    s = load_scenario(write(tmp_path, text + "kld_epsilon = 0.1\n"))
+    counts = rbpf_config(s).counts
+    assert counts is not None and counts.epsilon == 0.1
+    assert counts.bin_m == s.sensor.position_noise_m
+    for bad in ("0.0", "1.0", "-0.2", '"loose"'):
+        with pytest.raises(ParseError, match=r"filter\.kld_epsilon"):
+            load_scenario(write(tmp_path, text + f"kld_epsilon = {bad}\n"))
+
+
 def test_the_search_route_settings_reach_the_guidance(tmp_path: Path) -> None:
     """The route strategies' ``search_*`` settings are read into the GuidanceSpec and reach the
     guidance's StrategyConfig; absent, they are StrategyConfig's own defaults (the cell side and
