@@ -114,13 +114,16 @@ class RoadClouds:
         self.edge, self.s, self.w, self.v = e, pos, ww, vv
         self.count: IntArray = np.full(e.shape[0], e.shape[1], dtype=np.int64)
         self._lik = np.empty(e.shape)
+        self._bin_m, self._speed_bin = 1.0, 1.0
         if counts is None:
             self._bins, self._seen = np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.bool_)
-            self._table, self._bin_m = np.zeros(0, dtype=np.int64), 1.0
+            self._table = np.zeros(0, dtype=np.int64)
         else:
             self._bins = RoadBins(roads, counts.bin_m).first_bin
-            self._seen = np.zeros(int(self._bins[-1]), dtype=np.bool_)
+            n_speed = counts.speed_bins(None if speeds is None else speeds.max_speed_mps)
+            self._seen = np.zeros(int(self._bins[-1]) * n_speed, dtype=np.bool_)
             self._table, self._bin_m = counts.table(e.shape[1]), counts.bin_m
+            self._speed_bin = counts.speed_bin_mps or 1.0
 
     @classmethod
     def uniform(cls, roads: DirectedRoads, n_clouds: int, n_particles: int,
@@ -229,8 +232,8 @@ class RoadClouds:
         rows = rows[self.resample_policy.due(self.w[rows], self.count[rows])]
         if rows.size:
             rkern.resample_rows(self.edge, self.s, self.v, self.w, self.count, rows,
-                                rng.random(rows.size), self._bins, self._bin_m, self._seen,
-                                self._table)
+                                rng.random(rows.size), self._bins, self._bin_m,
+                                self._speed_bin, self._seen, self._table)
             self.roughen(rows, rng)
 
     def join(self, rows: IntArray, mass: FloatArray, edge: IntArray, s: FloatArray,
@@ -246,7 +249,7 @@ class RoadClouds:
                         np.ascontiguousarray(s, dtype=np.float64),
                         np.ascontiguousarray(v, dtype=np.float64),
                         np.ascontiguousarray(w, dtype=np.float64), rng.random(rows.size),
-                        self._bins, self._bin_m, self._seen, self._table)
+                        self._bins, self._bin_m, self._speed_bin, self._seen, self._table)
 
     def roughen(self, rows: IntArray, rng: np.random.Generator) -> None:
         """The roughening of ``rows``' speeds just resampled (nothing without one)."""

@@ -8,9 +8,10 @@ A cloud of capacity ``N`` holds ``count[f] ≤ N`` particles in its first column
 positions. The NumPy reference of the choice is
 :func:`~searchtrack.estimate.road_resampling.systematic_indices`.
 
-KLD-sampling: the cap's systematic sample is drawn, the road bins it fills are counted (bin
-``first_bin[e] + ⌊s / bin_m⌋`` of directed edge ``e``, clipped to the edge's last), and the cloud
-keeps ``table[k]`` particles, drawn systematically from the same weights with the same offset.
+KLD-sampling: the cap's systematic sample is drawn, the bins it fills are counted (road bin
+``first_bin[e] + ⌊s / bin_m⌋`` of directed edge ``e``, clipped to the edge's last, times the
+speed bins ``⌊v / speed_bin⌋`` when ``seen`` holds several per road bin), and the cloud keeps
+``table[k]`` particles, drawn systematically from the same weights with the same offset.
 An empty ``table`` keeps the cap (fixed counts).
 """
 
@@ -37,22 +38,32 @@ def _pick(uw: FloatArray, m: int, total: float, u: float, n_out: int, idx: IntAr
 
 
 @njit(cache=True)
-def _bins_filled(ue: IntArray, us: FloatArray, idx: IntArray, n: int, first_bin: IntArray,
-                 bin_m: float, seen: BoolArray) -> int:
-    """The road bins the chosen particles ``idx[:n]`` of ``(ue, us)`` fill; ``seen`` (all
-    false, one per bin) is left all false."""
+def _bin(e: int, s: float, v: float, first_bin: IntArray, bin_m: float, speed_bin: float,
+         n_speed: int) -> int:
+    """The bin of a particle: its road bin, times ``n_speed`` speed bins of ``speed_bin``."""
+    last = int(first_bin[e + 1] - first_bin[e] - 1)
+    b = int(first_bin[e]) + min(max(int(s / bin_m), 0), last)
+    if n_speed > 1:
+        b = b * n_speed + min(max(int(v / speed_bin), 0), n_speed - 1)
+    return b
+
+
+@njit(cache=True)
+def _bins_filled(ue: IntArray, us: FloatArray, uv: FloatArray, idx: IntArray, n: int,
+                 first_bin: IntArray, bin_m: float, speed_bin: float, seen: BoolArray) -> int:
+    """The bins the chosen particles ``idx[:n]`` of ``(ue, us, uv)`` fill; ``seen`` (all
+    false, one per bin: ``n_speed`` = its size over the road bins) is left all false."""
+    n_speed = seen.size // first_bin[first_bin.size - 1]
     k = 0
     for j in range(n):
-        e = ue[idx[j]]
-        last = first_bin[e + 1] - first_bin[e] - 1
-        b = first_bin[e] + min(max(np.int64(us[idx[j]] / bin_m), 0), last)
+        i = idx[j]
+        b = _bin(ue[i], us[i], uv[i], first_bin, bin_m, speed_bin, n_speed)
         if not seen[b]:
             seen[b] = True
             k += 1
     for j in range(n):
-        e = ue[idx[j]]
-        last = first_bin[e + 1] - first_bin[e] - 1
-        seen[first_bin[e] + min(max(np.int64(us[idx[j]] / bin_m), 0), last)] = False
+        i = idx[j]
+        seen[_bin(ue[i], us[i], uv[i], first_bin, bin_m, speed_bin, n_speed)] = False
     return k
 
 
@@ -60,14 +71,14 @@ def _bins_filled(ue: IntArray, us: FloatArray, idx: IntArray, n: int, first_bin:
 def _store_union(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, count: IntArray,
                  r: int, ue: IntArray, us: FloatArray, uv: FloatArray, uw: FloatArray, m: int,
                  total: float, u: float, idx: IntArray, first_bin: IntArray, bin_m: float,
-                 seen: BoolArray, table: IntArray) -> None:
+                 speed_bin: float, seen: BoolArray, table: IntArray) -> None:
     """Row ``r`` becomes the systematic resampling of the union ``u*[:m]`` (weights ``uw``
     summing to ``total``), ``table[k]`` particles of it (the cap with an empty table)."""
     cap = edge.shape[1]
     _pick(uw, m, total, u, cap, idx)
     n_out = cap
     if table.size:
-        n_out = table[_bins_filled(ue, us, idx, cap, first_bin, bin_m, seen)]
+        n_out = table[_bins_filled(ue, us, uv, idx, cap, first_bin, bin_m, speed_bin, seen)]
         if n_out < cap:
             _pick(uw, m, total, u, n_out, idx)
     for j in range(n_out):
@@ -83,7 +94,7 @@ def _store_union(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, co
 @njit(cache=True)
 def resample_rows(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, count: IntArray,
                   rows: IntArray, u: FloatArray, first_bin: IntArray, bin_m: float,
-                  seen: BoolArray, table: IntArray) -> None:
+                  speed_bin: float, seen: BoolArray, table: IntArray) -> None:
     """Low-variance resampling in place of the listed rows, row ``rows[i]`` (its ``count``
     particles) with offset ``u[i]`` in ``[0, 1)``, to ``table[k]`` particles (module
     docstring; the cap ``N`` with an empty table), each of weight ``1/count``."""
@@ -104,14 +115,14 @@ def resample_rows(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, c
             uw[n] = w[r, n]
             total += w[r, n]
         _store_union(edge, s, v, w, count, r, ue, us, uv, uw, m, total, u[i], idx, first_bin,
-                     bin_m, seen, table)
+                     bin_m, speed_bin, seen, table)
 
 
 @njit(cache=True)
 def join_rows(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, count: IntArray,
               rows: IntArray, mass: FloatArray, add_edge: IntArray, add_s: FloatArray,
               add_v: FloatArray, add_w: FloatArray, u: FloatArray, first_bin: IntArray,
-              bin_m: float, seen: BoolArray, table: IntArray) -> None:
+              bin_m: float, speed_bin: float, seen: BoolArray, table: IntArray) -> None:
     """Join draws to the listed rows and resample each union as :func:`resample_rows` does,
     in place.
 
@@ -145,4 +156,4 @@ def join_rows(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, count
         if not total > 0.0:
             continue
         _store_union(edge, s, v, w, count, r, ue, us, uv, uw, m + k_count, total, u[i], idx,
-                     first_bin, bin_m, seen, table)
+                     first_bin, bin_m, speed_bin, seen, table)

@@ -27,7 +27,8 @@ target's speed (small ``σ̂_v``) is barely moved; copies part at about ``h``.
 spread (Fox 2003, "Adapting the sample size in particle filters through KLD-sampling"): with
 ``k`` the road bins the posterior occupies, ``n(k) = χ²_{k−1, 1−δ} / (2ε)`` particles bound the
 Kullback-Leibler divergence between the sample-based and the true (binned) posterior by ``ε``
-with probability ``1 − δ``; the chi-square quantile is Wilson and Hilferty's,
+with probability ``1 − δ`` (bins over the road, and over the speed when the particles carry
+one and ``speed_bin_mps`` is set); the chi-square quantile is Wilson and Hilferty's,
 ``n(k) ≈ (k−1)/(2ε) · (1 − 2/(9(k−1)) + z_{1−δ} √(2/(9(k−1))))³``. A cloud on its target
 (a few bins) keeps a few hundred particles; a cloud spread over a city takes the cap. Fox draws
 particles one at a time until their count reaches the bound of the bins they fill; here a
@@ -138,18 +139,32 @@ class KLDSampling:
         Bin length (m) along each directed edge, > 0.
     min_particles
         Fewest particles a cloud keeps, ≥ 2 (a cloud of one bin needs no more).
+    speed_bin_mps
+        Width (m/s) of the speed bins each road bin is cut into when the particles carry a
+        speed (:class:`~searchtrack.models.road_particles.CourierRoadMotion`), > 0; ``None``:
+        road bins alone.
     """
 
     epsilon: float = 0.05
     quantile: float = 0.99
     bin_m: float = 10.0
     min_particles: int = 50
+    speed_bin_mps: float | None = None
 
     def __post_init__(self) -> None:
         checks.real("epsilon", self.epsilon, low=0.0, high=1.0, low_open=True, high_open=True)
         checks.real("quantile", self.quantile, low=0.5, high=1.0, low_open=True, high_open=True)
         checks.positive("bin_m", self.bin_m)
         checks.count("min_particles", self.min_particles, least=2)
+        if self.speed_bin_mps is not None:
+            checks.positive("speed_bin_mps", self.speed_bin_mps)
+
+    def speed_bins(self, max_speed_mps: float | None) -> int:
+        """Speed bins per road bin for particles of speeds in ``[0, max_speed_mps]``
+        (``None``: no speed state, one bin)."""
+        if self.speed_bin_mps is None or max_speed_mps is None:
+            return 1
+        return math.floor(max_speed_mps / self.speed_bin_mps) + 1
 
     def bound(self, bins: int) -> float:
         """``n(k)`` for ``k = bins`` occupied bins (Wilson-Hilferty; 0 for ``k ≤ 1``)."""

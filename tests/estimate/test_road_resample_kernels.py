@@ -12,7 +12,7 @@ from searchtrack.estimate.road_resampling import KLDSampling, systematic_indices
 from searchtrack.models import grid_network
 from searchtrack.models.road_particles import DirectedRoads
 
-_NO_KLD = (np.zeros(0, dtype=np.int64), 1.0, np.zeros(0, dtype=np.bool_),
+_NO_KLD = (np.zeros(0, dtype=np.int64), 1.0, 1.0, np.zeros(0, dtype=np.bool_),
            np.zeros(0, dtype=np.int64))
 
 
@@ -35,11 +35,11 @@ def _pick(w: np.ndarray, u: float, n: int) -> np.ndarray:
     return np.minimum(np.searchsorted(cum, (u + np.arange(n)) / n, side="right"), w.size - 1)
 
 
-def _kld(roads: DirectedRoads, counts: KLDSampling, cap: int) -> tuple[np.ndarray, float,
-                                                                       np.ndarray, np.ndarray]:
+def _kld(roads: DirectedRoads, counts: KLDSampling, cap: int, n_speed: int = 1
+         ) -> tuple[np.ndarray, float, float, np.ndarray, np.ndarray]:
     bins = RoadBins(roads, counts.bin_m)
-    return (bins.first_bin, counts.bin_m, np.zeros(bins.n_bins, dtype=np.bool_),
-            counts.table(cap))
+    return (bins.first_bin, counts.bin_m, counts.speed_bin_mps or 1.0,
+            np.zeros(bins.n_bins * n_speed, dtype=np.bool_), counts.table(cap))
 
 
 def test_resample_rows_matches_systematic_indices(roads: DirectedRoads) -> None:
@@ -109,7 +109,7 @@ def test_kld_count_follows_the_bins_the_cap_sample_fills(roads: DirectedRoads) -
         np.testing.assert_allclose(w2[r, :n], 1.0 / n)
         np.testing.assert_array_equal(w2[r, n:], 0.0)
     assert count[0] < 150 and count[1] == 400
-    assert not kld[2].any()   # the scratch marks are cleared
+    assert not kld[3].any()   # the scratch marks are cleared
 
 
 def test_kld_resampling_keeps_each_particle_in_proportion_to_its_weight(
@@ -208,3 +208,24 @@ def test_join_rows_with_kld_reads_the_rows_count_and_the_draws(roads: DirectedRo
     np.testing.assert_array_equal(v[0, :n] == 2.0, idx >= 30)
     np.testing.assert_allclose(w[0, :n], 1.0 / n)
     np.testing.assert_array_equal(w[0, n:], 0.0)
+
+
+def test_kld_speed_bins_count_a_cloud_spread_in_speed(roads: DirectedRoads) -> None:
+    """Particles in one road bin with speeds over 0–10 m/s fill one bin by position and six of
+    2 m/s with speed bins, and keep the counts of those bins."""
+    rng = np.random.default_rng(9)
+    cap = 300
+    edge = np.full((1, cap), 3, dtype=np.int64)
+    s = 41.0 + 8.0 * rng.random((1, cap))
+    v = np.round(10.0 * rng.random((1, cap)), 1)
+    w = np.full((1, cap), 1.0 / cap)
+    kept = []
+    for speed_bin, n_speed in ((None, 1), (2.0, 6)):
+        counts = KLDSampling(bin_m=10.0, min_particles=20, speed_bin_mps=speed_bin)
+        assert counts.speed_bins(10.0) == n_speed
+        count = np.array([cap], dtype=np.int64)
+        rkern.resample_rows(edge.copy(), s.copy(), v.copy(), w.copy(), count, np.array([0]),
+                            np.array([0.5]), *_kld(roads, counts, cap, n_speed))
+        kept.append(int(count[0]))
+    table = KLDSampling(bin_m=10.0, min_particles=20).table(cap)
+    assert kept == [table[1], table[6]]

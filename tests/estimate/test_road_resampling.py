@@ -156,9 +156,17 @@ def test_kld_table_is_clipped_and_grows_with_the_bins() -> None:
     np.testing.assert_array_equal(KLDSampling(min_particles=80).table(40), 40)
 
 
+def test_kld_speed_bins() -> None:
+    """Speeds 0…v_max in bins of the given width (0 is the stopped bin); none without one."""
+    assert KLDSampling().speed_bins(15.0) == 1
+    assert KLDSampling(speed_bin_mps=2.0).speed_bins(None) == 1
+    assert KLDSampling(speed_bin_mps=2.0).speed_bins(15.0) == 8
+    assert KLDSampling(speed_bin_mps=2.0).speed_bins(16.0) == 9
+
+
 @pytest.mark.parametrize(("field", "value"), [
     ("epsilon", 0.0), ("epsilon", 1.0), ("quantile", 0.5), ("quantile", 1.0),
-    ("bin_m", 0.0), ("min_particles", 1), ("min_particles", 2.5)])
+    ("bin_m", 0.0), ("min_particles", 1), ("min_particles", 2.5), ("speed_bin_mps", 0.0)])
 def test_bad_kld_sampling_is_named(field: str, value: float) -> None:
     with pytest.raises(InvalidInputError, match=field):
         KLDSampling(**{field: value})  # type: ignore[arg-type]

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from searchtrack.core import checks
+from searchtrack.core.deadline import Deadline
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.registry import check_seed
 from searchtrack.core.types import FloatArray, IntArray
@@ -347,6 +348,19 @@ class RoadSearchProblem:
         from searchtrack.plan.road_search.scenario import build_scenario
 
         return build_scenario(self)
+
+    def scenario_within(self, deadline: Deadline) -> bool:
+        """Build :attr:`scenario` unless built, stopping at ``deadline``: whether it is built
+        (``False``: the deadline expired first, nothing kept)."""
+        from searchtrack.plan.road_search.scenario import BuildTimeout, build_scenario
+
+        if "scenario" in self.__dict__:
+            return True
+        try:
+            self.__dict__["scenario"] = build_scenario(self, deadline)
+        except BuildTimeout:
+            return False
+        return True
 
     def network_nodes(self, plan: RoadPlan) -> tuple[IntArray, ...]:
         """Each UAV's path as nodes of the belief's network (every node along merged chains)."""

@@ -46,6 +46,7 @@ from functools import cached_property
 import numpy as np
 
 from searchtrack.core.checks import readonly
+from searchtrack.core.deadline import Deadline
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.plan.road_search.problem import RoadPlan, RoadSearchProblem
 
@@ -255,25 +256,52 @@ class Scenario:
         return RoadPlan(tuple(nodes), tuple(tuple(int(e) for e in p) for p in edges))
 
 
-def propagate(problem: RoadSearchProblem, ticks: int) -> IntArray:
+class BuildTimeout(Exception):
+    """A scenario build ran past its deadline (or a stop was requested)."""
+
+
+def _check(deadline: Deadline | None) -> None:
+    if deadline is not None and deadline.expired():
+        raise BuildTimeout
+
+
+def propagate(problem: RoadSearchProblem, ticks: int,
+              deadline: Deadline | None = None) -> IntArray:
     """``(ticks + 1, M·N)`` directed edge of every particle at ticks ``0 … ticks``: the motion
-    model stepped ``tick_s`` at a time with one generator seeded by ``draw_seed``."""
+    model stepped ``tick_s`` at a time with one generator seeded by ``draw_seed``.
+
+    Raises
+    ------
+    BuildTimeout
+        ``deadline`` expired (checked every tick).
+    """
     rng = np.random.default_rng(problem.settings.draw_seed)
     edge, s = problem.particle_edge, problem.particle_s
     out = np.empty((ticks + 1, edge.size), dtype=np.int64)
     out[0] = edge.reshape(-1)
     motion, roads, dt = problem.settings.motion, problem.roads, problem.tick_s
     for t in range(1, ticks + 1):
+        _check(deadline)
         edge, s = motion.step(roads, edge, s, dt, rng)
         out[t] = edge.reshape(-1)
     return out
 
 
-def build_scenario(problem: RoadSearchProblem) -> Scenario:
-    """Build the time-expanded graphs, propagate the particles and group them."""
+def build_scenario(problem: RoadSearchProblem, deadline: Deadline | None = None) -> Scenario:
+    """Build the time-expanded graphs, propagate the particles and group them.
+
+    Raises
+    ------
+    BuildTimeout
+        ``deadline`` expired (checked after each UAV's graph, every propagation tick and
+        before the grouping); nothing is kept.
+    """
     st = problem.settings
-    raw = [_lattice_arcs(problem, v, int(t))
-           for v, t in zip(problem.uav_nodes, problem.start_ticks, strict=True)]
+    raw = []
+    for v, t in zip(problem.uav_nodes, problem.start_ticks, strict=True):
+        _check(deadline)
+        raw.append(_lattice_arcs(problem, v, int(t)))
+    _check(deadline)
     both = st.both_directions
     n_roads = problem.roads.n_edges // 2 if both else problem.roads.n_edges
     road_length = problem.roads.length[0::2] if both else problem.roads.length
@@ -300,7 +328,8 @@ def build_scenario(problem: RoadSearchProblem) -> Scenario:
         lattices.append(Lattice(**{k: readonly(v, copy=False) for k, v in r.items()},
                                 arc_element=readonly(arc_element)))
     last = int(max(lat.arc_tick[lat.arc_edge != HOLD].max() for lat in lattices))
-    edge_at = propagate(problem, last)
+    edge_at = propagate(problem, last, deadline)
+    _check(deadline)
     road_at = edge_at >> 1 if both else edge_at
     # Slots: the distinct (tick, road) pairs; a particle's key is its slot at each used tick.
     slots, slot_of_element = np.unique(e_tick * n_roads + e_road, return_inverse=True)

@@ -5,14 +5,21 @@ prove it (:func:`~searchtrack.core.registry.heuristic_then_exact`); its result n
 whose plan it is. CP-SAT (OR-Tools) is imported only when ``exact`` or ``auto`` first needs it,
 within the stage's time (:func:`~searchtrack.core.loading.loaded_within`): a first call whose
 limit runs out while it loads answers without it (``auto``: the beam's answer).
+
+The time limit covers the fixed-draw scenario every backend scores
+(:mod:`searchtrack.plan.road_search.scenario`): :func:`solve` builds it first, within the limit
+(a build that outlasts it answers ``NO_SOLUTION``, ``INTERRUPTED`` on a stop request), the
+backend gets the time left, and the answer's runtime counts the build.
 """
 
 from __future__ import annotations
 
-from searchtrack.core.deadline import Deadline
+import dataclasses
+
+from searchtrack.core.deadline import Deadline, check_time_limit
 from searchtrack.core.loading import loaded_within, still_loading
-from searchtrack.core.registry import Backend, Registry, heuristic_then_exact
-from searchtrack.core.result import Result
+from searchtrack.core.registry import Backend, Registry, check_seed, heuristic_then_exact
+from searchtrack.core.result import Result, Status, interrupted
 from searchtrack.plan.road_search.baselines import solve_ideal, solve_random, supports_ideal
 from searchtrack.plan.road_search.beam import solve_beam
 from searchtrack.plan.road_search.exhaustive import solve_exhaustive, supports_exhaustive
@@ -65,11 +72,24 @@ BACKENDS.register(Backend("ideal", solve_ideal, False,
 
 def solve(problem: RoadSearchProblem, *, backend: str = "auto", time_limit_s: float = 1.0,
           seed: int = 0) -> Result[RoadPlan]:
-    """Plan every UAV's look-ahead path with the named backend within ``time_limit_s``.
+    """Plan every UAV's look-ahead path with the named backend within ``time_limit_s``, the
+    scenario's build included (module docstring).
 
     Raises
     ------
     InvalidInputError
         Unknown backend, a backend that cannot take the problem, a bad limit or seed.
     """
-    return BACKENDS.solve(backend, problem, time_limit_s=time_limit_s, seed=seed)
+    check_time_limit(time_limit_s)
+    check_seed(seed)
+    BACKENDS.get(backend)
+    deadline = Deadline(time_limit_s)
+    if not problem.scenario_within(deadline):
+        return interrupted(Result(
+            Status.NO_SOLUTION, None, None, deadline.elapsed(), backend, None,
+            message="the time limit ran out while the scenario was built (particles "
+                    "propagated over the look-ahead); give more time, a shorter look-ahead or "
+                    "fewer particles"))
+    result = BACKENDS.solve(backend, problem, time_limit_s=max(1e-3, deadline.remaining()),
+                            seed=seed)
+    return dataclasses.replace(result, runtime_s=deadline.elapsed())

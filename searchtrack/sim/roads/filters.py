@@ -43,17 +43,21 @@ class MissionFilter:
     build
         ``build(scenario, world, rng)``: a fresh filter for one mission, owning ``rng``.
     reads_lrt
-        Its updates read the per-node ``ζ`` of the footprints (:class:`~searchtrack.models.
-        measurements.LrtScan`) besides the position fixes; when ``False`` the sensors do not
-        draw them.
+        Whether its updates read the per-node ``ζ`` of the footprints (:class:`~searchtrack.
+        models.measurements.LrtScan`) besides the position fixes, always or per scenario;
+        when not, the sensors do not draw them.
     description
         One line for listings.
     """
 
     name: str
     build: Callable[[Scenario, World, np.random.Generator], RoadFilter]
-    reads_lrt: bool
+    reads_lrt: bool | Callable[[Scenario], bool]
     description: str
+
+    def reads_lrt_of(self, scenario: Scenario) -> bool:
+        """Whether the filter of ``scenario`` reads the footprints' ``ζ``."""
+        return self.reads_lrt if isinstance(self.reads_lrt, bool) else self.reads_lrt(scenario)
 
     def filter_for(self, scenario: Scenario, world: World) -> RoadFilter:
         """A fresh filter for a mission of ``scenario``, drawing from the stream
@@ -66,5 +70,6 @@ FILTERS: NameTable[MissionFilter] = NameTable("road mission filter", "filter.bel
 
 FILTERS.register(MissionFilter("lrt", LRTMissionBelief.for_mission, reads_lrt=True,
                                description="thesis 001: LRT field and node trackers"))
-FILTERS.register(MissionFilter("rbpf", RBPFMissionBelief.for_mission, reads_lrt=False,
+FILTERS.register(MissionFilter("rbpf", RBPFMissionBelief.for_mission,
+                               reads_lrt=lambda sc: sc.filter.search_field == "lrt",
                                description="paper 000: Rao-Blackwellized particle filter"))

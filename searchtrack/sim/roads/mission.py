@@ -222,7 +222,7 @@ class Mission:
         sc = self.scenario
         net = self.world.network
         lrt = (lrt_measurements(net, uav_xy, targets.nodes(net)[visible], sc.sensor, rng)
-               if self.registration.reads_lrt else None)
+               if self.registration.reads_lrt_of(sc) else None)
         pos = position_measurements(uav_xy, truth_xy[visible], sc.sensor, rng)
         target: IntArray = np.where(pos.target == FALSE_ALARM, FALSE_ALARM, visible[pos.target])
         return RoadScan(time_s, pos, lrt), target

@@ -52,12 +52,19 @@ Reading the filter (the best history, as the paper's planner does):
   falls as soon as the cloud spreads beyond what a detection resolves. A target becoming
   localised is a tracker birth, one spreading below ``P_min`` is dissolved. In ``detect`` mode
   the bank stays empty, as the thesis's detect-mode trackers are dropped at birth.
-- The :class:`~searchtrack.estimate.belief.SearchField` is :class:`ParticleSearchField`: per node
-  ``v``, the log ratio of the pooled mass of the targets not localised around ``v`` (a
-  neighbourhood the size of the footprint disc) to what the uniform prior puts there, floored
-  at :data:`SCORE_FLOOR` (see :class:`ParticleFieldBuilder`). Like the LRT's ``φ`` (3.3) it is
-  0 under the prior, falls where the UAVs looked and found nothing, and rises where an unseen
-  target's mass gathers.
+- The :class:`~searchtrack.estimate.belief.SearchField` the searching UAVs climb is, with
+  ``filter.search_field = "particles"``, the
+  :class:`~searchtrack.sim.roads.particle_field.ParticleSearchField`: per node ``v``, the log
+  ratio of the pooled mass of the targets not localised around ``v`` (a neighbourhood the size
+  of the footprint disc) to what the uniform prior puts there, floored at
+  :data:`~searchtrack.sim.roads.particle_field.SCORE_FLOOR`. Like the LRT's ``φ`` (3.3) it is 0
+  under the prior, falls where the UAVs looked and found nothing, and rises where an unseen
+  target's mass gathers; but it refills a searched footprint as fast as the couriers drive in,
+  so the gradient search (5.7) keeps no memory of where it looked. With ``"lrt"`` it is the
+  thesis's own search field: the LRT of :class:`~searchtrack.sim.roads.lrt_belief.
+  LRTMissionBelief` flown beside the RBPF on the same scans (it reads the footprints' ``ζ``),
+  whose ``φ`` keeps a look for about ``C/α`` and whose own trackers take the evidence of the
+  targets it found out of ``φ``; the mission reads and scores only the RBPF's bank.
 - What the mission scores (thesis 001 §6.2): the trackers' positions
   (:meth:`RBPFMissionBelief.estimates_xy`) are the RBPF's MAP positions (densest 5 m road bin)
   of the localised targets; an update reports as its associations the detections the best
@@ -79,6 +86,7 @@ import numpy as np
 from searchtrack.core import checks
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
+from searchtrack.estimate.belief import SearchField
 from searchtrack.estimate.node_tracker import NodeTracker, TrackerBank
 from searchtrack.estimate.road_births import DetectionBirths
 from searchtrack.estimate.road_jumps import TargetJumps
@@ -89,15 +97,17 @@ from searchtrack.estimate.stepping import RoadScan, RoadUpdate, TrackBirth, Trac
 from searchtrack.models import CourierModel, RoadNetwork, SensorModel, UavState
 from searchtrack.models.disc_sensor import DiscSensor
 from searchtrack.models.road_particles import CourierRoadMotion, DirectedRoads
+from searchtrack.sim.roads.lrt_belief import LRTMissionBelief
+from searchtrack.sim.roads.particle_field import ParticleFieldBuilder
 from searchtrack.sim.roads.scenario import Scenario
 from searchtrack.sim.roads.world import World
 
-#: Lowest search score: where the particles left no mass (the LRT's default ``llr_floor``, so the
-#: gradient force (5.7) keeps the scale its spring constants were chosen for).
-SCORE_FLOOR = -20.0
-
 #: Largest ``P_FA`` of the disc sensor (Eq. 10 needs ``P_FA < 1``).
 MAX_P_FA = 0.999
+
+#: KLD-sampling's speed bins are ``s / KLD_SPEED_SPAN_S`` wide (``s`` the position noise):
+#: particles a bin apart in speed drift apart by the position noise within this time.
+KLD_SPEED_SPAN_S = 5.0
 
 #: Shortest mean stop (s) of the particles' motion: couriers that never dwell stop for about a
 #: step at a time.
@@ -143,102 +153,18 @@ def rbpf_config(scenario: Scenario) -> RBPFConfig:
     """The RBPF of ``scenario``: ``M`` = its targets, ``H``, ``N`` and the jump rate from its
     filter spec, the couriers' motion with its speeds roughened, the thesis sensor's disc, the
     rejuvenation near detections unless the spec asks for jumps (module docstring), and
-    KLD-sampling on bins of the sensor's position noise when the spec sets ``kld_epsilon``."""
+    KLD-sampling when the spec sets ``kld_epsilon``: on road bins of the sensor's position noise
+    ``s``, each cut into speed bins of ``s /`` :data:`KLD_SPEED_SPAN_S`."""
     f = scenario.filter
     jumps = TargetJumps.at_rate(f.jump_rate_per_s)
+    sigma = scenario.sensor.position_noise_m
     counts = None if f.kld_epsilon is None else KLDSampling(
-        epsilon=f.kld_epsilon, bin_m=scenario.sensor.position_noise_m)
+        epsilon=f.kld_epsilon, bin_m=sigma, speed_bin_mps=sigma / KLD_SPEED_SPAN_S)
     return RBPFConfig(n_targets=scenario.target_count, n_histories=f.histories,
                       n_particles=f.particles, motion=courier_motion(scenario.courier),
                       sensor=thesis_disc_sensor(scenario.sensor), association="joint",
                       jumps=jumps, births=DetectionBirths() if jumps is None else None,
                       roughening=SpeedRoughening(), counts=counts)
-
-
-class ParticleSearchField:
-    """A :class:`~searchtrack.estimate.belief.SearchField` holding a finite score per node.
-
-    Parameters
-    ----------
-    score
-        ``(n,)`` finite scores (copied, read-only).
-    """
-
-    def __init__(self, score: FloatArray) -> None:
-        self.score = checks.node_vector("score", score)
-
-    @property
-    def n_nodes(self) -> int:
-        """Number of road nodes ``n``."""
-        return int(self.score.size)
-
-    def node_score(self) -> FloatArray:
-        """The ``(n,)`` score (read-only, not a copy)."""
-        return self.score
-
-
-
-class ParticleFieldBuilder:
-    """Turns node masses into a :class:`ParticleSearchField` on one network.
-
-    The score of node ``v`` is ``log(max(S q / (k · S u), e^floor))``: ``q`` the pooled node
-    mass of ``k`` targets, ``u`` the node mass of the uniform prior (each node holds half the
-    length of its edges, as the nearer-end-node beliefs count), and ``S`` the sum over a
-    neighbourhood of ``v`` the size of a disc of radius ``radius_m``: the plane is cut into
-    square cells of side ``√π · radius_m / 3`` and ``S`` sums the 3 × 3 block of cells around
-    ``v``'s cell (area ``π · radius_m²``). The ratio is 1 in expectation under the prior; summing
-    over a neighbourhood tames the sampling noise of particles that sit on few of the nodes. The
-    cells make a step cost linear in the nodes whatever the radius (summing over the exact disc
-    costs one term per pair of nodes within it: 8 million on the bundled Aguascalientes map at
-    ``ρ`` = 374 m).
-
-    Parameters
-    ----------
-    network
-        The road network.
-    radius_m
-        Radius (m) of the disc the neighbourhood stands for, > 0 (a mission uses the footprint
-        ``ρ``: the score is then about the mass a UAV over ``v`` would see).
-    floor
-        The lowest score, finite and < 0.
-    """
-
-    def __init__(self, network: RoadNetwork, radius_m: float,
-                 floor: float = SCORE_FLOOR) -> None:
-        if not (math.isfinite(radius_m) and radius_m > 0.0):
-            raise InvalidInputError("radius_m", radius_m, "must be finite and > 0 (m)")
-        if not (math.isfinite(floor) and floor < 0.0):
-            raise InvalidInputError("floor", floor, "must be finite and < 0")
-        xy = network.coords
-        cell = math.sqrt(math.pi) * radius_m / 3.0
-        ij = np.floor((xy - xy.min(axis=0)) / cell)
-        cells, node_cell = np.unique(ij, axis=0, return_inverse=True)
-        index = {(a, b): k for k, (a, b) in enumerate(cells.tolist())}
-        blank = len(cells)  # an always-empty cell for the neighbours no node falls in
-        self._cell = np.asarray(node_cell, dtype=np.int64).ravel()
-        self._block = np.array([[index.get((a + da, b + db), blank)
-                                 for da in (-1.0, 0.0, 1.0) for db in (-1.0, 0.0, 1.0)]
-                                for a, b in cells.tolist()], dtype=np.int64).reshape(-1, 9)
-        half = 0.5 * np.asarray(network.lengths_m, dtype=np.float64)
-        share = np.bincount(network.edges.ravel(), weights=np.repeat(half, 2),
-                            minlength=network.n_nodes)
-        self.uniform: FloatArray = self.neighbourhood_sum(share / share.sum())
-        self.n_nodes = network.n_nodes
-        self.floor = float(floor)
-
-    def neighbourhood_sum(self, values: FloatArray) -> FloatArray:
-        """``S values``: per node, the sum of ``values`` ``(n,)`` over its neighbourhood."""
-        sums = np.bincount(self._cell, weights=values, minlength=self._block.shape[0] + 1)
-        return np.asarray(sums[self._block].sum(axis=1)[self._cell], dtype=np.float64)
-
-    def field(self, mass: FloatArray, n_targets: int) -> ParticleSearchField:
-        """The field of ``n_targets`` targets' pooled node ``mass`` ``(n,)`` (summing to
-        ``n_targets``); all 0 (the prior's value) when ``n_targets`` is 0."""
-        if n_targets <= 0:
-            return ParticleSearchField(np.zeros(self.n_nodes))
-        near = self.neighbourhood_sum(np.asarray(mass, dtype=np.float64))
-        ratio = near / (n_targets * self.uniform)
-        return ParticleSearchField(np.log(np.maximum(ratio, math.exp(self.floor))))
 
 
 class RBPFMissionBelief:
@@ -259,19 +185,26 @@ class RBPFMissionBelief:
     kernel
         The road kernel the bank's node beliefs are read through (module docstring), of
         ``network`` at :func:`node_resolution`; built when ``None``, none when that is 0.
+    search
+        The LRT whose ``φ`` is the search field (module docstring), stepped with the RBPF;
+        ``None``: the particle search field.
 
     Attributes
     ----------
     rbpf
         The filter.
+    search
+        The thesis's LRT flown for the search field (``filter.search_field = "lrt"``, module
+        docstring); ``None``: the particle search field.
     field
-        The search field, as of the last :meth:`update`.
+        The particle search field, as of the last :meth:`update` (neutral with ``search``).
     peaks_xy
         ``(len(bank), 2)`` MAP positions of the bank's targets.
     """
 
     def __init__(self, scenario: Scenario, network: RoadNetwork, rng: np.random.Generator,
-                 roads: DirectedRoads | None = None, kernel: RoadKernel | None = None) -> None:
+                 roads: DirectedRoads | None = None, kernel: RoadKernel | None = None,
+                 search: LRTMissionBelief | None = None) -> None:
         self.scenario = scenario
         self.network = network
         directed = roads if roads is not None else DirectedRoads(network)
@@ -288,6 +221,9 @@ class RBPFMissionBelief:
         m = scenario.target_count
         self.localised = np.zeros(m, dtype=bool)
         self._bank = TrackerBank(network.n_nodes, (), m)
+        self.search = search
+        if search is not None and search.network is not network:
+            raise InvalidInputError("search", search, "must be an LRT of the same network")
         self.field = self.fields.field(np.zeros(network.n_nodes), 0)
         self.peaks_xy: FloatArray = np.empty((0, 2))
 
@@ -295,15 +231,18 @@ class RBPFMissionBelief:
     def for_mission(cls, scenario: Scenario, world: World,
                     rng: np.random.Generator) -> RBPFMissionBelief:
         """The filter of ``scenario`` on ``world``'s network, drawing from ``rng`` (the road
-        kernel the world keeps)."""
+        kernel the world keeps), with the LRT of ``scenario`` on ``world`` for the search
+        field when ``filter.search_field`` is ``"lrt"`` (it draws nothing)."""
         sigma = node_resolution(scenario)
+        search = (LRTMissionBelief.for_mission(scenario, world, rng)
+                  if scenario.filter.search_field == "lrt" else None)
         return cls(scenario, world.network, rng,
-                   kernel=world.road_kernel(sigma) if sigma > 0.0 else None)
+                   kernel=world.road_kernel(sigma) if sigma > 0.0 else None, search=search)
 
     @property
-    def search_field(self) -> ParticleSearchField:
-        """The particle search field (module docstring)."""
-        return self.field
+    def search_field(self) -> SearchField:
+        """The field the searching UAVs climb (module docstring)."""
+        return self.field if self.search is None else self.search.search_field
 
     @property
     def bank(self) -> TrackerBank:
@@ -319,6 +258,8 @@ class RBPFMissionBelief:
         Eq. 10–11, 15–16), then the localisation. The pairs are the detections the best
         history gave to a target localised when the update began; the births are the targets
         that became localised."""
+        if self.search is not None:
+            self.search.update(scan, pose)
         tracked = {t.track_id for t in self._bank}
         pos, uav_xy = scan.positions, pose.xy_m
         pairs: list[TrackPair] = []
@@ -346,10 +287,11 @@ class RBPFMissionBelief:
                                                              for m in tracked),
                                  sc.target_count)
         self.peaks_xy = map_xy[tracked]
-        free = np.flatnonzero(~now)
-        mass = (np.sum([beliefs[m].probability for m in free], axis=0) if free.size
-                else np.zeros(self.network.n_nodes))
-        self.field = self.fields.field(mass, int(free.size))
+        if self.search is None:
+            free = np.flatnonzero(~now)
+            mass = (np.sum([beliefs[m].probability for m in free], axis=0) if free.size
+                    else np.zeros(self.network.n_nodes))
+            self.field = self.fields.field(mass, int(free.size))
         return births
 
     def _read(self, belief: NodeTracker) -> NodeTracker:
@@ -359,5 +301,8 @@ class RBPFMissionBelief:
         return NodeTracker(self.kernel.smooth(belief.probability), belief.track_id)
 
     def predict(self, dt_s: float) -> None:
-        """The couriers' drive-and-stop motion over ``dt_s`` seconds."""
+        """The couriers' drive-and-stop motion over ``dt_s`` seconds (and the search LRT's
+        prediction (3.8), (4.2))."""
+        if self.search is not None:
+            self.search.predict(dt_s)
         self.rbpf.predict(dt_s, self.rng)

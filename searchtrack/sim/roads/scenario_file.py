@@ -12,6 +12,7 @@ from searchtrack.core.files import read_text
 from searchtrack.models import CourierModel, DubinsLimits, SensorModel
 from searchtrack.models.lrt_sensor import THESIS_ALTITUDES_M, AltitudeModel
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
+from searchtrack.sim.roads.filter_spec import SEARCH_FIELDS
 from searchtrack.sim.roads.filters import FILTERS
 from searchtrack.sim.roads.scenario import (
     ASSOCIATORS,
@@ -191,6 +192,7 @@ def _filter(t: Table) -> FilterSpec:
         particles=t.integer("particles", d.particles, minimum=1),
         jump_rate_per_s=t.number("jump_rate_per_s", d.jump_rate_per_s, minimum=0.0),
         kld_epsilon=t.optional_number("kld_epsilon", positive=True, maximum=1.0),
+        search_field=t.string("search_field", d.search_field, choices=SEARCH_FIELDS),
         node_resolution_m=t.optional_number("node_resolution_m", minimum=0.0),
         tracker_alpha=t.optional_number("tracker_alpha"),
         handover=t.boolean("handover", d.handover),

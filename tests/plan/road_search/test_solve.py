@@ -123,3 +123,35 @@ def test_a_limit_spent_loading_or_tools_keeps_the_beam_answer(
     auto = solve(two, backend="auto", time_limit_s=1.0)
     assert auto.status is Status.FEASIBLE and auto.backend == "beam"
     assert auto.objective == beam.objective and auto.bound == beam.bound
+
+
+def test_the_limit_covers_the_scenario_build(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A scenario build that outlasts the limit answers NO_SOLUTION (nothing kept, so a later
+    call with more time builds it and plans); a stop request during the build answers
+    INTERRUPTED; the runtime of an answer counts the build."""
+    import time
+
+    from searchtrack.core.interrupt import clear_stop, request_stop
+
+    scenario_module = importlib.import_module("searchtrack.plan.road_search.scenario")
+    slow = scenario_module._lattice_arcs
+
+    def lattice(*args: object) -> object:
+        time.sleep(0.05)
+        return slow(*args)
+
+    monkeypatch.setattr(scenario_module, "_lattice_arcs", lattice)
+    p = random_problem(grid_roads(), np.random.default_rng(2), uavs=2, lookahead=2)
+    for backend in ("auto", "exhaustive", "beam"):
+        res = solve(p, backend=backend, time_limit_s=0.02)
+        assert res.status is Status.NO_SOLUTION and res.plan is None, backend
+        assert "scenario" in res.message and "scenario" not in p.__dict__
+    request_stop()
+    try:
+        res = solve(p, backend="beam", time_limit_s=10.0)
+    finally:
+        clear_stop()
+    assert res.status is Status.INTERRUPTED and res.plan is None
+    res = solve(p, backend="exhaustive", time_limit_s=10.0)
+    assert res.status is Status.OPTIMAL and res.runtime_s >= 0.1   # two UAVs' graphs slept
+    assert "scenario" in p.__dict__

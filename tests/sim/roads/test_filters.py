@@ -154,7 +154,7 @@ def test_the_registry_holds_the_scenarios_filters(world: World) -> None:
         entry = FILTERS.get(name)
         built = entry.filter_for(small(name), world)
         assert isinstance(built, RoadFilter)
-        assert (type(built), entry.reads_lrt) == kinds[name]
+        assert (type(built), entry.reads_lrt_of(small(name))) == kinds[name]
     a = FILTERS.get("rbpf").filter_for(small("rbpf"), world)
     b = Mission(small("rbpf"), world).new_filter()
     for x, y in zip(a.rbpf.target_particles(), b.rbpf.target_particles(),  # type: ignore[attr-defined]
@@ -181,3 +181,48 @@ def test_the_log_keeps_each_filters_search_field(world: World) -> None:
     logged = log_field(rbpf)
     assert isinstance(logged, LikelihoodField)
     np.testing.assert_array_equal(logged.llr, rbpf.search_field.node_score())
+
+
+def test_the_rbpf_searches_on_the_lrt_field_when_asked(world: World) -> None:
+    """With ``filter.search_field = "lrt"`` the RBPF mission draws the footprints' ζ and its
+    search field is the φ of the thesis's LRT on the same scans (a standalone LRT mission filter
+    stepped alike has the same φ), while its bank and tracks stay the RBPF's; by default the
+    sensors draw no ζ and the field is the particle field."""
+    from searchtrack.sim.roads.particle_field import ParticleSearchField
+
+    plain = small("rbpf")
+    hybrid = dataclasses.replace(plain, filter=dataclasses.replace(plain.filter,
+                                                                   search_field="lrt"))
+    entry = FILTERS.get("rbpf")
+    assert not entry.reads_lrt_of(plain) and entry.reads_lrt_of(hybrid)
+    assert isinstance(entry.filter_for(plain, world).search_field, ParticleSearchField)
+    belief = entry.filter_for(hybrid, world)
+    assert isinstance(belief, RBPFMissionBelief) and belief.search is not None
+    twin = LRTMissionBelief.for_mission(hybrid, world, np.random.default_rng(0))
+    seen = []
+
+    class Tap:
+        """Steps the twin LRT on every scan the mission's filter gets."""
+
+        def __init__(self, inner: RBPFMissionBelief) -> None:
+            self.inner = inner
+
+        def __getattr__(self, name: str) -> object:
+            return getattr(self.inner, name)
+
+        def update(self, scan: object, pose: object) -> object:
+            twin.update(scan, pose)  # type: ignore[arg-type]
+            seen.append(scan.lrt is not None)  # type: ignore[attr-defined]
+            return self.inner.update(scan, pose)  # type: ignore[arg-type]
+
+        def predict(self, dt_s: float) -> None:
+            twin.predict(dt_s)
+            self.inner.predict(dt_s)
+
+    mission = Mission(hybrid, world)
+    mission.new_filter = lambda: Tap(belief)  # type: ignore[method-assign,assignment,return-value]
+    mission.run()
+    assert seen and all(seen)
+    np.testing.assert_array_equal(belief.search_field.node_score(), twin.search_field.node_score())
+    assert np.any(belief.search_field.node_score() != 0.0)
+    assert all(0 <= t.track_id < 2 for t in belief.bank)   # target indices: the RBPF's

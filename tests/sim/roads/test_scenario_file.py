@@ -251,9 +251,10 @@ def test_the_rbpf_node_resolution_is_read_and_checked(tmp_path: Path) -> None:
             load_scenario(write(tmp_path, text + f"node_resolution_m = {bad}\n"))
 
 
-def test_the_rbpf_kld_sampling_is_read_and_checked(tmp_path: Path) -> None:
+def test_the_rbpf_options_are_read_and_checked(tmp_path: Path) -> None:
     """``filter.kld_epsilon`` turns on the RBPF's KLD-sampling (bins of the sensor's position
-    noise, the cap ``particles``); unset: fixed counts; outside (0, 1) it is named."""
+    noise, the cap ``particles``; unset: fixed counts; outside (0, 1) it is named), and
+    ``filter.search_field`` picks its search field (``particles`` by default)."""
     from searchtrack.sim.roads.rbpf_belief import rbpf_config
 
     text = 'name = "x"\n[map]\ngrid = { rows = 3, cols = 3 }\n[filter]\nbelief = "rbpf"\n'
@@ -262,9 +263,15 @@ def test_the_rbpf_kld_sampling_is_read_and_checked(tmp_path: Path) -> None:
     counts = rbpf_config(s).counts
     assert counts is not None and counts.epsilon == 0.1
     assert counts.bin_m == s.sensor.position_noise_m
+    assert counts.speed_bin_mps is not None and counts.speed_bin_mps > 0.0
     for bad in ("0.0", "1.0", "-0.2", '"loose"'):
         with pytest.raises(ParseError, match=r"filter\.kld_epsilon"):
             load_scenario(write(tmp_path, text + f"kld_epsilon = {bad}\n"))
+    assert load_scenario(write(tmp_path, text)).filter.search_field == "particles"
+    s = load_scenario(write(tmp_path, text + 'search_field = "lrt"\n'))
+    assert s.filter.search_field == "lrt"
+    with pytest.raises(ParseError, match=r"filter\.search_field"):
+        load_scenario(write(tmp_path, text + 'search_field = "gradient"\n'))
 
 
 def test_the_search_route_settings_reach_the_guidance(tmp_path: Path) -> None:
