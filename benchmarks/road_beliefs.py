@@ -4,6 +4,7 @@ trackers (``lrt``) and the Rao-Blackwellized particle filter of Moore et al. 202
     python benchmarks/road_beliefs.py [--seeds 3] [--scenarios demo grid-dense]
         [--strategies loiter search_and_loiter search_and_reacquire] [--duration S]
         [--histories 10] [--particles 500] [--jump-rates 0 0.02] [--kld-epsilon 0.05]
+        [--search-field lrt]
 
 Scenarios: ``demo`` is the shipped demo (``searchtrack/data/scenarios/demo.toml``: 3 UAVs,
 4 targets, 914.4 m, Aguascalientes, 240 s); ``grid-dense`` is the thesis's experiment-2 cell on
@@ -24,7 +25,9 @@ The RBPF is sized as in the paper (H = 10 histories, N = 500 particles per targe
 and the draws near detections (:mod:`searchtrack.sim.roads.rbpf_belief`), or the robust prior
 instead of those draws in the rows of a jump rate ``λ > 0``. With ``--kld-epsilon`` its filters
 hold a count that follows their spread (KLD-sampling, at most ``--particles``; the scenario's
-``filter.kld_epsilon``). Timings depend on the machine's load.
+``filter.kld_epsilon``); ``--search-field`` picks the field its searching UAVs climb (the
+scenario's ``filter.search_field``: by default the thesis's ``φ`` from an LRT flown beside it, or
+its own particle mass). Timings depend on the machine's load.
 """
 
 from __future__ import annotations
@@ -46,6 +49,7 @@ from searchtrack.sim.roads.experiment import (
     tracking_base,
     tracking_scenario,
 )
+from searchtrack.sim.roads.filter_spec import SEARCH_FIELDS
 from searchtrack.sim.roads.filters import FILTERS
 from searchtrack.sim.roads.mission import World
 from searchtrack.sim.roads.record import MissionLog
@@ -72,12 +76,13 @@ def scenarios(names: list[str], duration_s: float | None) -> dict[str, Scenario]
 
 def variant(base: Scenario, belief: str, strategy: str, histories: int,
             particles: int, jump_rate_per_s: float = 0.0,
-            kld_epsilon: float | None = None) -> Scenario:
+            kld_epsilon: float | None = None, search_field: str | None = None) -> Scenario:
     """``base`` estimated with ``belief`` and guided by ``strategy`` (its other guidance
     settings kept)."""
     f = dataclasses.replace(base.filter, belief=belief, histories=histories,
                             particles=particles, jump_rate_per_s=jump_rate_per_s,
-                            kld_epsilon=kld_epsilon)
+                            kld_epsilon=kld_epsilon,
+                            search_field=search_field or base.filter.search_field)
     g: GuidanceSpec = dataclasses.replace(base.guidance, strategy=strategy)
     return dataclasses.replace(base, filter=f, guidance=g)
 
@@ -128,6 +133,8 @@ def main() -> None:
                         help="RBPF rows for each jump rate λ (1/s) of its robust prior")
     parser.add_argument("--kld-epsilon", type=float, default=None,
                         help="the RBPF's KLD-sampling ε (default: fixed counts)")
+    parser.add_argument("--search-field", default=None, choices=SEARCH_FIELDS,
+                        help="the RBPF's search field (default: the scenario's)")
     args = parser.parse_args()
     header = ["scenario", "belief", "strategy", "runs", "MOC", "PVT %", "Δ MOC", "Δ PVT %",
               "first det. s", "found", "detected", "ms/step", "wall s"]
@@ -141,7 +148,7 @@ def main() -> None:
                 for rate in (args.jump_rates if belief == "rbpf" else [0.0]):
                     started = time.perf_counter()
                     sc = variant(base, belief, strategy, args.histories, args.particles, rate,
-                                 args.kld_epsilon)
+                                 args.kld_epsilon, args.search_field)
                     logs = fly_seeds(sc, seeds, world)
                     label = f"rbpf λ={rate:g}" if belief == "rbpf" and rate > 0.0 else belief
                     reference = logs if belief == "lrt" else reference
@@ -151,6 +158,7 @@ def main() -> None:
     print(f"\nThesis 001 road missions on two beliefs: lrt (thesis) and rbpf (Moore et al. 2021, "
           f"H = {args.histories}, N = {args.particles}"
           + ("" if args.kld_epsilon is None else f" at most, KLD ε = {args.kld_epsilon:g}")
+          + ("" if args.search_field is None else f", search field {args.search_field}")
           + "); mean ± 95 % half-width over "
           f"{args.seeds} seeds; Δ: minus the lrt row's, seed by seed")
     table(header, rows)

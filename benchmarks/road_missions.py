@@ -2,7 +2,7 @@
 
     python benchmarks/road_missions.py exp1 [--seeds 25] [--uavs 3 4 5 6]
     python benchmarks/road_missions.py exp2 [--seeds 10] [--duration 300] [--strategies ...]
-        [--fleets 3/2] [--altitudes 914.4 1828.8] [--belief rbpf]
+        [--fleets 3/2] [--altitudes 914.4 1828.8] [--belief rbpf] [--search-field lrt]
     python benchmarks/road_missions.py step [--duration 120]
 
 exp1 (§6.1): likelihood-gradient search, detection only: time to detect all 8 targets against the
@@ -10,7 +10,8 @@ number of UAVs on the two bundled OSM maps and a dense synthetic grid (claim: it
 UAVs; its spread too). exp2 (§6.2): loiter vs search-and-loiter vs search-and-reacquire, MOC,
 PVT and PVA at the four altitudes for 1 UAV / 4 targets and 3 UAVs / 2 targets (claims: loiter ≥
 search-and-loiter on MOC; PVT ≈ 97 %; MOC ≈ 25 % at ratio 0.25 and ≈ 100 % at 1.5), on the
-thesis's LRT belief or (``--belief rbpf``) on paper 000's RBPF. step: the
+thesis's LRT belief or (``--belief rbpf``) on paper 000's RBPF (``--search-field``: the field its
+searching UAVs climb). step: the
 filter-and-plan time of one step on Aguascalientes with 3 UAVs, by number of trackers (< 50 ms).
 The scenarios and per-run scores are :mod:`searchtrack.sim.roads.experiment`; this script
 loops over them, times and prints.
@@ -43,6 +44,7 @@ from searchtrack.sim.roads.experiment import (
     with_fleet,
     with_strategy,
 )
+from searchtrack.sim.roads.filter_spec import SEARCH_FIELDS
 from searchtrack.sim.roads.filters import FILTERS
 from searchtrack.sim.roads.mission import World
 from searchtrack.sim.roads.record import PHASES
@@ -94,7 +96,9 @@ def exp2(args: argparse.Namespace) -> None:
               "wall s"]
     rows = []
     base = tracking_base(args.map, duration_s=args.duration)
-    base = dataclasses.replace(base, filter=dataclasses.replace(base.filter, belief=args.belief))
+    base = dataclasses.replace(base, filter=dataclasses.replace(
+        base.filter, belief=args.belief,
+        search_field=args.search_field or base.filter.search_field))
     world = World.build(base)
     fleets = [f for f in TRACKING_FLEETS if f"{f[0]}/{f[1]}" in args.fleets]
     for uavs, targets in fleets:
@@ -118,8 +122,10 @@ def exp2(args: argparse.Namespace) -> None:
                     f"{max(r.plan_ms_p95 for r in runs):.1f}",
                     f"{time.perf_counter() - started:.0f}"])
                 print(f"  done {uavs}/{targets} h={h} {strategy}", file=sys.stderr, flush=True)
-    print(f"\nExperiment 2 on {args.map}, belief {args.belief}: {args.duration:g} s per run, "
-          "mean ± 95 % half-width over seeds")
+    searched = (f" (search field {base.filter.search_field})" if args.belief == "rbpf"
+                else "")
+    print(f"\nExperiment 2 on {args.map}, belief {args.belief}{searched}: {args.duration:g} s "
+          "per run, mean ± 95 % half-width over seeds")
     table(header, rows)
     print("\nthesis claims (§6.2, Figs. 6.6–6.13): loiter ≥ search-and-loiter on MOC; PVT ≈ 97 %;"
           " MOC ≈ 25 % at ratio 0.25 (1 UAV/4 targets) and ≈ 100 % at 1.5 (3 UAVs/2 targets);"
@@ -182,6 +188,8 @@ def main() -> None:
                     choices=[f"{o}/{t}" for o, t in TRACKING_FLEETS], help="UAVs/targets")
     p2.add_argument("--altitudes", type=float, nargs="+", default=list(THESIS_ALTITUDES_M))
     p2.add_argument("--belief", default="lrt", choices=FILTERS.names())
+    p2.add_argument("--search-field", default=None, choices=SEARCH_FIELDS,
+                    help="the RBPF's search field (default: the scenario's)")
     p2.set_defaults(run=exp2)
     p3 = sub.add_parser("step")
     p3.add_argument("--duration", type=float, default=120.0)

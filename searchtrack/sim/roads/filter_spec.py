@@ -76,11 +76,12 @@ class FilterSpec:
         ``None`` (default): every filter keeps ``particles``. Used when ``belief = "rbpf"``.
     search_field
         The field the RBPF mission's searching UAVs climb (``belief = "rbpf"``; see
-        :mod:`searchtrack.sim.roads.rbpf_belief`): ``"particles"`` (default), the untracked
-        targets' particle mass, which refills a searched footprint as fast as the couriers drive
-        in; or ``"lrt"``, the thesis's likelihood-ratio field ``φ`` of an LRT flown beside the
-        RBPF on the same scans (reading the footprints' ``ζ``), which keeps a look for about
-        ``C/α``. The mission scores the RBPF's tracks either way.
+        :mod:`searchtrack.sim.roads.rbpf_belief`): ``"lrt"`` (default), the thesis's
+        likelihood-ratio field ``φ`` of an LRT flown beside the RBPF on the same scans (reading
+        the footprints' ``ζ``), which keeps a look for about ``C/α``; or ``"particles"``, the
+        untracked targets' particle mass, which refills a searched footprint as fast as the
+        couriers drive in, so the gradient search wanders on it. The mission scores the RBPF's
+        tracks either way.
     node_resolution_m
         The RBPF's node beliefs as the guidance reads them (``belief = "rbpf"``): each
         localised target's node belief blurred along the roads by a Gaussian of this standard
@@ -123,7 +124,7 @@ class FilterSpec:
     particles: int = 500
     jump_rate_per_s: float = 0.0
     kld_epsilon: float | None = None
-    search_field: str = "particles"
+    search_field: str = "lrt"
     node_resolution_m: float | None = None
     tracker_alpha: float | None = None
     handover: bool = True

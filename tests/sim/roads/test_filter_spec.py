@@ -9,13 +9,13 @@ from searchtrack.sim.roads.filter_spec import SEARCH_FIELDS, FilterSpec
 
 
 def test_defaults_are_the_thesis_and_the_paper() -> None:
-    """The LRT by default; the RBPF at the paper's sizes with fixed counts, searching on its
-    particle field."""
+    """The LRT by default; the RBPF at the paper's sizes with fixed counts, searching on the
+    LRT's field."""
     f = FilterSpec()
     assert f.belief == "lrt" and (f.histories, f.particles) == (10, 500)
-    assert f.kld_epsilon is None and f.search_field == "particles"
+    assert f.kld_epsilon is None and f.search_field == "lrt"
     assert SEARCH_FIELDS == ("particles", "lrt")
-    assert FilterSpec(belief="rbpf", search_field="lrt").search_field == "lrt"
+    assert FilterSpec(belief="rbpf", search_field="particles").search_field == "particles"
 
 
 @pytest.mark.parametrize(("changes", "field"), [

@@ -149,7 +149,7 @@ def test_the_registry_holds_the_scenarios_filters(world: World) -> None:
     assert FILTERS.names() == ["lrt", "rbpf"]
     with pytest.raises(InvalidInputError, match="belief"):
         FilterSpec(belief="nearest")
-    kinds = {"lrt": (LRTMissionBelief, True), "rbpf": (RBPFMissionBelief, False)}
+    kinds = {"lrt": (LRTMissionBelief, True), "rbpf": (RBPFMissionBelief, True)}
     for name in FILTERS.names():
         entry = FILTERS.get(name)
         built = entry.filter_for(small(name), world)
@@ -184,15 +184,16 @@ def test_the_log_keeps_each_filters_search_field(world: World) -> None:
 
 
 def test_the_rbpf_searches_on_the_lrt_field_when_asked(world: World) -> None:
-    """With ``filter.search_field = "lrt"`` the RBPF mission draws the footprints' ζ and its
-    search field is the φ of the thesis's LRT on the same scans (a standalone LRT mission filter
-    stepped alike has the same φ), while its bank and tracks stay the RBPF's; by default the
-    sensors draw no ζ and the field is the particle field."""
+    """With ``filter.search_field = "lrt"`` (the default) the RBPF mission draws the
+    footprints' ζ and its search field is the φ of the thesis's LRT on the same scans (a
+    standalone LRT mission filter stepped alike has the same φ), while its bank and tracks stay
+    the RBPF's; with ``"particles"`` the sensors draw no ζ and the field is the particle
+    field."""
     from searchtrack.sim.roads.particle_field import ParticleSearchField
 
-    plain = small("rbpf")
-    hybrid = dataclasses.replace(plain, filter=dataclasses.replace(plain.filter,
-                                                                   search_field="lrt"))
+    hybrid = small("rbpf")
+    plain = dataclasses.replace(hybrid, filter=dataclasses.replace(hybrid.filter,
+                                                                   search_field="particles"))
     entry = FILTERS.get("rbpf")
     assert not entry.reads_lrt_of(plain) and entry.reads_lrt_of(hybrid)
     assert isinstance(entry.filter_for(plain, world).search_field, ParticleSearchField)

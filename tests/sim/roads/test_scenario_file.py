@@ -254,7 +254,7 @@ def test_the_rbpf_node_resolution_is_read_and_checked(tmp_path: Path) -> None:
 def test_the_rbpf_options_are_read_and_checked(tmp_path: Path) -> None:
     """``filter.kld_epsilon`` turns on the RBPF's KLD-sampling (bins of the sensor's position
     noise, the cap ``particles``; unset: fixed counts; outside (0, 1) it is named), and
-    ``filter.search_field`` picks its search field (``particles`` by default)."""
+    ``filter.search_field`` picks its search field (``lrt`` by default)."""
     from searchtrack.sim.roads.rbpf_belief import rbpf_config
 
     text = 'name = "x"\n[map]\ngrid = { rows = 3, cols = 3 }\n[filter]\nbelief = "rbpf"\n'
@@ -267,9 +267,9 @@ def test_the_rbpf_options_are_read_and_checked(tmp_path: Path) -> None:
     for bad in ("0.0", "1.0", "-0.2", '"loose"'):
         with pytest.raises(ParseError, match=r"filter\.kld_epsilon"):
             load_scenario(write(tmp_path, text + f"kld_epsilon = {bad}\n"))
-    assert load_scenario(write(tmp_path, text)).filter.search_field == "particles"
-    s = load_scenario(write(tmp_path, text + 'search_field = "lrt"\n'))
-    assert s.filter.search_field == "lrt"
+    assert load_scenario(write(tmp_path, text)).filter.search_field == "lrt"
+    s = load_scenario(write(tmp_path, text + 'search_field = "particles"\n'))
+    assert s.filter.search_field == "particles"
     with pytest.raises(ParseError, match=r"filter\.search_field"):
         load_scenario(write(tmp_path, text + 'search_field = "gradient"\n'))
 
