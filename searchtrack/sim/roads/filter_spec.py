@@ -57,9 +57,10 @@ class FilterSpec:
         What the mission estimates with: ``"lrt"`` (default), the thesis's likelihood-ratio
         field and node trackers (every setting above), or ``"rbpf"``, the Rao-Blackwellized
         particle filter of Moore et al. 2021 (paper 000) for the known number of targets, read
-        by the same guidance (:mod:`searchtrack.sim.roads.rbpf_belief`; of the settings above
-        it uses only ``p_min``, and ``alpha`` — or ``tracker_alpha`` when set — for the
-        reacquisition horizon).
+        by the same guidance (:mod:`searchtrack.sim.roads.rbpf_belief`; it uses ``p_min``, and
+        ``alpha`` — or ``tracker_alpha`` when set — for the reacquisition horizon; the
+        settings above also set the LRT whose ``φ`` is its search field, see
+        ``search_field``).
     histories, particles
         The RBPF's association histories ``H`` and particles per target filter ``N`` (10 and
         500, the paper's); integers ≥ 1, used when ``belief = "rbpf"``.
