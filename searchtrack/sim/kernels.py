@@ -52,8 +52,10 @@ def _warm_simplex() -> None:
 
 
 def _warm_road_filter() -> None:
-    """One filter on a 3 × 3 grid of roads through a hit, a miss and a resampling, and an RBPF
-    with the robust prior's jumps through a hit (the join of the jump draws)."""
+    """One filter on a 3 × 3 grid of roads through a hit, a miss and a resampling, and RBPFs
+    with the robust prior's jumps and with the draws near detections through a hit (the joins of
+    their draws)."""
+    from searchtrack.estimate.road_births import DetectionBirths
     from searchtrack.estimate.road_jumps import TargetJumps
     from searchtrack.estimate.road_pf import RoadParticleFilter
     from searchtrack.estimate.road_rbpf import RBPFConfig, RoadRBPF
@@ -67,10 +69,12 @@ def _warm_road_filter() -> None:
     pf.update(np.array([100.0, 100.0]), np.array([100.0, 100.0]), rng)
     pf.update(None, np.array([0.0, 0.0]), rng)
     pf.likelihood_sum(np.array([100.0, 100.0]))
-    rbpf = RoadRBPF(roads, RBPFConfig(n_targets=1, n_histories=2, n_particles=50,
-                                      jumps=TargetJumps()), rng)
-    rbpf.predict(1.0, rng)
-    rbpf.update(np.array([[100.0, 100.0]]), np.array([100.0, 100.0]), rng)
+    small = RBPFConfig(n_targets=1, n_histories=2, n_particles=50)
+    for config in (dataclasses.replace(small, jumps=TargetJumps()),
+                   dataclasses.replace(small, births=DetectionBirths())):
+        rbpf = RoadRBPF(roads, config, rng)
+        rbpf.predict(1.0, rng)
+        rbpf.update(np.array([[100.0, 100.0]]), np.array([100.0, 100.0]), rng)
 
 
 def _warm_radio() -> None:
@@ -124,7 +128,9 @@ KERNEL_SETS: dict[str, KernelSet] = {s.name: s for s in (
     KernelSet("simplex", "network simplex (EMD association)",
               ("searchtrack.estimate.transport.simplex_kernels",), _warm_simplex),
     KernelSet(ROAD_FILTER_KERNELS, "road particle filter",
-              ("searchtrack.estimate.road_filter_kernels",), _warm_road_filter),
+              ("searchtrack.estimate.road_filter_kernels",
+               "searchtrack.estimate.road_resample_kernels", "searchtrack.estimate.road_births"),
+              _warm_road_filter),
     KernelSet(RADIO_KERNELS, "radio TBD likelihood and propagation",
               ("searchtrack.estimate.radio.likelihood", "searchtrack.estimate.radio.propagation",
                "searchtrack.estimate.labelled_particles", "searchtrack.plan.radio.kernels"),
