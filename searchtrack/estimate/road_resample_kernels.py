@@ -92,6 +92,21 @@ def _store_union(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, co
 
 
 @njit(cache=True)
+def _load_row(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, r: int, m: int,
+              mass: float, ue: IntArray, us: FloatArray, uv: FloatArray, uw: FloatArray) -> float:
+    """The first ``m`` particles of row ``r`` into the union's first slots, weighing
+    ``mass · w``; their total weight."""
+    total = 0.0
+    for n in range(m):
+        ue[n] = edge[r, n]
+        us[n] = s[r, n]
+        uv[n] = v[r, n]
+        uw[n] = w[r, n] * mass
+        total += uw[n]
+    return total
+
+
+@njit(cache=True)
 def resample_rows(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, count: IntArray,
                   rows: IntArray, u: FloatArray, first_bin: IntArray, bin_m: float,
                   speed_bin: float, seen: BoolArray, table: IntArray) -> None:
@@ -107,13 +122,7 @@ def resample_rows(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, c
     for i in range(rows.size):
         r = rows[i]
         m = count[r]
-        total = 0.0
-        for n in range(m):
-            ue[n] = edge[r, n]
-            us[n] = s[r, n]
-            uv[n] = v[r, n]
-            uw[n] = w[r, n]
-            total += w[r, n]
+        total = _load_row(edge, s, v, w, r, m, 1.0, ue, us, uv, uw)
         _store_union(edge, s, v, w, count, r, ue, us, uv, uw, m, total, u[i], idx, first_bin,
                      bin_m, speed_bin, seen, table)
 
@@ -140,13 +149,7 @@ def join_rows(edge: IntArray, s: FloatArray, v: FloatArray, w: FloatArray, count
     for i in range(rows.size):
         r = rows[i]
         m = count[r]
-        total = 0.0
-        for n in range(m):
-            ue[n] = edge[r, n]
-            us[n] = s[r, n]
-            uv[n] = v[r, n]
-            uw[n] = w[r, n] * mass[i]
-            total += uw[n]
+        total = _load_row(edge, s, v, w, r, m, mass[i], ue, us, uv, uw)
         for k in range(k_count):
             ue[m + k] = add_edge[i, k]
             us[m + k] = add_s[i, k]

@@ -168,19 +168,25 @@ class KLDSampling:
 
     def bound(self, bins: int) -> float:
         """``n(k)`` for ``k = bins`` occupied bins (Wilson-Hilferty; 0 for ``k ≤ 1``)."""
-        if bins <= 1:
-            return 0.0
-        d = bins - 1
-        a = 2.0 / (9.0 * d)
-        z = NormalDist().inv_cdf(self.quantile)
-        return d / (2.0 * self.epsilon) * (1.0 - a + math.sqrt(a) * z) ** 3
+        return _kld_bound(bins, self.epsilon, NormalDist().inv_cdf(self.quantile))
 
     def table(self, cap: int) -> IntArray:
         """``(cap + 1,)``: the particles a resampled cloud keeps when its cap-sized systematic
         sample fills ``k`` bins, ``clip(⌈n(k)⌉, min_particles, cap)`` at index ``k``."""
         n = checks.count("cap", cap, least=1)
-        out = [min(max(math.ceil(self.bound(k)), self.min_particles), n) for k in range(n + 1)]
+        z = NormalDist().inv_cdf(self.quantile)
+        out = [min(max(math.ceil(_kld_bound(k, self.epsilon, z)), self.min_particles), n)
+               for k in range(n + 1)]
         return np.asarray(out, dtype=np.int64)
+
+
+def _kld_bound(bins: int, epsilon: float, z: float) -> float:
+    """:meth:`KLDSampling.bound` for the normal quantile ``z`` of ``1 − δ``."""
+    if bins <= 1:
+        return 0.0
+    d = bins - 1
+    a = 2.0 / (9.0 * d)
+    return d / (2.0 * epsilon) * (1.0 - a + math.sqrt(a) * z) ** 3
 
 
 def reflect(x: FloatArray, low: float, high: float) -> FloatArray:

@@ -8,38 +8,26 @@ import pytest
 from searchtrack.estimate import road_filter_kernels as kern
 from searchtrack.estimate.road_pf import RoadClouds
 from searchtrack.estimate.road_resampling import ResamplePolicy, systematic_indices
-from searchtrack.models import grid_network
 from searchtrack.models.disc_sensor import DiscSensor
 from searchtrack.models.road_particles import CourierRoadMotion, DirectedRoads, RoadMotion
 from searchtrack.models.road_synthetic import random_network
 
-
-@pytest.fixture(scope="module")
-def roads() -> DirectedRoads:
-    """The paper's 3×3 map."""
-    return DirectedRoads(grid_network(3, 3, 100.0, spacing_m=100.0))
+from .conftest import weighted_clouds
 
 
-def _cloud(roads: DirectedRoads, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    rng = np.random.default_rng(seed)
-    edge, s = roads.uniform((6, 400), rng)
-    w = rng.random((6, 400))
-    return edge, s, w / w.sum(axis=1, keepdims=True)
-
-
-def test_detection_likelihood_is_eq_10(roads: DirectedRoads) -> None:
+def test_detection_likelihood_is_eq_10(grid3: DirectedRoads) -> None:
     """Per-particle values equal DiscSensor.likelihood at G(x); sums are Σ w p."""
-    edge, s, w = _cloud(roads, 0)
+    edge, s, w = weighted_clouds(grid3, 0)
     sensor = DiscSensor()
     y = np.array([103.0, 60.0])
-    density = sensor.clutter_density(roads)
+    density = sensor.clutter_density(grid3)
     lik, sums = np.empty(edge.shape), np.empty(6)
     full = np.full(6, 400, dtype=np.int64)
-    kern.detection_likelihood(edge, s, w, full, np.ascontiguousarray(roads.tail_xy),
-                              np.ascontiguousarray(roads.step_xy), y[0], y[1],
+    kern.detection_likelihood(edge, s, w, full, np.ascontiguousarray(grid3.tail_xy),
+                              np.ascontiguousarray(grid3.step_xy), y[0], y[1],
                               sensor.detection_gain, 0.5 / sensor.sigma2_m2,
                               sensor.p_fa * density, lik, sums)
-    ref = sensor.likelihood(roads.point(edge, s), y, density)
+    ref = sensor.likelihood(grid3.point(edge, s), y, density)
     np.testing.assert_allclose(lik, ref, rtol=1e-12, atol=1e-300)
     np.testing.assert_allclose(sums, (w * ref).sum(axis=1), rtol=1e-12)
     w2 = w.copy()
@@ -49,9 +37,9 @@ def test_detection_likelihood_is_eq_10(roads: DirectedRoads) -> None:
     np.testing.assert_array_equal(w2[[0, 2, 3, 5]], w[[0, 2, 3, 5]])
 
 
-def test_miss_update_is_eq_11(roads: DirectedRoads) -> None:
+def test_miss_update_is_eq_11(grid3: DirectedRoads) -> None:
     """Weights follow DiscSensor.miss_likelihood; untouched rows are flagged and unchanged."""
-    edge, s, w = _cloud(roads, 1)
+    edge, s, w = weighted_clouds(grid3, 1)
     edge[5] = 0  # row 5 entirely on edge 0, far from the UAV at the centre
     s[5] = 10.0
     sensor = DiscSensor()
@@ -59,10 +47,10 @@ def test_miss_update_is_eq_11(roads: DirectedRoads) -> None:
     rows = np.array([0, 2, 5])
     w2, sums, touched = w.copy(), np.empty(3), np.zeros(3, dtype=np.bool_)
     kern.miss_update(edge, s, w2, np.full(6, 400, dtype=np.int64), rows,
-                     np.ascontiguousarray(roads.tail_xy),
-                     np.ascontiguousarray(roads.step_xy), uav[0], uav[1],
+                     np.ascontiguousarray(grid3.tail_xy),
+                     np.ascontiguousarray(grid3.step_xy), uav[0], uav[1],
                      sensor.negative_radius_m ** 2, sensor.p_fn, sums, touched)
-    ref = sensor.miss_likelihood(roads.point(edge, s), uav)
+    ref = sensor.miss_likelihood(grid3.point(edge, s), uav)
     post = w[rows] * ref[rows]
     np.testing.assert_allclose(sums, post.sum(axis=1), rtol=1e-12)
     np.testing.assert_array_equal(touched, [True, True, False])
@@ -166,11 +154,11 @@ def test_courier_kernels_equal_courier_road_motion_step(town: DirectedRoads, dt:
     town.check_positions(clouds.edge, clouds.s)
 
 
-def test_kernels_skip_the_columns_beyond_each_rows_count(roads: DirectedRoads) -> None:
+def test_kernels_skip_the_columns_beyond_each_rows_count(grid3: DirectedRoads) -> None:
     """Rows holding fewer particles than the capacity (weight 0 beyond): the likelihoods, the
     Bayes and miss updates and both motions read and change only each row's first ``count``
     particles, and give what the row's live particles give alone."""
-    edge, s, w = _cloud(roads, 9)
+    edge, s, w = weighted_clouds(grid3, 9)
     count = np.array([400, 150, 1, 400, 37, 200], dtype=np.int64)
     for r, c in enumerate(count):
         w[r, c:] = 0.0
@@ -178,10 +166,10 @@ def test_kernels_skip_the_columns_beyond_each_rows_count(roads: DirectedRoads) -
     sensor = DiscSensor()
     y, uav = np.array([103.0, 60.0]), np.array([100.0, 100.0])
     lik, sums = np.full(edge.shape, np.nan), np.empty(6)
-    args = (np.ascontiguousarray(roads.tail_xy), np.ascontiguousarray(roads.step_xy))
+    args = (np.ascontiguousarray(grid3.tail_xy), np.ascontiguousarray(grid3.step_xy))
     kern.detection_likelihood(edge, s, w, count, *args, y[0], y[1], sensor.detection_gain,
                               0.5 / sensor.sigma2_m2, 0.01, lik, sums)
-    ref = sensor.likelihood(roads.point(edge, s), y, 0.01 / sensor.p_fa)
+    ref = sensor.likelihood(grid3.point(edge, s), y, 0.01 / sensor.p_fa)
     live = np.arange(400) < count[:, None]
     np.testing.assert_allclose(lik[live], ref[live], rtol=1e-12, atol=1e-300)
     np.testing.assert_array_equal(lik[~live], 0.0)
@@ -193,11 +181,11 @@ def test_kernels_skip_the_columns_beyond_each_rows_count(roads: DirectedRoads) -
     w3, msum, touched = w.copy(), np.empty(6), np.zeros(6, dtype=np.bool_)
     kern.miss_update(edge, s, w3, count, np.arange(6), *args, uav[0], uav[1],
                      sensor.negative_radius_m ** 2, sensor.p_fn, msum, touched)
-    post = w * sensor.miss_likelihood(roads.point(edge, s), uav)
+    post = w * sensor.miss_likelihood(grid3.point(edge, s), uav)
     np.testing.assert_allclose(msum, post.sum(axis=1), rtol=1e-12)
     np.testing.assert_array_equal(w3[~live], 0.0)
     e_flat, s_flat = edge.copy().reshape(-1), s.copy().reshape(-1)
-    over = kern.move(e_flat, s_flat, np.ones(s_flat.size), 8.0, 0.0, 1.0, roads.length, count)
+    over = kern.move(e_flat, s_flat, np.ones(s_flat.size), 8.0, 0.0, 1.0, grid3.length, count)
     moved = (s_flat.reshape(6, 400) != s) | (e_flat.reshape(6, 400) != edge)
     np.testing.assert_array_equal(moved[~live], False)
     assert moved[live].mean() > 0.99
@@ -205,6 +193,6 @@ def test_kernels_skip_the_columns_beyond_each_rows_count(roads: DirectedRoads) -
     v = np.full(s.size, 5.0)
     e_flat, s_flat = edge.copy().reshape(-1), s.copy().reshape(-1)
     kern.courier_move(e_flat, s_flat, v, np.ones(s.size), np.zeros(s.size), 0.0, 0.0, 5.0,
-                      10.0, 1.0, roads.length, count)
+                      10.0, 1.0, grid3.length, count)
     np.testing.assert_array_equal(s_flat.reshape(6, 400)[~live], s[~live])
     np.testing.assert_array_equal(v.reshape(6, 400)[~live], 5.0)

@@ -4,29 +4,16 @@ KLD-sampling count, and the joins with draws."""
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 from searchtrack.estimate import road_resample_kernels as rkern
 from searchtrack.estimate.road_entropy import RoadBins
 from searchtrack.estimate.road_resampling import KLDSampling, systematic_indices
-from searchtrack.models import grid_network
 from searchtrack.models.road_particles import DirectedRoads
+
+from .conftest import weighted_clouds
 
 _NO_KLD = (np.zeros(0, dtype=np.int64), 1.0, 1.0, np.zeros(0, dtype=np.bool_),
            np.zeros(0, dtype=np.int64))
-
-
-@pytest.fixture(scope="module")
-def roads() -> DirectedRoads:
-    """The paper's 3×3 map."""
-    return DirectedRoads(grid_network(3, 3, 100.0, spacing_m=100.0))
-
-
-def _cloud(roads: DirectedRoads, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    rng = np.random.default_rng(seed)
-    edge, s = roads.uniform((6, 400), rng)
-    w = rng.random((6, 400))
-    return edge, s, w / w.sum(axis=1, keepdims=True)
 
 
 def _pick(w: np.ndarray, u: float, n: int) -> np.ndarray:
@@ -35,17 +22,17 @@ def _pick(w: np.ndarray, u: float, n: int) -> np.ndarray:
     return np.minimum(np.searchsorted(cum, (u + np.arange(n)) / n, side="right"), w.size - 1)
 
 
-def _kld(roads: DirectedRoads, counts: KLDSampling, cap: int, n_speed: int = 1
+def _kld(grid3: DirectedRoads, counts: KLDSampling, cap: int, n_speed: int = 1
          ) -> tuple[np.ndarray, float, float, np.ndarray, np.ndarray]:
-    bins = RoadBins(roads, counts.bin_m)
+    bins = RoadBins(grid3, counts.bin_m)
     return (bins.first_bin, counts.bin_m, counts.speed_bin_mps or 1.0,
             np.zeros(bins.n_bins * n_speed, dtype=np.bool_), counts.table(cap))
 
 
-def test_resample_rows_matches_systematic_indices(roads: DirectedRoads) -> None:
+def test_resample_rows_matches_systematic_indices(grid3: DirectedRoads) -> None:
     """In-place resampling of some rows copies the particles (positions and speeds) the NumPy
     reference picks; the count stays the cap."""
-    edge, s, w = _cloud(roads, 2)
+    edge, s, w = weighted_clouds(grid3, 2)
     w = w ** 3
     v = np.random.default_rng(3).random(edge.shape) * 20.0
     rows, u = np.array([0, 3, 4]), np.array([0.2, 0.7, 0.0])
@@ -64,10 +51,10 @@ def test_resample_rows_matches_systematic_indices(roads: DirectedRoads) -> None:
     np.testing.assert_array_equal(count, 400)
 
 
-def test_resample_rows_reads_only_each_rows_count(roads: DirectedRoads) -> None:
+def test_resample_rows_reads_only_each_rows_count(grid3: DirectedRoads) -> None:
     """A row of 150 particles (weight 0 beyond) resamples from those 150 alone, whatever the
     columns beyond hold; without KLD-sampling it is filled back to the cap."""
-    edge, s, w = _cloud(roads, 5)
+    edge, s, w = weighted_clouds(grid3, 5)
     count = np.full(6, 400, dtype=np.int64)
     count[2] = 150
     w[2, 150:] = 0.0
@@ -82,19 +69,19 @@ def test_resample_rows_reads_only_each_rows_count(roads: DirectedRoads) -> None:
     assert count[2] == 400
 
 
-def test_kld_count_follows_the_bins_the_cap_sample_fills(roads: DirectedRoads) -> None:
+def test_kld_count_follows_the_bins_the_cap_sample_fills(grid3: DirectedRoads) -> None:
     """With KLD-sampling a row keeps ``table[k]`` particles, ``k`` the 10 m bins its cap-sized
     systematic sample fills, drawn systematically from the same weights and offset (weights
     ``1/n``, 0 beyond); a tight cloud keeps few, a cloud over the whole map the cap."""
     counts = KLDSampling(bin_m=10.0, min_particles=20)
     rng = np.random.default_rng(6)
-    edge, s = roads.uniform((2, 400), rng)
+    edge, s = grid3.uniform((2, 400), rng)
     edge[0] = 3                            # row 0: 25 m of one edge
     s[0] = 40.0 + 25.0 * rng.random(400)
     w = rng.random((2, 400))
     w /= w.sum(axis=1, keepdims=True)
-    kld = _kld(roads, counts, 400)
-    bins = RoadBins(roads, 10.0)
+    kld = _kld(grid3, counts, 400)
+    bins = RoadBins(grid3, 10.0)
     e2, s2, v2, w2 = edge.copy(), s.copy(), np.zeros((2, 400)), w.copy()
     count = np.full(2, 400, dtype=np.int64)
     u = np.array([0.3, 0.8])
@@ -113,7 +100,7 @@ def test_kld_count_follows_the_bins_the_cap_sample_fills(roads: DirectedRoads) -
 
 
 def test_kld_resampling_keeps_each_particle_in_proportion_to_its_weight(
-        roads: DirectedRoads) -> None:
+        grid3: DirectedRoads) -> None:
     """Over many offsets, the share of the output copying each input particle is its weight
     (the count varies with the offset; the output stays a sample of the weights)."""
     rng = np.random.default_rng(7)
@@ -123,7 +110,7 @@ def test_kld_resampling_keeps_each_particle_in_proportion_to_its_weight(
     w = rng.random(cap) ** 2
     w /= w.sum()
     counts = KLDSampling(epsilon=0.2, bin_m=20.0, min_particles=10)
-    kld = _kld(roads, counts, cap)
+    kld = _kld(grid3, counts, cap)
     share = np.zeros(cap)
     kept = []
     repeats = 3000
@@ -179,18 +166,18 @@ def test_join_rows_is_systematic_resampling_of_the_union() -> None:
     np.testing.assert_array_equal(s[1], before[1][1])
 
 
-def test_join_rows_with_kld_reads_the_rows_count_and_the_draws(roads: DirectedRoads) -> None:
+def test_join_rows_with_kld_reads_the_rows_count_and_the_draws(grid3: DirectedRoads) -> None:
     """A row of 30 live particles joined with 10 draws: the union is those 40 (the stale
     columns beyond 30 never chosen), and the row keeps the KLD count of the union's bins."""
     rng = np.random.default_rng(8)
     cap, k = 100, 10
-    edge, s = roads.uniform((1, cap), rng)
+    edge, s = grid3.uniform((1, cap), rng)
     w = np.zeros((1, cap))
     w[0, :30] = rng.random(30)
     w /= w.sum()
     v = np.zeros((1, cap))
     v[0, :30] = 1.0
-    add_e, add_s = roads.uniform((1, k), rng)
+    add_e, add_s = grid3.uniform((1, k), rng)
     add_v, add_w = np.full((1, k), 2.0), rng.random((1, k)) * 0.1
     count = np.array([30], dtype=np.int64)
     counts = KLDSampling(bin_m=10.0, min_particles=5)
@@ -198,8 +185,8 @@ def test_join_rows_with_kld_reads_the_rows_count_and_the_draws(roads: DirectedRo
     union_s = np.concatenate([s[0, :30], add_s[0]])
     union_w = np.concatenate([w[0, :30] * 0.5, add_w[0]])
     rkern.join_rows(edge, s, v, w, count, np.array([0]), np.array([0.5]), add_e, add_s, add_v,
-                    add_w, np.array([0.25]), *_kld(roads, counts, cap))
-    bins = RoadBins(roads, 10.0)
+                    add_w, np.array([0.25]), *_kld(grid3, counts, cap))
+    bins = RoadBins(grid3, 10.0)
     kk = np.unique(bins.index(union_e, union_s)[_pick(union_w, 0.25, cap)]).size
     n = int(counts.table(cap)[kk])
     assert count[0] == n
@@ -210,7 +197,7 @@ def test_join_rows_with_kld_reads_the_rows_count_and_the_draws(roads: DirectedRo
     np.testing.assert_array_equal(w[0, n:], 0.0)
 
 
-def test_kld_speed_bins_count_a_cloud_spread_in_speed(roads: DirectedRoads) -> None:
+def test_kld_speed_bins_count_a_cloud_spread_in_speed(grid3: DirectedRoads) -> None:
     """Particles in one road bin with speeds over 0–10 m/s fill one bin by position and six of
     2 m/s with speed bins, and keep the counts of those bins."""
     rng = np.random.default_rng(9)
@@ -225,7 +212,7 @@ def test_kld_speed_bins_count_a_cloud_spread_in_speed(roads: DirectedRoads) -> N
         assert counts.speed_bins(10.0) == n_speed
         count = np.array([cap], dtype=np.int64)
         rkern.resample_rows(edge.copy(), s.copy(), v.copy(), w.copy(), count, np.array([0]),
-                            np.array([0.5]), *_kld(roads, counts, cap, n_speed))
+                            np.array([0.5]), *_kld(grid3, counts, cap, n_speed))
         kept.append(int(count[0]))
     table = KLDSampling(bin_m=10.0, min_particles=20).table(cap)
     assert kept == [table[1], table[6]]

@@ -98,7 +98,7 @@ from searchtrack.models import CourierModel, RoadNetwork, SensorModel, UavState
 from searchtrack.models.disc_sensor import DiscSensor
 from searchtrack.models.road_particles import CourierRoadMotion, DirectedRoads
 from searchtrack.sim.roads.lrt_belief import LRTMissionBelief
-from searchtrack.sim.roads.particle_field import ParticleFieldBuilder
+from searchtrack.sim.roads.particle_field import ParticleFieldBuilder, ParticleSearchField
 from searchtrack.sim.roads.scenario import Scenario
 from searchtrack.sim.roads.world import World
 
@@ -212,7 +212,6 @@ class RBPFMissionBelief:
             raise InvalidInputError("roads", roads, "must be the directed view of network")
         self.rng = checks.generator("rng", rng)
         self.rbpf = RoadRBPF(directed, rbpf_config(scenario), self.rng)
-        self.fields = ParticleFieldBuilder(network, scenario.sensor.footprint_radius_m)
         sigma = node_resolution(scenario)
         if kernel is not None and (kernel.n_nodes != network.n_nodes or kernel.sigma_m != sigma):
             raise InvalidInputError("kernel", kernel, f"must be a road kernel of network at the "
@@ -224,7 +223,10 @@ class RBPFMissionBelief:
         self.search = search
         if search is not None and search.network is not network:
             raise InvalidInputError("search", search, "must be an LRT of the same network")
-        self.field = self.fields.field(np.zeros(network.n_nodes), 0)
+        # the particle field is built only when it is the one the UAVs climb
+        self.fields = (ParticleFieldBuilder(network, scenario.sensor.footprint_radius_m)
+                       if search is None else None)
+        self.field = ParticleSearchField(np.zeros(network.n_nodes))
         self.peaks_xy: FloatArray = np.empty((0, 2))
 
     @classmethod
@@ -287,7 +289,7 @@ class RBPFMissionBelief:
                                                              for m in tracked),
                                  sc.target_count)
         self.peaks_xy = map_xy[tracked]
-        if self.search is None:
+        if self.fields is not None:
             free = np.flatnonzero(~now)
             mass = (np.sum([beliefs[m].probability for m in free], axis=0) if free.size
                     else np.zeros(self.network.n_nodes))
