@@ -23,7 +23,7 @@ import numpy as np
 from searchtrack.core.registry import NameTable
 from searchtrack.estimate.stepping import RoadFilter
 from searchtrack.sim.roads.lrt_belief import LRTMissionBelief
-from searchtrack.sim.roads.rbpf_belief import RBPFMissionBelief
+from searchtrack.sim.roads.rbpf_belief import RBPFMissionBelief, searches_on_lrt
 from searchtrack.sim.roads.scenario import Scenario
 from searchtrack.sim.roads.world import World
 
@@ -71,5 +71,5 @@ FILTERS: NameTable[MissionFilter] = NameTable("road mission filter", "filter.bel
 FILTERS.register(MissionFilter("lrt", LRTMissionBelief.for_mission, reads_lrt=True,
                                description="thesis 001: LRT field and node trackers"))
 FILTERS.register(MissionFilter("rbpf", RBPFMissionBelief.for_mission,
-                               reads_lrt=lambda sc: sc.filter.search_field == "lrt",
+                               reads_lrt=searches_on_lrt,
                                description="paper 000: Rao-Blackwellized particle filter"))

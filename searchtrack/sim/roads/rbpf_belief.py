@@ -149,6 +149,12 @@ def node_resolution(scenario: Scenario) -> float:
     return scenario.sensor.position_noise_m if sigma is None else float(sigma)
 
 
+def searches_on_lrt(scenario: Scenario) -> bool:
+    """Whether the RBPF mission of ``scenario`` searches on an LRT's ``φ`` (and so reads the
+    footprints' ``ζ``; module docstring)."""
+    return scenario.filter.search_field == "lrt"
+
+
 def rbpf_config(scenario: Scenario) -> RBPFConfig:
     """The RBPF of ``scenario``: ``M`` = its targets, ``H``, ``N`` and the jump rate from its
     filter spec, the couriers' motion with its speeds roughened, the thesis sensor's disc, the
@@ -237,7 +243,7 @@ class RBPFMissionBelief:
         field when ``filter.search_field`` is ``"lrt"`` (it draws nothing)."""
         sigma = node_resolution(scenario)
         search = (LRTMissionBelief.for_mission(scenario, world, rng)
-                  if scenario.filter.search_field == "lrt" else None)
+                  if searches_on_lrt(scenario) else None)
         return cls(scenario, world.network, rng,
                    kernel=world.road_kernel(sigma) if sigma > 0.0 else None, search=search)
 
