@@ -123,7 +123,7 @@ def test_from_particles_and_bad_input(roads: DirectedRoads) -> None:
 
 def test_speed_state_bad_input(roads: DirectedRoads) -> None:
     """Speeds of the wrong shape or not finite are refused by name; the drive-and-stop motion
-    needs clouds built with a speed state."""
+    needs clouds built with a speed state; counts that are not a KLDSampling are named."""
     edge, s = roads.uniform((2, 5), np.random.default_rng(1))
     for v in (np.zeros((2, 4)), np.full((2, 5), np.nan), np.full((2, 5), -1.0)):
         with pytest.raises(InvalidInputError, match=r"^v="):
@@ -131,6 +131,9 @@ def test_speed_state_bad_input(roads: DirectedRoads) -> None:
     plain = RoadClouds(roads, edge, s, sensor=DiscSensor(), resample=ResamplePolicy())
     with pytest.raises(InvalidInputError, match="motion"):
         plain.predict(CourierRoadMotion(), 0.1, np.random.default_rng(0))
+    with pytest.raises(InvalidInputError, match=r"^counts="):
+        RoadClouds(roads, edge, s, sensor=DiscSensor(), resample=ResamplePolicy(),
+                   counts=0.05)  # type: ignore[arg-type]
 
 
 def test_node_trackers_give_mass_to_the_nearer_end(roads: DirectedRoads) -> None:

@@ -94,6 +94,18 @@ def test_bad_inputs_name_the_field(network: RoadNetwork, make: object, name: str
     assert info.value.field == name
 
 
+def test_a_search_lrt_of_another_map_is_refused(network: RoadNetwork) -> None:
+    """The LRT whose φ is the search field must be of the filter's own network."""
+    from searchtrack.sim.roads.lrt_belief import LRTMissionBelief
+    from searchtrack.sim.roads.world import World
+
+    other = scenario(map=MapSpec("grid", rows=2, cols=2, block_m=100.0))
+    lrt = LRTMissionBelief.for_mission(other, World.build(other), np.random.default_rng(0))
+    with pytest.raises(InvalidInputError) as info:
+        RBPFMissionBelief(scenario(), network, np.random.default_rng(0), search=lrt)
+    assert info.value.field == "search"
+
+
 UAV = UavState(np.array([150.0]), np.array([110.0]), np.zeros(1), np.full(1, 30.0))
 TRUTH = np.array([[150.0, 100.0], [300.0, 300.0]])
 
