@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from searchtrack.core.types import FloatArray, IntArray
-from searchtrack.models.dubins import DubinsLimits
+from searchtrack.models.dubins import STEERINGS, DubinsLimits
 from searchtrack.models.lrt_sensor import AltitudeModel, SensorModel
 from searchtrack.sim.campaigns.experiments import ClaimsBy, Experiment, Param
 from searchtrack.sim.roads.mission import Mission, World
@@ -215,7 +215,8 @@ def mission_run(params: Mapping[str, bool | int | float | str],
     filt = dataclasses.replace(cell.filter, tracker_alpha=tracker_alpha,
                                handover=bool(params["handover"]))
     guidance = dataclasses.replace(cell.guidance,
-                                   coverage_weight=float(params["coverage_weight"]))
+                                   coverage_weight=float(params["coverage_weight"]),
+                                   steering=str(params["steering"]))
     scenario = dataclasses.replace(cell, name=map_name, map=MISSION_MAPS[map_name],
                                    uav_count=int(params["uavs"]),
                                    target_count=int(params["targets"]),
@@ -236,7 +237,8 @@ EXPERIMENTS = (
         # 0 stands for FilterSpec's None (the LRT's α): a campaign column holds no None.
         Param("tracker_alpha", float, 0.0, minimum=0.0),
         Param.of(FilterSpec, "handover"),
-        Param.of(GuidanceSpec, "coverage_weight", minimum=0.0)),
+        Param.of(GuidanceSpec, "coverage_weight", minimum=0.0),
+        Param.of(GuidanceSpec, "steering", choices=STEERINGS)),
         MISSION_METRICS, mission_run,
         "a road mission (thesis §6.1 detect / §6.2 track; tracker_alpha 0 = the LRT's α)",
         claim=ClaimsBy("mode", {

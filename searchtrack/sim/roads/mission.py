@@ -188,7 +188,8 @@ class Mission:
                 raise RuntimeError(f"guidance {answer.backend} gave no plan: {answer.message}")
             guidance = answer.plan
             previous = (problem, guidance)
-            uavs = step_force(uavs, guidance.force, sc.dt_s, sc.limits)
+            uavs = step_force(uavs, guidance.force, sc.dt_s, sc.limits,
+                              steering=sc.guidance.steering)
             times.guide = time.perf_counter() - tic
 
             tic = time.perf_counter()

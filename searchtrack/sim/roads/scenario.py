@@ -25,6 +25,7 @@ from searchtrack.models import (
     random_network,
     read_osm,
 )
+from searchtrack.models.dubins import STEERINGS
 from searchtrack.models.lrt_sensor import THESIS_ALTITUDES_M
 from searchtrack.plan.guidance.solve import BACKENDS as GUIDANCE_BACKENDS
 from searchtrack.plan.guidance.view import StrategyConfig, check_search_settings
@@ -165,6 +166,12 @@ search_serve_m
         The route strategies' search OPTW (:class:`~searchtrack.plan.guidance.view.
         StrategyConfig`, whose defaults these are; ``None`` cell and serve distances derive
         from the footprint ``ρ``). The thesis's strategies do not read them.
+    steering
+        How the guidance force turns the UAV (:data:`~searchtrack.models.dubins.STEERINGS`):
+        ``"turn_back"`` (default, this library's) turns by the whole force when it points
+        behind the UAV, so a UAV that overflies its anchor turns back at once; ``"thesis"`` is
+        (5.3) alone, under which a constant-speed UAV flies on past its anchor
+        (:mod:`searchtrack.models.dubins`).
     """
 
     strategy: str = "search_and_loiter"
@@ -180,8 +187,11 @@ search_serve_m
     search_route_nodes: int = StrategyConfig.search_route_nodes
     search_cell_m: float | None = StrategyConfig.search_cell_m
     search_serve_m: float | None = StrategyConfig.search_serve_m
+    steering: str = "turn_back"
 
     def __post_init__(self) -> None:
+        if self.steering not in STEERINGS:
+            raise InvalidInputError("steering", self.steering, f"must be one of {STEERINGS}")
         if self.strategy not in STRATEGIES:
             raise InvalidInputError("strategy", self.strategy,
                                     f"must be one of {GUIDANCE_BACKENDS.names()}")

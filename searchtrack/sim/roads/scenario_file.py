@@ -10,6 +10,7 @@ from pathlib import Path
 from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.core.files import read_text
 from searchtrack.models import CourierModel, DubinsLimits, SensorModel
+from searchtrack.models.dubins import STEERINGS
 from searchtrack.models.lrt_sensor import THESIS_ALTITUDES_M, AltitudeModel
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
 from searchtrack.sim.roads.filter_spec import SEARCH_FIELDS
@@ -228,6 +229,7 @@ def _guidance(t: Table) -> GuidanceSpec:
         search_route_nodes=t.integer("search_route_nodes", d.search_route_nodes, minimum=1),
         search_cell_m=t.optional_number("search_cell_m", positive=True),
         search_serve_m=t.optional_number("search_serve_m", minimum=0.0),
+        steering=t.string("steering", d.steering, choices=STEERINGS),
     )
     t.done()
     return spec

@@ -17,7 +17,7 @@ SHIPPED = sorted(p.name for p in FOLDER.glob("*.toml"))
 EXPECTED = {
     "thesis_exp1.toml": ("mission", 3 * 4 * 25),
     "thesis_exp2.toml": ("mission", 2 * 4 * 3 * 10),
-    "thesis_exp2_changes.toml": ("mission", 2 * 4 * 4 * 2 * 10),
+    "thesis_exp2_changes.toml": ("mission", 2 * 5 * 4 * 2 * 10),
     "thesis_exp2_search.toml": ("mission", 2 * 4 * 5 * 10),
     "phd_standard.toml": ("phd_tracking_scenario", 3),
     "p003_tracking.toml": ("phd_tracking_episode", 3 * 2 * 3 * 3),

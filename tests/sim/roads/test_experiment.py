@@ -149,10 +149,10 @@ def test_mission_options_reach_the_scenario() -> None:
     """Switched on, the options change a short grid mission's run; off, the run is the one the
     scenario without them flies; MOC after detection is reported."""
     common: dict[str, object] = {"duration_s": 20.0, "uavs": 2, "targets": 2}
-    base = _run(common, seed=6)
+    base = _run(common, seed=7)
     assert base == _run({**common, "tracker_alpha": 0.0, "handover": False,
-                         "coverage_weight": 0.0}, seed=6)
+                         "coverage_weight": 0.0, "steering": "turn_back"}, seed=7)
     after = base["moc_after_detection"]
     assert after is None or 0.0 <= float(after) <= 1.0  # type: ignore[arg-type]
-    for option in ({"tracker_alpha": 4.47}, {"coverage_weight": 2.0}):
-        assert _run({**common, **option}, seed=6) != base, option
+    for option in ({"tracker_alpha": 4.47}, {"coverage_weight": 2.0}, {"steering": "thesis"}):
+        assert _run({**common, **option}, seed=7) != base, option

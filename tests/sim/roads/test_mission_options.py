@@ -47,15 +47,17 @@ BEFORE = {
 
 @pytest.mark.parametrize(("strategy", "seed"), sorted(BEFORE))
 def test_options_off_fly_as_before(world: World, strategy: str, seed: int) -> None:
-    """With every option off a mission's counts and paths are those recorded before the options
-    existed, whether the defaults are stated explicitly or not."""
+    """With every option off (the thesis's steering too) a mission's counts and paths are those
+    recorded before the options existed, whether the other defaults are stated or not."""
     nvt, nst, nva, nfa, detected, uav_final = BEFORE[strategy, seed]
-    log = Mission(small(strategy, seed, filter=FilterSpec(handover=False)), world).run()
+    log = Mission(small(strategy, seed, filter=FilterSpec(handover=False),
+                        guidance=GuidanceSpec(strategy=strategy, steering="thesis")), world).run()
     s = log.score
     assert (s.nvt, s.nst, s.nva, s.nfa, s.detected) == (nvt, nst, nva, nfa, detected)
     np.testing.assert_allclose(log.uav_xy_m[-1], uav_final, rtol=0, atol=1e-6)
     explicit = small(strategy, seed, filter=FilterSpec(tracker_alpha=None, handover=False),
-                     guidance=GuidanceSpec(strategy=strategy, coverage_weight=0.0))
+                     guidance=GuidanceSpec(strategy=strategy, coverage_weight=0.0,
+                                           steering="thesis"))
     again = Mission(explicit, world).run()
     assert again.score == s
     np.testing.assert_array_equal(again.uav_xy_m, log.uav_xy_m)
@@ -91,11 +93,13 @@ def test_tracker_alpha_changes_the_mission(world: World) -> None:
 
 
 def test_handover_mission_keeps_identities_and_cuts_spurious_tracks(world: World) -> None:
-    """On the grid (seeds 6, 7, 60 s) a target re-detected after its tracker lost it is handed
-    to that tracker: each hand-over is recorded as a birth of an identity already born, for the
+    """On the grid (seeds 6, 7, 60 s, the thesis's steering, under which loitering UAVs lose
+    their targets now and then) a target re-detected after its tracker lost it is handed to
+    that tracker: each hand-over is recorded as a birth of an identity already born, for the
     same true target, and the run holds fewer spurious tracker-steps than without the rule."""
     for seed in (6, 7):
-        sc = small(seed=seed, duration_s=60.0)
+        sc = small(seed=seed, duration_s=60.0,
+                   guidance=GuidanceSpec(strategy="search_and_loiter", steering="thesis"))
         log = Mission(dataclasses.replace(sc, filter=FilterSpec(handover=True)), world).run()
         base = Mission(dataclasses.replace(sc, filter=FilterSpec(handover=False)), world).run()
         first: dict[int, int] = {}

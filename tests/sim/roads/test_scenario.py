@@ -28,6 +28,8 @@ def test_constructor_validation() -> None:
         GuidanceSpec(strategy="chase")
     with pytest.raises(InvalidInputError, match="optw_backend"):
         GuidanceSpec(optw_backend="gurobi")
+    with pytest.raises(InvalidInputError, match="steering"):
+        GuidanceSpec(steering="spin")
 
 
 def test_strategy_and_associator_names_come_from_the_registries(tmp_path: Path) -> None:

@@ -72,6 +72,7 @@ def test_grid_scenario_defaults(tmp_path: Path) -> None:
         (GRID + "[filter]\nhandover = 'yes'\n", "filter.handover"),
         (GRID + "[guidance]\ncoverage_weight = -1.0\n", "guidance.coverage_weight"),
         (GRID + "[guidance]\ncoverage_weight = inf\n", "guidance.coverage_weight"),
+        (GRID + "[guidance]\nsteering = 'spin'\n", "guidance.steering"),
     ],
 )
 def test_bad_fields_are_named(tmp_path: Path, text: str, key: str) -> None:
@@ -206,12 +207,13 @@ def test_rbpf_demo_is_the_demo_on_the_rbpf() -> None:
 
 
 def test_options_of_this_library_read_from_toml(tmp_path: Path) -> None:
-    """``tracker_alpha``, ``handover`` and ``coverage_weight`` are read when given."""
+    """``tracker_alpha``, ``handover``, ``coverage_weight`` and ``steering`` are read when
+    given."""
     text = GRID + ("[filter]\ntracker_alpha = 0.894\nhandover = true\n"
-                   "[guidance]\ncoverage_weight = 2\n")
+                   "[guidance]\ncoverage_weight = 2\nsteering = \"thesis\"\n")
     sc = load_scenario(write(tmp_path, text))
     assert (sc.filter.tracker_alpha, sc.filter.handover) == (0.894, True)
-    assert sc.guidance.coverage_weight == 2.0
+    assert (sc.guidance.coverage_weight, sc.guidance.steering) == (2.0, "thesis")
 
 
 def test_an_empty_file_gives_the_dataclass_defaults(tmp_path: Path) -> None:
