@@ -21,11 +21,11 @@ component across its heading only, and a constant-speed UAV loses the component 
 force pointing behind the UAV, as the spring of an anchor it has just overflown, then turns it
 little (not at all when exactly behind): the UAV flies on away from its anchor until the small
 lateral part grows, which with the weak loiter springs of a wide footprint takes it hundreds of
-metres off the target it loiters over. With ``steering="turn_back"`` a force with a negative
-along-heading component ``X cos θ + Y sin θ < 0`` commands the turn with its whole magnitude,
-toward the side of its lateral component (left when exactly behind): ``θ̇ = sat(±‖F‖/S,
-θ̇_max)``. Ahead of the UAV the two laws are the same, and they meet at 90° (there the lateral
-component is the whole force). The speed law (5.4) is the same for both.
+metres off the target it loiters over. For the UAVs selected by ``turn_back``, a force with a
+negative along-heading component ``X cos θ + Y sin θ < 0`` commands the turn with its whole
+magnitude, toward the side of its lateral component (left when exactly behind): ``θ̇ =
+sat(±‖F‖/S, θ̇_max)``. Ahead of the UAV the two laws are the same, and they meet at 90° (there
+the lateral component is the whole force). The speed law (5.4) is the same for both.
 """
 
 from __future__ import annotations
@@ -46,9 +46,6 @@ from searchtrack.models.vehicles.namespace import NUMPY
 from searchtrack.models.vehicles.unicycle import UnicycleDynamics, unicycle
 
 Method = Literal["exact", "rk4", "euler"]
-STEERINGS: tuple[str, ...] = ("turn_back", "thesis")
-"""How a force becomes a turn: the thesis's (5.3), or that law turning back by the whole force
-when it points behind the UAV (module docstring)."""
 MPS_PER_MPH = 0.44704
 
 
@@ -140,25 +137,28 @@ class UavState:
 
 def force_to_controls(
     state: UavState, force: ArrayLike, dt_s: float, limits: DubinsLimits, *,
-    steering: str = "thesis",
+    turn_back: ArrayLike = False,
 ) -> tuple[FloatArray, FloatArray]:
     """The turn rate (rad/s) and speed (m/s) a unit-mass force ``(n, 2)`` commands for one step.
 
-    Turn rate ``sat((Y cos θ − X sin θ)/S, θ̇_max)`` ((5.3)–(5.5)); with ``steering =
-    "turn_back"``, ``sat(±‖F‖/S, θ̇_max)`` where the force points behind the UAV (module
-    docstring). Speed ``S + (X cos θ + Y sin θ)Δt`` (5.4), clamped to ``[S_min, S_max]``.
+    Turn rate ``sat((Y cos θ − X sin θ)/S, θ̇_max)`` ((5.3)–(5.5)); for the UAVs ``turn_back``
+    selects (one boolean, or one per UAV), ``sat(±‖F‖/S, θ̇_max)`` where the force points
+    behind the UAV (module docstring). Speed ``S + (X cos θ + Y sin θ)Δt`` (5.4), clamped to
+    ``[S_min, S_max]``.
     """
     f = checks.points("force", force)
     if f.shape[0] != state.n:
         raise InvalidInputError("force", force, f"must have shape ({state.n}, 2), one per UAV")
     dt = checks.positive("dt_s", dt_s)
     c, s = np.cos(state.heading_rad), np.sin(state.heading_rad)
-    if steering not in STEERINGS:
-        raise InvalidInputError("steering", steering, f"must be one of {STEERINGS}")
+    chosen = np.asarray(turn_back)
+    if chosen.dtype != np.bool_ or chosen.shape not in ((), (state.n,)):
+        raise InvalidInputError("turn_back", turn_back,
+                                f"must be one boolean or {state.n} booleans, one per UAV")
     lateral = f[:, 1] * c - f[:, 0] * s
     accel = f[:, 0] * c + f[:, 1] * s
-    if steering == "turn_back":
-        back = accel < 0.0
+    if chosen.any():
+        back = chosen & (accel < 0.0)
         side = np.where(lateral >= 0.0, 1.0, -1.0)
         lateral = np.where(back, side * np.hypot(f[:, 0], f[:, 1]), lateral)
     turn = lateral / state.speed_mps
@@ -228,12 +228,12 @@ def step_force(
     limits: DubinsLimits,
     *,
     method: Method = "exact",
-    steering: str = "thesis",
+    turn_back: ArrayLike = False,
 ) -> UavState:
-    """One step of the UAVs under unit-mass forces ``(n, 2)`` (N/kg): (5.3)–(5.5) (or, with
-    ``steering="turn_back"``, turning back by the whole force when it points behind), then
+    """One step of the UAVs under unit-mass forces ``(n, 2)`` (N/kg): (5.3)–(5.5) (the UAVs
+    ``turn_back`` selects turn back by the whole force when it points behind them), then
     :func:`propagate`."""
-    turn, speed = force_to_controls(state, force, dt_s, limits, steering=steering)
+    turn, speed = force_to_controls(state, force, dt_s, limits, turn_back=turn_back)
     return propagate(state, turn, speed, dt_s, limits, method=method)
 
 

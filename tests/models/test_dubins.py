@@ -153,15 +153,16 @@ def test_force_to_controls_follows_5_3() -> None:
 
 
 def test_turn_back_turns_by_the_whole_force_behind_and_agrees_ahead() -> None:
-    """With ``steering="turn_back"`` a force behind the UAV turns it at ‖F‖/S toward the side of
+    """For a UAV ``turn_back`` selects, a force behind it turns it at ‖F‖/S toward the side of
     its lateral part (left when dead astern, where (5.3) does not turn at all); ahead of the
-    UAV and at 90° both laws give (5.3); the speed law is the same."""
+    UAV and at 90° both laws give (5.3); the speed law is the same; a UAV left unselected
+    turns by (5.3)."""
     heading = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 1.0])
     state = UavState(x_m=np.zeros(6), y_m=np.zeros(6), heading_rad=heading,
                      speed_mps=np.full(6, 20.0))
     force = np.array([[-3.0, 4.0], [-3.0, -4.0], [-5.0, 0.0], [3.0, 4.0], [0.0, -5.0],
                       [-2.0, 0.5]])
-    turn, speed = force_to_controls(state, force, 0.5, FREE, steering="turn_back")
+    turn, speed = force_to_controls(state, force, 0.5, FREE, turn_back=True)
     thesis_turn, thesis_speed = force_to_controls(state, force, 0.5, FREE)
     np.testing.assert_allclose(turn[:3], [5.0 / 20.0, -5.0 / 20.0, 5.0 / 20.0])
     assert thesis_turn[2] == 0.0  # dead astern: (5.3) gives no turn
@@ -170,30 +171,33 @@ def test_turn_back_turns_by_the_whole_force_behind_and_agrees_ahead() -> None:
     assert turn[5] == pytest.approx(math.hypot(2.0, 0.5) / 20.0)
     assert thesis_turn[5] == pytest.approx(lateral / 20.0)
     np.testing.assert_array_equal(speed, thesis_speed)
-    fast, _ = force_to_controls(state, 100.0 * force, 0.5, FREE, steering="turn_back")
+    fast, _ = force_to_controls(state, 100.0 * force, 0.5, FREE, turn_back=True)
     assert np.all(np.abs(fast) <= FREE.turn_rate_max_rps)
     # near 90° the two laws meet: just behind and just ahead give nearly the same turn
     edge = _state(speed=20.0)
-    behind, _ = force_to_controls(edge, [[-1e-6, 5.0]], 0.5, FREE, steering="turn_back")
-    ahead, _ = force_to_controls(edge, [[1e-6, 5.0]], 0.5, FREE, steering="turn_back")
+    behind, _ = force_to_controls(edge, [[-1e-6, 5.0]], 0.5, FREE, turn_back=True)
+    ahead, _ = force_to_controls(edge, [[1e-6, 5.0]], 0.5, FREE, turn_back=True)
     assert behind[0] == pytest.approx(ahead[0])
+    some = np.array([True, False, True, False, False, False])
+    mixed, _ = force_to_controls(state, force, 0.5, FREE, turn_back=some)
+    np.testing.assert_array_equal(mixed, np.where(some, turn, thesis_turn))
 
 
 def test_turn_back_holds_a_uav_near_an_anchor_it_overflies() -> None:
     """A constant-speed UAV that flies over its anchor under the weak zero-rest spring of a wide
-    footprint (K = (2S/ρ)², ρ = 374 m) stays within the footprint with ``turn_back``; under
+    footprint (K = (2S/ρ)², ρ = 374 m) stays within the footprint when it turns back; under
     (5.3) alone it flies on, hundreds of metres past it."""
     limits = DubinsLimits()
     k = (2.0 * S_MAX / 374.0) ** 2
-    far = {}
-    for steering in ("turn_back", "thesis"):
+    far: dict[bool, float] = {}
+    for back in (True, False):
         uav = _state(x=-50.0, y=0.0, heading=0.0, speed=S_MAX)
         farthest = 0.0
         for _ in range(int(60.0 / 0.3)):
-            uav = step_force(uav, -k * uav.xy_m, 0.3, limits, steering=steering)
+            uav = step_force(uav, -k * uav.xy_m, 0.3, limits, turn_back=back)
             farthest = max(farthest, float(np.hypot(uav.x_m[0], uav.y_m[0])))
-        far[steering] = farthest
-    assert far["turn_back"] < 374.0 < far["thesis"]
+        far[back] = farthest
+    assert far[True] < 374.0 < far[False]
 
 
 def test_vectorised_step_matches_one_by_one() -> None:
@@ -243,7 +247,9 @@ def test_state_arrays_are_read_only() -> None:
          "method"),
         (lambda: step_force(_state(), [[1.0, 2.0], [3.0, 4.0]], 0.3, FREE), "force"),
         (lambda: step_force(_state(), [[1.0, math.inf]], 0.3, FREE), "force"),
-        (lambda: step_force(_state(), [[1.0, 0.0]], 0.3, FREE, steering="spin"), "steering"),
+        (lambda: step_force(_state(), [[1.0, 0.0]], 0.3, FREE, turn_back="yes"), "turn_back"),
+        (lambda: step_force(_state(), [[1.0, 0.0]], 0.3, FREE, turn_back=[True, False]),
+         "turn_back"),
     ],
 )
 def test_bad_input_names_the_field(build: object, field: str) -> None:

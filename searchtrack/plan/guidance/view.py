@@ -22,6 +22,13 @@ from searchtrack.plan.guidance.search_routes import SearchRoute
 from searchtrack.plan.optw.solve import BACKENDS
 
 MODES = ("search", "loiter", "reacquire", "route")
+ANCHORED_MODES = ("loiter", "reacquire", "route")
+"""The modes whose UAVs a zero-rest spring pulls to an anchor (∇L, ∇W): a tracker's peak or a
+route's next node. Only the searching UAVs climb the gradient."""
+STEERINGS: tuple[str, ...] = ("turn_back", "thesis")
+"""How the guidance force turns the UAVs: ``"turn_back"`` (this library's) steers the anchored
+UAVs with :mod:`searchtrack.models.dubins`'s turning back, so one that overflies its anchor
+turns back at once, and the searching UAVs by (5.3); ``"thesis"`` steers every UAV by (5.3)."""
 
 
 #: The settings of the route strategies' search OPTW, as :class:`StrategyConfig` names them.
@@ -378,3 +385,12 @@ class Guidance:
         object.__setattr__(self, "force", f)
         object.__setattr__(self, "reacquisitions", reacq)
         object.__setattr__(self, "search_routes", searched)
+
+    def turn_back(self, steering: str) -> NDArray[np.bool_]:
+        """Per UAV, whether ``steering`` (one of :data:`STEERINGS`) turns it back by the whole
+        force when the force points behind it: the anchored UAVs with ``"turn_back"``, none
+        with ``"thesis"`` (pass it to :func:`~searchtrack.models.dubins.step_force`)."""
+        if steering not in STEERINGS:
+            raise InvalidInputError("steering", steering, f"must be one of {STEERINGS}")
+        on = steering == "turn_back"
+        return np.array([on and m in ANCHORED_MODES for m in self.mode], dtype=bool)

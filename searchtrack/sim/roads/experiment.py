@@ -21,8 +21,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from searchtrack.core.types import FloatArray, IntArray
-from searchtrack.models.dubins import STEERINGS, DubinsLimits
+from searchtrack.models.dubins import DubinsLimits
 from searchtrack.models.lrt_sensor import AltitudeModel, SensorModel
+from searchtrack.plan.guidance.view import STEERINGS
 from searchtrack.sim.campaigns.experiments import ClaimsBy, Experiment, Param
 from searchtrack.sim.roads.mission import Mission, World
 from searchtrack.sim.roads.record import MissionLog

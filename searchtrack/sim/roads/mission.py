@@ -189,7 +189,7 @@ class Mission:
             guidance = answer.plan
             previous = (problem, guidance)
             uavs = step_force(uavs, guidance.force, sc.dt_s, sc.limits,
-                              steering=sc.guidance.steering)
+                              turn_back=guidance.turn_back(sc.guidance.steering))
             times.guide = time.perf_counter() - tic
 
             tic = time.perf_counter()

@@ -25,10 +25,9 @@ from searchtrack.models import (
     random_network,
     read_osm,
 )
-from searchtrack.models.dubins import STEERINGS
 from searchtrack.models.lrt_sensor import THESIS_ALTITUDES_M
 from searchtrack.plan.guidance.solve import BACKENDS as GUIDANCE_BACKENDS
-from searchtrack.plan.guidance.view import StrategyConfig, check_search_settings
+from searchtrack.plan.guidance.view import STEERINGS, StrategyConfig, check_search_settings
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
 from searchtrack.sim.roads.filter_spec import ASSOCIATORS as ASSOCIATORS
 from searchtrack.sim.roads.filter_spec import FilterSpec as FilterSpec
@@ -167,10 +166,11 @@ search_serve_m
         StrategyConfig`, whose defaults these are; ``None`` cell and serve distances derive
         from the footprint ``ρ``). The thesis's strategies do not read them.
     steering
-        How the guidance force turns the UAV (:data:`~searchtrack.models.dubins.STEERINGS`):
-        ``"turn_back"`` (default, this library's) turns by the whole force when it points
-        behind the UAV, so a UAV that overflies its anchor turns back at once; ``"thesis"`` is
-        (5.3) alone, under which a constant-speed UAV flies on past its anchor
+        How the guidance force turns the UAVs (:data:`~searchtrack.plan.guidance.view.
+        STEERINGS`): ``"turn_back"`` (default, this library's) turns a loitering, reacquiring
+        or routed UAV by the whole force when it points behind it, so a UAV that overflies its
+        anchor turns back at once (searching UAVs steer by (5.3)); ``"thesis"`` is (5.3) for
+        every UAV, under which a constant-speed UAV flies on past its anchor
         (:mod:`searchtrack.models.dubins`).
     """
 

@@ -10,8 +10,8 @@ from pathlib import Path
 from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.core.files import read_text
 from searchtrack.models import CourierModel, DubinsLimits, SensorModel
-from searchtrack.models.dubins import STEERINGS
 from searchtrack.models.lrt_sensor import THESIS_ALTITUDES_M, AltitudeModel
+from searchtrack.plan.guidance.view import STEERINGS
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
 from searchtrack.sim.roads.filter_spec import SEARCH_FIELDS
 from searchtrack.sim.roads.filters import FILTERS

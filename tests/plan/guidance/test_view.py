@@ -149,6 +149,17 @@ def test_guidance_answer_checks_itself() -> None:
             Guidance(**args)  # type: ignore[arg-type]
 
 
+def test_turn_back_selects_the_anchored_uavs() -> None:
+    """``"turn_back"`` steering turns back the loitering, reacquiring and routed UAVs, not the
+    searching one; ``"thesis"`` none; another name is refused by name."""
+    modes = ("search", "loiter", "reacquire", "route")
+    guidance = Guidance(np.zeros((4, 2)), Pairing.none(4), modes, ((),) * 4)
+    np.testing.assert_array_equal(guidance.turn_back("turn_back"), [False, True, True, True])
+    np.testing.assert_array_equal(guidance.turn_back("thesis"), [False] * 4)
+    with pytest.raises(InvalidInputError, match="steering"):
+        guidance.turn_back("spin")
+
+
 @pytest.mark.parametrize("weight", [-1.0, float("nan"), float("inf"), True])
 def test_coverage_weight_is_checked(weight: float) -> None:
     """The coverage weight is a finite number ≥ 0, refused by name otherwise."""

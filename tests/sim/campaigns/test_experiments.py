@@ -40,7 +40,8 @@ COLUMNS = {
                  ("uavs", int, 3, None), ("targets", int, 4, None),
                  ("strategy", str, "search_and_loiter", None), ("altitude_m", float, 457.2, None),
                  ("duration_s", float, 60.0, None), ("tracker_alpha", float, 0.0, 0.0),
-                 ("handover", bool, True, None), ("coverage_weight", float, 0.0, 0.0)],
+                 ("handover", bool, True, None), ("coverage_weight", float, 0.0, 0.0),
+                 ("steering", str, "turn_back", None)],
                 {"detected": int, "time_to_detect_all_s": float,
                  "time_to_first_detection_s": float, "moc_mean": float,
                  "moc_after_detection": float, "pvt": float, "pva": float}),
@@ -94,6 +95,7 @@ COLUMNS = {
 CHOICES = {
     ("mission", "map"): ("aguascalientes", "West-Oakland", "grid-dense", "grid-small"),
     ("mission", "mode"): ("track", "detect"),
+    ("mission", "steering"): ("turn_back", "thesis"),
     ("optw_instance", "instance"): ("c101", "r101", "rc101", "pr01"),
     ("phd_search_episode", "planner"): ("proposed", "refinement", "lawnmower"),
     ("phd_search_episode", "horizon"): (1, 2, 3, 4, 5),
