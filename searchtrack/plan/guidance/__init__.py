@@ -30,6 +30,7 @@ from searchtrack.plan.guidance.reacquire import (
 from searchtrack.plan.guidance.search_routes import (
     SearchCells,
     SearchRoute,
+    near_peaks,
     search_instance,
     search_mass,
 )
@@ -51,6 +52,7 @@ __all__ = [
     "coverage_force",
     "default_loiter_k",
     "default_spring_k",
+    "near_peaks",
     "pair_uavs",
     "pauli_force",
     "plan_reacquisition",

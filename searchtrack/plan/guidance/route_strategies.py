@@ -2,7 +2,9 @@
 001 Ch. 5 strategies of :mod:`~searchtrack.plan.guidance.strategies`).
 
 Each is a thesis strategy whose searching UAVs fly OPTW routes over the search field's mass
-(:mod:`~searchtrack.plan.guidance.search_routes`) instead of climbing its gradient (5.12):
+(:mod:`~searchtrack.plan.guidance.search_routes`; within a footprint radius of a live tracker's
+peak only its unexplained part, the positive evidence being the tracked target's) instead of
+climbing its gradient (5.12):
 
 - ``route_search``: every UAV searches so, as (5.12);
 - ``route_loiter``: paired UAVs loiter over their tracker's peak (5.15);
@@ -45,7 +47,12 @@ from searchtrack.core.result import Result
 from searchtrack.core.types import FloatArray
 from searchtrack.plan.guidance.pairing import pair_checked
 from searchtrack.plan.guidance.problem import GuidanceProblem
-from searchtrack.plan.guidance.search_routes import SearchRoute, search_instance, search_mass
+from searchtrack.plan.guidance.search_routes import (
+    SearchRoute,
+    near_peaks,
+    search_instance,
+    search_mass,
+)
 from searchtrack.plan.guidance.strategies import (
     ModeRule,
     answer,
@@ -113,7 +120,10 @@ def route_search(rule: ModeRule, name: str, *, reacquire: bool = False
         if reacquire:
             reacquisitions, plans = reacquire_fading(problem, pairing, modes, anchors, routes,
                                                      rng, budget, later=len(due))
-        mass = search_mass(view.field) if due else None
+        mass = None
+        if due:
+            peaks = [view.bank[t].peak_node() for t in range(len(view.bank))]
+            mass = search_mass(view.field, near_peaks(view.network, peaks, cfg.sensor_range_m))
         for k, j in enumerate(due):
             assert mass is not None
             claimed = [v for r in kept.values() for v in r.nodes]

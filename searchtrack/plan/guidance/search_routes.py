@@ -10,7 +10,11 @@ other prizes:
 - the mass of the search field is its softmax, ``w ∝ exp(score)``: for the LRT, whose score is
   the log-likelihood ratio ``φ``, the location of one undetected target under a uniform prior
   (as :meth:`~searchtrack.estimate.lrt.LikelihoodField.node_probability`), read through the
-  :class:`~searchtrack.estimate.belief.SearchField` protocol only;
+  :class:`~searchtrack.estimate.belief.SearchField` protocol only; the positive score within
+  a footprint radius of a live tracker's peak is left out (:func:`search_mass`'s
+  ``explained``): there the LRT's evidence keeps building from the target already tracked,
+  whose loitering UAV looks at it every step (up to ``φ_max`` before the initiator resets it),
+  and counted as mass it would draw every searching UAV to the known target;
 - the road nodes are binned into square cells of side ``√2 ρ`` (a footprint centred on a cell
   covers it; :class:`SearchCells`); a cell's prize is its mass, its vertex the cell's node
   nearest to the cell's mass centroid;
@@ -44,18 +48,42 @@ from searchtrack.plan.guidance.reacquire import reacquisition_instance
 from searchtrack.plan.optw.instance import OPTWInstance
 
 
-def search_mass(field: SearchField) -> FloatArray:
+def search_mass(field: SearchField, explained: ArrayLike | None = None) -> FloatArray:
     """The field's mass on each node, ``exp(score − max) / Σ exp(score − max)`` (sums to 1).
 
     For the LRT field this is the location of one undetected target under a uniform prior: 1
     part per unexplored node (``φ = 0``), next to nothing where the UAVs just looked, more where
-    evidence for a target built up.
+    evidence for a target built up. ``explained`` (a boolean per node, or ``None``) marks the
+    nodes whose positive score a tracked target explains: there the score counts at most 0.
     """
     if not isinstance(field, SearchField):
         raise InvalidInputError("field", field, "must be a SearchField (n_nodes, node_score)")
     score = np.asarray(field.node_score(), dtype=np.float64)
+    if explained is not None:
+        known = np.asarray(explained)
+        if known.dtype != np.bool_ or known.shape != score.shape:
+            raise InvalidInputError("explained", explained,
+                                    f"must be one boolean per node, shape {score.shape}")
+        score = np.where(known, np.minimum(score, 0.0), score)
     w = np.exp(score - score.max())
     return np.asarray(w / w.sum(), dtype=np.float64)
+
+
+def near_peaks(network: RoadNetwork, peaks: ArrayLike, radius_m: float) -> NDArray[np.bool_]:
+    """Per road node, whether it lies within ``radius_m`` of one of the nodes ``peaks`` (e.g.
+    the live trackers' peak nodes): :func:`search_mass`'s ``explained``."""
+    nodes = np.asarray(peaks, dtype=np.int64).reshape(-1)
+    near = np.zeros(network.n_nodes, dtype=bool)
+    if nodes.size == 0:
+        return near
+    if np.any((nodes < 0) | (nodes >= network.n_nodes)):
+        raise InvalidInputError("peaks", peaks, f"must be node indices in [0, {network.n_nodes})")
+    radius = positive("radius_m", radius_m)
+    xy = network.coords
+    for node in np.unique(nodes).tolist():
+        off = xy - xy[node]
+        near |= np.hypot(off[:, 0], off[:, 1]) <= radius
+    return near
 
 
 @dataclass(frozen=True, eq=False)

@@ -18,6 +18,7 @@ from searchtrack.plan.guidance import (
     Guidance,
     GuidanceProblem,
     StrategyConfig,
+    route_strategies,
     solve,
 )
 from searchtrack.plan.guidance.validate import answer_problems
@@ -144,6 +145,33 @@ def _tracker(n: int, node: int, peak: float) -> NodeTracker:
     p = np.full(n, (1.0 - peak) / (n - 1))
     p[node] = peak
     return NodeTracker(p, 0)
+
+
+def test_searchers_leave_the_evidence_of_a_tracked_target_alone(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Strong evidence (φ = 8) at the far road's east end weighs e⁸ unexplored nodes in the
+    search mass while no tracker holds it; once a tracker's peak lies there (its loitering UAV
+    keeps looking), the nodes within a footprint radius of the peak weigh as unexplored road."""
+    net = _two_roads()
+    llr = _far_mass_llr(net)
+    hot = int(np.flatnonzero((net.coords[:, 1] == 1000.0) & (net.coords[:, 0] == 300.0))[0])
+    llr[hot] = 8.0
+    west = int(np.flatnonzero((net.coords[:, 1] == 1000.0) & (net.coords[:, 0] == 0.0))[0])
+    seen: list[np.ndarray] = []
+    planned = route_strategies.plan_search
+
+    def spy(problem: GuidanceProblem, uav: int, mass: np.ndarray, *args: object) -> object:
+        seen.append(mass)
+        return planned(problem, uav, mass, *args)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(route_strategies, "plan_search", spy)
+    _plan(_problem(net, [[150.0, 0.0]], llr), "route_search")
+    assert seen[-1][hot] / seen[-1][west] == pytest.approx(np.exp(8.0))
+    tracked = _problem(net, [[150.0, 0.0], [300.0, 1000.0]], llr,
+                       (_tracker(net.n_nodes, hot, 0.5),))
+    g, _ = _plan(tracked, "route_loiter")
+    assert g.mode == ("route", "loiter")
+    assert seen[-1][hot] == pytest.approx(seen[-1][west])
 
 
 @pytest.mark.parametrize(("backend", "thesis"), [

@@ -11,7 +11,13 @@ import pytest
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.lrt import LikelihoodField
 from searchtrack.models.road_synthetic import grid_network
-from searchtrack.plan.guidance import SearchCells, SearchRoute, search_instance, search_mass
+from searchtrack.plan.guidance import (
+    SearchCells,
+    SearchRoute,
+    near_peaks,
+    search_instance,
+    search_mass,
+)
 from searchtrack.plan.guidance.reacquire import plan_reacquisition
 from searchtrack.plan.optw.validate import validate
 
@@ -26,6 +32,31 @@ def test_search_mass_is_the_softmax_of_the_score() -> None:
     np.testing.assert_allclose(search_mass(LikelihoodField(np.zeros(5))), np.full(5, 0.2))
     with pytest.raises(InvalidInputError):
         search_mass(np.zeros(3))  # type: ignore[arg-type]
+
+
+def test_explained_nodes_keep_their_negative_score_only() -> None:
+    """On the nodes a tracked target explains, a positive score counts as 0 and a negative one
+    is kept; elsewhere the softmax is unchanged; a bad mask is refused by name."""
+    field = LikelihoodField(np.array([0.0, -20.0, 3.0, 8.0, -5.0]))
+    explained = np.array([False, False, False, True, True])
+    expected = np.exp([0.0, -20.0, 3.0, 0.0, -5.0])
+    np.testing.assert_allclose(search_mass(field, explained), expected / expected.sum())
+    np.testing.assert_allclose(search_mass(field, np.zeros(5, dtype=bool)), search_mass(field))
+    for bad in (np.zeros(4, dtype=bool), np.zeros(5)):
+        with pytest.raises(InvalidInputError, match="explained"):
+            search_mass(field, bad)
+
+
+def test_near_peaks_marks_the_nodes_within_the_radius() -> None:
+    """Nodes within the radius of any peak node, none without peaks; bad input named."""
+    net = path_road(11)  # x = 0, 10, ..., 100
+    np.testing.assert_array_equal(np.flatnonzero(near_peaks(net, [2, 9], 15.0)),
+                                  [1, 2, 3, 8, 9, 10])
+    assert not near_peaks(net, [], 15.0).any()
+    with pytest.raises(InvalidInputError, match="peaks"):
+        near_peaks(net, [11], 15.0)
+    with pytest.raises(InvalidInputError, match="radius_m"):
+        near_peaks(net, [2], 0.0)
 
 
 def test_cells_bin_nodes_and_take_the_mass_centroid_node() -> None:
