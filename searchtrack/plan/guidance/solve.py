@@ -2,7 +2,8 @@
 
     problem = GuidanceProblem(view, StrategyConfig(), tracker_diffusion)
     result = solve(problem, backend="search_and_reacquire", time_limit_s=0.03, seed=seed)
-    uavs = step_force(uavs, result.plan.force, dt_s, limits)
+    uavs = step_force(uavs, result.plan.force, dt_s, limits,
+                      turn_back=result.plan.turn_back("turn_back"))  # or "thesis": (5.3)
     problem = problem.following(next_view, result.plan)    # carries the routes being flown
 
 The backends are the Ch. 5 strategies (:mod:`searchtrack.plan.guidance.strategies`) and this
