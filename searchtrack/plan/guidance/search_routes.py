@@ -78,11 +78,9 @@ def near_peaks(network: RoadNetwork, peaks: ArrayLike, radius_m: float) -> NDArr
         return near
     if np.any((nodes < 0) | (nodes >= network.n_nodes)):
         raise InvalidInputError("peaks", peaks, f"must be node indices in [0, {network.n_nodes})")
-    radius = positive("radius_m", radius_m)
-    xy = network.coords
-    for node in np.unique(nodes).tolist():
-        off = xy - xy[node]
-        near |= np.hypot(off[:, 0], off[:, 1]) <= radius
+    _, within = network.nodes_within(network.coords[np.unique(nodes)],
+                                     positive("radius_m", radius_m))
+    near[within] = True
     return near
 
 
