@@ -24,6 +24,7 @@ from searchtrack.cli.common import int_at_least, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_dir, output_file
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.models.radio.calibration import CALIBRATIONS
 from searchtrack.models.radio.signal import MAX_NOISE_VAR_V2
 from searchtrack.plan.radio import RadioPlanSettings
 from searchtrack.sim.kernels import RADIO_KERNELS
@@ -57,6 +58,17 @@ def _noise_sigma(text: str) -> float:
     return value
 
 
+def _explore(text: str) -> float:
+    """``--explore``: a number in ``[0, 1)``, else an argparse error."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not 0.0 <= value < 1.0:
+        raise argparse.ArgumentTypeError(f"must be in [0, 1): {text!r}")
+    return value
+
+
 def _particles(args: argparse.Namespace) -> int:
     """``--particles``, or :class:`InvalidInputError` naming it above the filter's limit."""
     from searchtrack.estimate.radio.filter import MAX_PARTICLES_PER_LABEL
@@ -69,14 +81,27 @@ def _particles(args: argparse.Namespace) -> int:
 
 
 def _scenario(args: argparse.Namespace) -> RadioScenario:
+    import dataclasses
+
     from searchtrack.models.radio import RadioScenario
+    from searchtrack.models.radio.calibration import calibrated
 
     scenario = RadioScenario.from_toml(args.scenario)
     if getattr(args, "noise", None) is not None:
-        import dataclasses
-
         scenario = dataclasses.replace(scenario, signal=scenario.signal.with_noise(args.noise**2))
+    if getattr(args, "calibration", None) is not None:
+        scenario = dataclasses.replace(scenario,
+                                       signal=calibrated(scenario.signal, args.calibration))
     return scenario
+
+
+def _range_note(scenario: RadioScenario) -> str:
+    """The calibration in words: its gain and the tags' range at 0 dB per-cell SNR."""
+    from searchtrack.models.radio.calibration import zero_db_range_m
+
+    reach = zero_db_range_m(scenario.signal)
+    return (f"calibration gain {scenario.signal.calibration_gain_db:g} dB: a tag ahead reaches "
+            f"0 dB per-cell SNR at {reach.min():.0f}–{reach.max():.0f} m")
 
 
 def _bar(console: Console, what: str) -> Progress:
@@ -140,10 +165,15 @@ def mission(args: argparse.Namespace, console: Console) -> int:
     folder = output_dir("--out", args.out)
     scenario = _scenario(args)
     plan = RadioPlanSettings(horizon=args.horizon, plan_particles=args.plan_particles,
-                             r_min_m=args.r_min, p_void_min=args.p_void)
+                             r_min_m=args.r_min, p_void_min=args.p_void,
+                             spread_inflation=args.spread_inflation,
+                             explore_existence=args.explore)
     config = RadioMissionConfig(filter=args.filter, planner=args.planner, backend=args.backend,
                                 particles_per_label=particles, plan=plan,
-                                measurement=args.measurement, keep_out=args.keep_out)
+                                measurement=args.measurement, keep_out=args.keep_out,
+                                replan_on_breach=args.replan_on_breach,
+                                temper_correlated=not args.untempered,
+                                roughening_m=args.roughening)
     ready_kernels(console, (RADIO_KERNELS,))
     with _bar(console, f"{args.filter} + {args.planner}") as bar:
         task = bar.add_task("mission", total=scenario.n_steps)
@@ -155,10 +185,16 @@ def mission(args: argparse.Namespace, console: Console) -> int:
                     plot_radio_ospa(log, folder / "ospa.png")]
     total, loc, card = log.mean_ospa()
     plans = ", ".join(f"{k} {v}" for k, v in sorted(log.plan_status.items()))
+    if log.breach_replans:
+        plans += f" ({log.breach_replans} early, on a breach)"
+    console.print(escape(_range_note(scenario)))
     console.print(escape(
         f"{log.steps} of {scenario.n_steps} s: mean OSPA {total:.1f} m (localisation "
-        f"{loc:.1f}, cardinality {card:.1f}); unsafe {100 * log.unsafe_fraction():.1f} % of "
-        f"steps; filter {log.filter_ms:.1f} ms/step; plans: {plans}"))
+        f"{loc:.1f}, cardinality {card:.1f}); cardinality within 0.5 of the truth "
+        f"{100 * log.cardinality_hit_fraction():.0f} % of seconds; objects detected "
+        f"{log.objects_detected()} of {len(scenario.tags)}; unsafe "
+        f"{100 * log.unsafe_fraction():.1f} % of steps; filter {log.filter_ms:.1f} ms/step; "
+        f"plans: {plans}"))
     console.print(escape("written: " + ", ".join(str(Path(p)) for p in written)))
     return 0
 
@@ -167,6 +203,10 @@ def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--noise", type=_noise_sigma, default=None, metavar="SIGMA_V",
                    help="receiver noise standard deviation σ_η in volts (Σ_η = σ_η²; at most "
                         f"{MAX_NOISE_SIGMA_V:g}; default: the scenario's)")
+    p.add_argument("--calibration", choices=tuple(CALIBRATIONS), default=None,
+                   help="the signal model's calibration: " + "; ".join(
+                       f"{name}, {cal.about}" for name, cal in CALIBRATIONS.items())
+                   + " (default: the scenario's)")
     direct, windows = (f"{m}, default" if m == MISSION.measurement else m for m in MEASUREMENTS)
     p.add_argument("--measurement", choices=MEASUREMENTS, default=MISSION.measurement,
                    help=f"simulate the spectrogram directly ({direct}) or from time-domain "
@@ -228,8 +268,25 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
                        f"{PLAN.r_min_m:g} m)")
     p_mis.add_argument("--p-void", type=float, default=PLAN.p_void_min, metavar="P",
                        help=f"least void probability P_vmin (default {PLAN.p_void_min:g})")
+    p_mis.add_argument("--spread-inflation", type=float, default=PLAN.spread_inflation,
+                       metavar="K", help="keep each object's void disc r_min + K times its "
+                       f"estimate's spread away (default {PLAN.spread_inflation:g}: r_min alone)")
+    p_mis.add_argument("--replan-on-breach", action="store_true",
+                       help="plan again as soon as a measurement shows the void constraint broken "
+                       "ahead, not only every planning interval")
+    p_mis.add_argument("--explore", type=_explore, default=PLAN.explore_existence, metavar="R",
+                       help="existence the reward gives a tag not heard yet, in [0, 1): how much "
+                       "finding tags weighs against tracking those found; 0 is the paper's "
+                       f"reward (default {PLAN.explore_existence:g})")
     p_mis.add_argument("--keep-out", action="store_true",
                        help="also keep r_min from every estimate in the flown trajectory")
+    p_mis.add_argument("--roughening", type=float, default=MISSION.roughening_m, metavar="M",
+                       help="jitter the filter's particles by at least M metres after each "
+                       "resampling, so a cloud that collapsed on one point can follow its "
+                       f"object again (default {MISSION.roughening_m:g}: none, the paper's)")
+    p_mis.add_argument("--untempered", action="store_true",
+                       help="with --measurement time, read the correlated bins as independent "
+                       "evidence (eq. 22 as printed) instead of tempering the TBD likelihood")
     p_mis.add_argument("--seed", type=seed_arg, default=0, help="random seed (default 0)")
     p_mis.add_argument("--out", required=True, metavar="DIR",
                        help="folder for mission.json, map.png and ospa.png")

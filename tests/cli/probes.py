@@ -274,6 +274,13 @@ PROBES: list[Probe] = [
     ("radio mission: --horizon 0", _radio_mission("--horizon", "0"), 2, ("--horizon",)),
     ("radio mission: unknown planner", _radio_mission("--planner", "zigzag"), 2,
      ("--planner",)),
+    ("radio mission: --explore 1", _radio_mission("--explore", "1"), 2, ("--explore",)),
+    ("radio mission: negative spread inflation", _radio_mission("--spread-inflation", "-1"), 2,
+     ("spread_inflation",)),
+    ("radio mission: negative roughening", _radio_mission("--roughening", "-2"), 2,
+     ("roughening_m",)),
+    ("radio mission: unknown calibration", _radio_mission("--calibration", "literal"), 2,
+     ("--calibration",)),
 ]
 
 

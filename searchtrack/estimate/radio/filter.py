@@ -73,12 +73,28 @@ class FilterConfig:
         Draw the birth particles' pulse offsets from the filter's measurement-driven proposal,
         reweighted to the uniform birth density (:mod:`.birth_proposal`); ``False``: the uniform
         draw of the paper's birth density.
+    roughening_m
+        ``σ_r ≥ 0`` (m): after resampling, every particle's ground position is jittered by
+        ``N(0, σ²)`` per axis, ``σ = max(σ_r, K E N^{−1/4})`` with ``E`` the label's extent on
+        that axis and ``K = 0.2`` (roughening, Gordon, Salmond and Smith 1993, with a floor).
+        At high SNR the likelihood resolves a tag's position to well under a metre, the resampled
+        cloud collapses onto one particle (spread 0), and a collapsed cloud that drifts from
+        its object cannot come back; the floor keeps it wide enough to follow. 0 (default): the
+        paper's filter, no roughening.
+    temper
+        ``β ∈ (0, 1]``: the update uses ``g^β``, the log-likelihood ratios times ``β`` (a
+        tempered likelihood). 1 is the paper's. Spectrograms computed from a real signal have
+        correlated neighbouring bins, which eq. 22 counts as independent evidence; ``β`` below
+        1 counts them as their effective number
+        (:func:`~searchtrack.estimate.radio.likelihood.correlated_cells_temper`).
     """
 
     particles_per_label: int = 50_000
     birth_fraction: float = 0.1
     existence_threshold: float = 0.5
     data_driven_births: bool = True
+    roughening_m: float = 0.0
+    temper: float = 1.0
 
     def __post_init__(self) -> None:
         n = checks.count("particles_per_label", self.particles_per_label, least=1)
@@ -89,6 +105,10 @@ class FilterConfig:
             "birth_fraction", self.birth_fraction, low=0.0, high=1.0, low_open=True))
         object.__setattr__(self, "existence_threshold", checks.probability(
             "existence_threshold", self.existence_threshold))
+        object.__setattr__(self, "roughening_m", checks.real(
+            "roughening_m", self.roughening_m, low=0.0, high=1e4))
+        object.__setattr__(self, "temper", checks.real("temper", self.temper, low=0.0,
+                                                       high=1.0, low_open=True))
         if not isinstance(self.data_driven_births, bool):
             raise InvalidInputError("data_driven_births", self.data_driven_births,
                                     "must be true or false")
@@ -97,6 +117,22 @@ class FilterConfig:
     def n_birth(self) -> int:
         """Birth particles per label and step, ``max(1, round(birth_fraction · N))``."""
         return max(1, round(self.birth_fraction * self.particles_per_label))
+
+
+#: ``K`` of the roughening's extent term (:attr:`FilterConfig.roughening_m`).
+ROUGHENING_K = 0.2
+
+
+def roughen(state: LabelledParticles, floor_m: float, rng: np.random.Generator) -> None:
+    """Jitter the ground positions of ``state``'s particles in place: per label and axis,
+    ``N(0, σ²)`` with ``σ = max(floor_m, K E N^{−1/4})``, ``E`` the label's extent on the axis
+    (:attr:`FilterConfig.roughening_m`)."""
+    x = state.x
+    n = x.shape[1]
+    for axis in (0, 2):
+        extent = x[:, :, axis].max(axis=1) - x[:, :, axis].min(axis=1)
+        sigma = np.maximum(floor_m, ROUGHENING_K * extent * n ** -0.25)
+        x[:, :, axis] += sigma[:, None] * rng.standard_normal(x.shape[:2])
 
 
 def _frozen(state: LabelledParticles) -> LabelledParticles:
@@ -210,7 +246,10 @@ class LabelledFilter:
         pred = predict(self._state, self.scenario, self._rng, n_birth=self.config.n_birth,
                        tau_proposal=q)
         post = update(pred, self._likelihood(zz, pose, pred))
-        self._state = _frozen(resample(post, self._rng, self.config.particles_per_label))
+        state = resample(post, self._rng, self.config.particles_per_label)
+        if self.config.roughening_m > 0.0:
+            roughen(state, self.config.roughening_m, self._rng)
+        self._state = _frozen(state)
         self._positions = None
         self._steps += 1
         if log.isEnabledFor(logging.DEBUG):

@@ -107,10 +107,11 @@ def _llr_kernel(z: FloatArray, bins: IntArray, leak: FloatArray, gamma: FloatArr
 
 @njit(cache=True, inline="always")
 def _amplitude(px: float, py: float, geo: FloatArray) -> float:
-    """``γ = A G_r G_a(φ) (d0/d)^(κ/2)`` of a tag at ``(px, py)`` as :meth:`RadioSignal.amplitude`
-    (``d = max(√(ρ² + h²), d0)``, ``ρ`` the ground range, ``cos φ = 1`` straight below), with
-    ``(d0/d)^(κ/2) = exp(−(κ/4) log(d²/d0²))`` (faster here than ``pow``; equal up to a few
-    ulp); ``geo = [x_u, y_u, cos θ_u, sin θ_u, h, d0, κ/2, A G_r, b]``."""
+    """``γ = A G_r G_c G_a(φ) (d0/d)^(κ/2)`` of a tag at ``(px, py)`` as
+    :meth:`RadioSignal.amplitude` (``d = max(√(ρ² + h²), d0)``, ``ρ`` the ground range,
+    ``cos φ = 1`` straight below), with ``(d0/d)^(κ/2) = exp(−(κ/4) log(d²/d0²))`` (faster
+    here than ``pow``; equal up to a few ulp);
+    ``geo = [x_u, y_u, cos θ_u, sin θ_u, h, d0, κ/2, A G_r G_c, b]``."""
     dx, dy = px - geo[0], py - geo[1]
     ground2 = dx * dx + dy * dy
     ground = math.sqrt(ground2)
@@ -271,7 +272,7 @@ def _geometry(signal: RadioSignal, pose: FloatArray) -> FloatArray:
     """The ``geo`` argument of :func:`_amplitude` for a UAV pose ``(x, y, heading)``."""
     return np.array([pose[0], pose[1], math.cos(pose[2]), math.sin(pose[2]),
                      signal.height_difference_m, signal.reference_distance_m,
-                     signal.path_loss_exponent / 2.0, signal.amplitude_v * signal.receiver_gain,
+                     signal.path_loss_exponent / 2.0, signal.amplitude_v * signal.voltage_gain,
                      signal.back_gain], dtype=np.float64)
 
 
@@ -292,3 +293,20 @@ def amplitude(signal: RadioSignal, tag_xy: ArrayLike, uav_pose: ArrayLike) -> Fl
     _amplitude_kernel(np.ascontiguousarray(xy.reshape(-1, 2)), _geometry(signal, pose),
                       out.reshape(-1))
     return out
+
+
+def correlated_cells_temper(signal: RadioSignal) -> float:
+    """The exponent ``β = |S| / Σ_{b,b'∈S} ρ(b − b')²`` that counts one frame's ``|S|`` cells
+    of an influence region as their effective number when the spectrogram is computed from
+    the signal (time-domain windows): neighbouring bins of one window then correlate,
+    ``ρ(k) = |Σ_n w[n]² e^{−j2πkn/L}| / Σ_n w[n]²`` (0.82 for adjacent bins of the paper's
+    4-term Blackman–Harris window), and ``ρ²`` is the correlation of their squared magnitudes
+    under noise. Frames do not overlap (``N_w < R``), so they stay independent. Cells simulated
+    directly in the STFT domain are independent: use 1 there."""
+    w2 = signal.window.astype(np.float64) ** 2
+    width = 2 * signal.half_width_bins + 1
+    lags = np.arange(-(width - 1), width)
+    n = np.arange(w2.size)
+    rho = np.abs(np.exp(-2j * np.pi * np.outer(lags, n) / signal.fft_size) @ w2) / w2.sum()
+    pairs = width - np.abs(lags)                      # how many (b, b') pairs have each lag
+    return float(width / np.sum(pairs * rho**2))

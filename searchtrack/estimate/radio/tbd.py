@@ -50,6 +50,10 @@ class TbdLmbFilter(LabelledFilter):
 
     def _log_likelihoods(self, z: FloatArray, uav_pose: FloatArray,
                          predicted: LabelledParticles) -> FloatArray:
-        """``(Λ, N)`` eq. 22 of the predicted particles on the raw magnitudes ``z``."""
-        return label_log_likelihoods(self.scenario.signal, z, predicted.x, predicted.tau,
-                                     uav_pose)
+        """``(Λ, N)`` eq. 22 of the predicted particles on the raw magnitudes ``z`` (times the
+        configuration's ``temper``)."""
+        llr = label_log_likelihoods(self.scenario.signal, z, predicted.x, predicted.tau,
+                                    uav_pose)
+        if self.config.temper != 1.0:
+            llr *= self.config.temper
+        return llr

@@ -13,9 +13,13 @@ Modelling choices (made where the paper is silent or inconsistent):
   bins are scalloped rather than rounded to the nearest bin (eq. 15).
 * Influence region (eq. 20): bins ``S(λ) = round(f_λ L/f_s) + (−h..h)``; they must lie inside
   ``[0, L)`` and the regions of different labels must be disjoint (Proposition 1).
-* Calibration (eq. 4): ``γ = A · G_r · G_a(φ) · (d0/d)^(κ/2)`` with the voltage gain
-  ``G_r = 10^(G_dB/20)`` and ``κ`` a power path-loss exponent, ``d`` the 3-D distance (the UAV
-  flies ``height_difference_m`` above the tags); distances below ``d0`` count as ``d0``.
+* Calibration (eq. 4): ``γ = A · G_r · G_c · G_a(φ) · (d0/d)^(κ/2)`` with the voltage gain
+  ``G_r = 10^(G_dB/20)``, ``κ`` a power path-loss exponent, ``d`` the 3-D distance (the UAV
+  flies ``height_difference_m`` above the tags; distances below ``d0`` count as ``d0``) and
+  ``G_c = 10^(calibration_gain_db/20)`` the scaling between the tag's amplitude and the STFT
+  cells that the paper leaves open (the antenna's boresight gain, the SDR's scaling), fitted
+  so that the paper's Experiment 1 behaves as its Fig. 5 shows
+  (:mod:`~searchtrack.models.radio.calibration`).
 * Antenna (a 2-element Yagi substitute, azimuth only): amplitude gain
   ``G_a(φ) = b + (1 − b)(1 + cos φ)/2`` with ``b = 10^(−FB/20)``, φ the angle between the UAV
   heading and the ground direction UAV → tag.
@@ -64,6 +68,9 @@ MAX_SAMPLE_RATE_HZ, MAX_PERIOD_S = 1e12, 3600.0
 MAX_NOISE_VAR_V2 = 1e6
 #: Largest magnitude of the gains in dB, and of the pulse amplitude (V).
 MAX_GAIN_DB, MAX_AMPLITUDE_V = 200.0, 1e6
+#: The calibration gain ``G_c`` (dB) fitted to the paper's Fig. 5
+#: (:data:`~searchtrack.models.radio.calibration.CALIBRATIONS`, ``"fig5"``).
+FIG5_GAIN_DB = 15.0
 #: Largest path-loss exponent κ.
 MAX_PATH_LOSS_EXPONENT = 10.0
 
@@ -130,6 +137,7 @@ class RadioSignal:
     path_loss_exponent: float = 3.1068
     reference_distance_m: float = 1.0
     receiver_gain_db: float = 72.0
+    calibration_gain_db: float = FIG5_GAIN_DB
     noise_var_v2: float = 0.025**2
     frames: int = 111
     fft_size: int = 256
@@ -153,6 +161,8 @@ class RadioSignal:
             put(self, name, real(name, getattr(self, name), low=0.0, low_open=True, high=high))
         put(self, "receiver_gain_db", real("receiver_gain_db", self.receiver_gain_db,
                                            low=-MAX_GAIN_DB, high=MAX_GAIN_DB))
+        put(self, "calibration_gain_db", real("calibration_gain_db", self.calibration_gain_db,
+                                              low=-MAX_GAIN_DB, high=MAX_GAIN_DB))
         put(self, "front_to_back_db", real("front_to_back_db", self.front_to_back_db, low=0.0,
                                            high=MAX_GAIN_DB))
         put(self, "height_difference_m", checks.non_negative("height_difference_m",
@@ -247,6 +257,11 @@ class RadioSignal:
         return float(10.0 ** (self.receiver_gain_db / 20.0))
 
     @property
+    def voltage_gain(self) -> float:
+        """The whole voltage gain from the tag's amplitude to the cells, ``G_r G_c``."""
+        return float(10.0 ** ((self.receiver_gain_db + self.calibration_gain_db) / 20.0))
+
+    @property
     def back_gain(self) -> float:
         """The antenna's amplitude gain straight behind, ``b = 10^(−FB/20)``."""
         return float(10.0 ** (-self.front_to_back_db / 20.0))
@@ -300,7 +315,8 @@ class RadioSignal:
         return b + (1.0 - b) * (1.0 + c) / 2.0
 
     def amplitude(self, tag_xy: ArrayLike, uav_pose: ArrayLike) -> FloatArray:
-        """Received amplitude ``γ = A G_r G_a(φ) (d0/d)^(κ/2)`` of tags seen from a UAV pose.
+        """Received amplitude ``γ = A G_r G_c G_a(φ) (d0/d)^(κ/2)`` of tags seen from a UAV
+        pose.
 
         Parameters
         ----------
@@ -324,5 +340,5 @@ class RadioSignal:
         cos_phi = np.where(ground > 0.0, along / safe, 1.0)
         dist = np.maximum(np.hypot(ground, self.height_difference_m), self.reference_distance_m)
         loss = (self.reference_distance_m / dist) ** (self.path_loss_exponent / 2.0)
-        out: FloatArray = self.amplitude_v * self.receiver_gain * self.antenna_gain(cos_phi) * loss
+        out: FloatArray = self.amplitude_v * self.voltage_gain * self.antenna_gain(cos_phi) * loss
         return out

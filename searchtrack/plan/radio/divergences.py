@@ -12,7 +12,8 @@ and 44 factorise into one term per label:
 * Cauchy–Schwarz (eqs. 42–43): ``⟨π_i, π_j⟩_K = Π_λ [(1−r_i)(1−r_j) + K r_i r_j Σ_k ω_i ω_j]``
   and ``D_CS = −log ⟨π₂,π₁⟩_K + ½ log ⟨π₂,π₂⟩_K + ½ log ⟨π₁,π₁⟩_K``.
 * Void probability (eq. 44): ``B(S) = Π_λ [1 − r_λ P_λ(S)]`` with ``P_λ(S)`` the particle mass of
-  label λ in ``S``, here the disc of ground radius ``r_min`` (strict ``<``) around a point.
+  label λ in ``S``, here the disc of ground radius ``r_min`` (strict ``<``) around a point, or a
+  disc of its own radius per label (:func:`disc_mass`).
 
 Every function broadcasts over leading axes: existence probabilities ``(..., Λ)``, weights
 ``(..., Λ, N)`` (normalised per label), and returns one value per leading index. The divergence is
@@ -25,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from searchtrack.core import checks
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
 
 
@@ -113,7 +115,8 @@ def cauchy_schwarz(r1: ArrayLike, w1: ArrayLike, r2: ArrayLike, w2: ArrayLike,
     return np.asarray(np.sum(terms, axis=-1), dtype=np.float64)
 
 
-def disc_mass(w: ArrayLike, xy: ArrayLike, centres: ArrayLike, radius_m: float) -> FloatArray:
+def disc_mass(w: ArrayLike, xy: ArrayLike, centres: ArrayLike,
+              radius_m: float | ArrayLike) -> FloatArray:
     """Particle mass of each label within ground distance ``radius_m`` (strictly) of each centre.
 
     Parameters
@@ -125,28 +128,41 @@ def disc_mass(w: ArrayLike, xy: ArrayLike, centres: ArrayLike, radius_m: float) 
     centres
         ``(..., 2)`` disc centres (m).
     radius_m
-        The disc radius ``r_min`` (≥ 0; 0 gives the empty disc).
+        The disc radius (≥ 0; 0 gives the empty disc): one for every label, or ``(Λ,)``, one
+        per label (the keep-out radius inflated by each label's spread).
 
     Returns
     -------
     FloatArray
         ``(..., Λ)`` masses ``P_λ``.
     """
-    checks.non_negative("radius_m", radius_m)
     weights = np.asarray(w, dtype=np.float64)
+    radii = label_radii(radius_m, weights.shape[0])
     pos = np.asarray(xy, dtype=np.float64)
     c = np.asarray(centres, dtype=np.float64)
     lead = c.shape[:-1]
     flat = c.reshape(-1, 2)
     dx = pos[None, :, :, 0] - flat[:, 0, None, None]
     dy = pos[None, :, :, 1] - flat[:, 1, None, None]
-    inside = (dx * dx + dy * dy) < radius_m * radius_m
+    inside = (dx * dx + dy * dy) < (radii * radii)[None, :, None]
     mass = np.einsum("kln,ln->kl", inside, weights)
     return np.asarray(mass.reshape(*lead, weights.shape[0]), dtype=np.float64)
 
 
+def label_radii(radius_m: float | ArrayLike, n_labels: int) -> FloatArray:
+    """``(Λ,)`` disc radii from one radius or one per label (each finite and ≥ 0)."""
+    radii = np.asarray(radius_m, dtype=np.float64)
+    if radii.ndim == 0:
+        checks.non_negative("radius_m", float(radii))
+        return np.full(n_labels, float(radii))
+    if radii.shape != (n_labels,) or not np.all(np.isfinite(radii)) or np.any(radii < 0.0):
+        raise InvalidInputError("radius_m", radii.tolist(),
+                                f"must be one radius ≥ 0 or {n_labels}, one per label")
+    return radii
+
+
 def void_probability(r: ArrayLike, w: ArrayLike, xy: ArrayLike, centres: ArrayLike,
-                     radius_m: float) -> FloatArray:
+                     radius_m: float | ArrayLike) -> FloatArray:
     """Void probability ``B = Π_λ [1 − r_λ P_λ]`` of the discs of radius ``radius_m`` around
     ``centres`` (eq. 44, factorised): the probability that no object lies within ground distance
     ``r_min`` of each centre.

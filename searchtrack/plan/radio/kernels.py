@@ -6,7 +6,7 @@ It fuses, per pose, label and particle, what :func:`~searchtrack.plan.radio.idea
 and :meth:`~searchtrack.plan.radio.ideal.IdealLikelihood.log_likelihood` compute in NumPy, the
 reference its tests compare it with:
 
-    ``γ = A G_r G_a(φ) (d0² / max(d², d0²))^(κ/4)``, ``G_a = b + (1 − b)(1 + cos φ)/2``,
+    ``γ = A G_r G_c G_a(φ) (d0² / max(d², d0²))^(κ/4)``, ``G_a = b + (1 − b)(1 + cos φ)/2``,
     ``log g = −n_i γ² E_λ + o_i h_λ(γ̂_λ γ)``,
 
 ``h_λ`` read from the same table (cubic Hermite in ``log t``, ``t² q_λ`` below the table).
@@ -89,7 +89,7 @@ def ideal_log_likelihoods(signal: RadioSignal, table: IdealLikelihood, xy: Float
             np.ascontiguousarray(table.energy), np.ascontiguousarray(table.quadratic),
             log_t0, inv_step, np.ascontiguousarray(table.log_h),
             np.ascontiguousarray(table.slope),
-            signal.amplitude_v * signal.receiver_gain, signal.back_gain,
+            signal.amplitude_v * signal.voltage_gain, signal.back_gain,
             signal.path_loss_exponent / 2.0, signal.reference_distance_m,
             signal.height_difference_m, out)
     return out

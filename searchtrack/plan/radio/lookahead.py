@@ -28,11 +28,8 @@ from scipy.spatial import cKDTree
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
 from searchtrack.estimate.labelled_particles import LabelledParticles, resample
 from searchtrack.models.radio import propagate
-from searchtrack.plan.radio.divergences import disc_mass
-from searchtrack.plan.radio.problem import RadioPlanProblem
-
-#: A label enters the ideal measurement set when its existence probability exceeds this.
-EXISTENCE_THRESHOLD = 0.5
+from searchtrack.plan.radio.divergences import disc_mass, label_radii
+from searchtrack.plan.radio.problem import EXISTENCE_THRESHOLD, RadioPlanProblem, keep_out_radii
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,6 +53,9 @@ class LookAhead:
         ``(H, Λ, 2)`` weighted mean positions at the end of each interval.
     estimate_frame
         ``(H, Λ)`` weighted-mode pulse frames at the end of each interval.
+    radii
+        ``(Λ,)`` radius of each label's void region (eq. 44):
+        :func:`~searchtrack.plan.radio.problem.keep_out_radii` of the drawn cloud.
     trees
         ``T`` k-d trees of the cloud's positions ``(Λ·N, 2)``, one per second (empty when the
         void region is empty, ``r_min = 0``).
@@ -68,6 +68,7 @@ class LookAhead:
     estimated: BoolArray
     estimate_xy: FloatArray
     estimate_frame: IntArray
+    radii: FloatArray
     trees: tuple[cKDTree, ...] = ()
 
     @property
@@ -80,28 +81,35 @@ class LookAhead:
         """``N``, particles per label."""
         return int(self.xy.shape[2])
 
-    def disc_mass(self, second: int, centres: FloatArray, radius_m: float) -> FloatArray:
+    def disc_mass(self, second: int, centres: FloatArray,
+                  radius_m: float | FloatArray) -> FloatArray:
         """``(K, Λ)`` weight of each label's particles strictly within ``radius_m`` (ground
-        distance) of each of ``K`` centres ``(K, 2)``, at look-ahead second ``second``
-        (0-based: the cloud after ``second + 1`` seconds); by the k-d trees when built, else
-        densely."""
+        distance; one radius, or ``(Λ,)`` one per label) of each of ``K`` centres ``(K, 2)``,
+        at look-ahead second ``second`` (0-based: the cloud after ``second + 1`` seconds); by
+        the k-d trees when built, else densely."""
         k = centres.shape[0]
         n_labels, n = self.n_labels, self.n_particles
-        if radius_m <= 0.0 or k == 0:
+        radii = label_radii(radius_m, n_labels)
+        if radii.max() <= 0.0 or k == 0:
             return np.zeros((k, n_labels))
         if not self.trees:
-            return disc_mass(self.w, self.xy[second], centres, radius_m)
+            return disc_mass(self.w, self.xy[second], centres, radii)
         pairs = cKDTree(centres).sparse_distance_matrix(
-            self.trees[second], radius_m, output_type="ndarray")
-        pairs = pairs[pairs["v"] < radius_m]
+            self.trees[second], float(radii.max()), output_type="ndarray")
         label = pairs["j"] // n
+        keep = pairs["v"] < radii[label]
+        pairs, label = pairs[keep], label[keep]
         mass = np.bincount(pairs["i"] * n_labels + label,
                            weights=self.w.ravel()[pairs["j"]], minlength=k * n_labels)
         return np.asarray(mass.reshape(k, n_labels), dtype=np.float64)
 
-    def void(self, second: int, centres: FloatArray, radius_m: float) -> FloatArray:
+    def void(self, second: int, centres: FloatArray,
+             radius_m: float | FloatArray | None = None) -> FloatArray:
         """``(K,)`` void probability ``Π_λ (1 − r_λ P_λ)`` (eq. 44) of the discs of radius
-        ``radius_m`` around ``centres`` at look-ahead second ``second`` (0-based)."""
+        ``radius_m`` (default: :attr:`radii`) around ``centres`` at look-ahead second
+        ``second`` (0-based)."""
+        if radius_m is None:
+            radius_m = self.radii
         mass = self.disc_mass(second, centres, radius_m)
         return np.asarray(np.prod(1.0 - self.r * mass, axis=1), dtype=np.float64)
 
@@ -116,6 +124,7 @@ def look_ahead(problem: RadioPlanProblem, rng: np.random.Generator) -> LookAhead
     x, mode, tau = drawn.x, drawn.mode, drawn.tau
     w = drawn.w
     r = np.array(problem.belief.r, dtype=np.float64)
+    radii = keep_out_radii(x[:, :, ::2], r, st)
     n_labels, n = w.shape
     xy = np.empty((total, n_labels, n, 2))
     frames = np.empty((st.horizon, n_labels, n), dtype=np.int64)
@@ -130,9 +139,9 @@ def look_ahead(problem: RadioPlanProblem, rng: np.random.Generator) -> LookAhead
             frames[j] = sc.signal.frame_of(tau)
             est_xy[j] = cloud.mean_xy()
             est_frame[j] = cloud.frame_mode(sc.signal)
-    arrays = (xy, frames, r, w, r > EXISTENCE_THRESHOLD, est_xy, est_frame)
+    arrays = (xy, frames, r, w, r > EXISTENCE_THRESHOLD, est_xy, est_frame, radii)
     for arr in arrays:
         arr.setflags(write=False)
     trees = tuple(cKDTree(xy[t].reshape(-1, 2), balanced_tree=False, compact_nodes=False)
-                  for t in range(total)) if st.r_min_m > 0 else ()
+                  for t in range(total)) if radii.max() > 0 else ()
     return LookAhead(*arrays, trees=trees)

@@ -6,7 +6,13 @@ discounted information reward ``Σ_j γ^{j−1} D(π_{k+j}(·|ẑ), π_{k+j|k})`
 Cauchy–Schwarz) subject to the void constraint: at every second of the look-ahead the predicted
 density must put probability above ``P_vmin`` on "no object within ``r_min`` of the UAV"
 (eq. 44, checked at every pose, stricter than the paper's look-ahead points).
-:mod:`~searchtrack.plan.radio.lookahead` defines how the densities are predicted and updated.
+
+Beyond the paper, two settings of :class:`RadioPlanSettings`: the reward may read a label not
+yet heard at an exploration existence (``explore_existence``, :func:`reward_existence`; the
+paper's PIMS gives such a label no value, so its UAV never looks for tags it has not found), and
+the void region of an estimate may grow with its spread (``spread_inflation``,
+:func:`keep_out_radii`). :mod:`~searchtrack.plan.radio.lookahead` defines how the densities
+are predicted and updated.
 """
 
 from __future__ import annotations
@@ -24,6 +30,9 @@ from searchtrack.models.radio import RadioScenario
 
 #: Reward names: the Rényi divergence (eq. 41) and the Cauchy–Schwarz divergence (eq. 42).
 REWARDS = ("renyi", "cs")
+
+#: A label enters the ideal measurement set (PIMS) when its existence probability exceeds this.
+EXISTENCE_THRESHOLD = 0.5
 
 #: Longest horizon ``H`` and most look-ahead particles per label.
 MAX_HORIZON, MAX_PLAN_PARTICLES = 10, 100_000
@@ -54,6 +63,20 @@ class RadioPlanSettings:
     plan_particles
         Particles per label drawn from the belief for the look-ahead (1 to
         :data:`MAX_PLAN_PARTICLES`).
+    spread_inflation
+        ``κ_σ ≥ 0``: the void region of an estimated label λ (``r > 0.5``) is the disc of
+        radius ``r_min + κ_σ σ_λ``, ``σ_λ`` the root of the summed variances of its drawn
+        particles' ground positions (:func:`keep_out_radii`), so that a spread-out estimate is
+        kept further off than its particles' mass alone would: an estimate is only as good as
+        the belief, and a belief that lags its object still has its spread. 0 is the paper's
+        ``r_min`` for every label.
+    explore_existence
+        ``r̃ ∈ [0, 1)``: the existence a label not in the ideal measurement set (``r ≤ 0.5``)
+        is given in the reward, ``max(r, r̃)``, so that the planner values looking for a tag it
+        has not heard (:func:`reward_existence`). With the paper's PIMS such a label adds next
+        to nothing, its ``r`` being about ``r_B``. It stands for the planner's belief that a
+        deployed tag transmits and weighs finding tags against tracking those found; 0 is the
+        paper's reward. The void constraint and the ideal measurement keep the belief's ``r``.
     """
 
     horizon: int = 3
@@ -64,6 +87,8 @@ class RadioPlanSettings:
     r_min_m: float = 50.0
     p_void_min: float = 0.9
     plan_particles: int = 1000
+    spread_inflation: float = 0.0
+    explore_existence: float = 0.5
 
     def __post_init__(self) -> None:
         if checks.count("horizon", self.horizon, 1) > MAX_HORIZON:
@@ -78,6 +103,33 @@ class RadioPlanSettings:
         if checks.count("plan_particles", self.plan_particles, 1) > MAX_PLAN_PARTICLES:
             raise InvalidInputError("plan_particles", self.plan_particles,
                                     f"must be an integer in [1, {MAX_PLAN_PARTICLES}]")
+        checks.real("spread_inflation", self.spread_inflation, low=0.0, high=100.0)
+        checks.real("explore_existence", self.explore_existence, low=0.0, high=1.0,
+                    high_open=True)
+
+
+def reward_existence(r: FloatArray, settings: RadioPlanSettings) -> FloatArray:
+    """``(Λ,)`` the existences the reward reads: ``max(r, r̃)`` for the labels with
+    ``r ≤`` :data:`EXISTENCE_THRESHOLD` (not in the ideal measurement set), ``r`` for the
+    others."""
+    rr = np.asarray(r, dtype=np.float64)
+    low = rr <= EXISTENCE_THRESHOLD
+    return np.asarray(np.where(low, np.maximum(rr, settings.explore_existence), rr),
+                      dtype=np.float64)
+
+
+def keep_out_radii(xy: FloatArray, r: FloatArray, settings: RadioPlanSettings) -> FloatArray:
+    """``(Λ,)`` void-region radii of equally weighted particles at ground positions ``xy``
+    ``(Λ, N, 2)`` with existences ``r``: ``r_min + κ_σ σ_λ``, ``σ_λ² = var x + var y``
+    (``spread_inflation``), for the estimates (``r >`` :data:`EXISTENCE_THRESHOLD`), ``r_min``
+    for the other labels (a label not yet heard is spread over its birth region)."""
+    radii = np.full(xy.shape[0], settings.r_min_m)
+    if settings.spread_inflation == 0.0:
+        return radii
+    spread = np.sqrt(xy[..., 0].var(axis=1) + xy[..., 1].var(axis=1))
+    estimate = np.asarray(r) > EXISTENCE_THRESHOLD
+    radii[estimate] += settings.spread_inflation * spread[estimate]
+    return radii
 
 
 def check_lookahead_size(scenario: RadioScenario, settings: RadioPlanSettings) -> None:

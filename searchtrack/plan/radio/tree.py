@@ -11,6 +11,12 @@ for each child:
   :mod:`~searchtrack.plan.radio.ideal`), so a prefix's update is shared by all its sequences;
 * the reward ``D(π₂, π₁)`` (eq. 33) and the discounted sum so far (eq. 32).
 
+The reward's densities hold the existences of
+:func:`~searchtrack.plan.radio.problem.reward_existence`: a label not yet heard counts as
+existing with probability ``r̃`` (``explore_existence``), so the ideal measurement's evidence of
+its absence near the UAV (its particles' ``g_i = e^{−n_i γ_i² E_λ}``) is information worth
+flying for; the void constraint reads the belief's ``r``.
+
 Work is vectorised over the children and the particles: ``(children, Λ, N)`` arrays.
 """
 
@@ -32,7 +38,7 @@ from searchtrack.plan.radio.ideal import (
 )
 from searchtrack.plan.radio.kernels import ideal_log_likelihoods
 from searchtrack.plan.radio.lookahead import LookAhead, look_ahead
-from searchtrack.plan.radio.problem import RadioPlan, RadioPlanProblem
+from searchtrack.plan.radio.problem import RadioPlan, RadioPlanProblem, reward_existence
 
 #: ``pose (3,) → (headings (A,), paths (A, N_p, 3))``: the actions available from a pose.
 Actions = Callable[[FloatArray], tuple[FloatArray, FloatArray]]
@@ -126,6 +132,8 @@ class Scorer:
         self._overlap = frame_overlap(self.look.frames, self.look.estimate_frame, m)
         with np.errstate(divide="ignore"):
             self._log_w1 = np.log(self.look.w)
+        self.r1 = reward_existence(self.look.r, self.settings)
+        """``(Λ,)`` existences of the reward's prediction ``π₁``."""
 
     @property
     def horizon(self) -> int:
@@ -141,7 +149,7 @@ class Scorer:
         """The root: the UAV's pose, no primitive yet, ``π₂ = π₁``."""
         return Nodes(self.problem.uav_pose[None, :].copy(), np.zeros((1, 0)),
                      np.zeros((1, 0, 3)), np.zeros((1, 0)), np.zeros((1, 0)),
-                     self._log_w1[None].copy(), self.look.r[None].copy(), np.zeros(1))
+                     self._log_w1[None].copy(), self.r1[None].copy(), np.zeros(1))
 
     def primitives(self, pose: FloatArray) -> tuple[FloatArray, FloatArray]:
         """The action primitives from ``pose`` that stay in the area (all if none does)."""
@@ -153,8 +161,8 @@ class Scorer:
         ``(B, Λ, N)``."""
         st = self.settings
         if st.reward == "cs":
-            return cauchy_schwarz(self.look.r, self.look.w, r2, w2, st.cs_k)
-        return renyi(self.look.r, self.look.w, r2, w2, st.alpha)
+            return cauchy_schwarz(self.r1, self.look.w, r2, w2, st.cs_k)
+        return renyi(self.r1, self.look.w, r2, w2, st.alpha)
 
     def expand(self, nodes: Nodes, actions: Actions | None = None) -> Nodes:
         """Every child of every node, in node order then action order."""
@@ -171,8 +179,7 @@ class Scorer:
         j = nodes.level
         n_p = path.shape[1]
         look, st = self.look, self.settings
-        void = np.stack([look.void(j * n_p + s, path[:, s, :2], st.r_min_m)
-                         for s in range(n_p)], axis=1)
+        void = np.stack([look.void(j * n_p + s, path[:, s, :2]) for s in range(n_p)], axis=1)
         end = path[:, -1, :]
         signal = self.problem.scenario.signal
         gamma_hat = amplitudes(signal, look.estimate_xy[j], end) * look.estimated  # (C, Λ)

@@ -11,14 +11,17 @@ Nothing of the planner is used (no tree, no likelihood table, no factorised sums
   ``plan_particles`` per label, then the motion model second by second, one generator seeded
   with ``seed``), with the belief seam's resampling and the motion model's propagation;
 * the void probability at each pose is eq. 44 summed over all ``2^Λ`` label sets, the particle
-  mass in the disc counted by distance;
+  mass in each label's disc (radius ``r_min``, plus ``spread_inflation`` times the RMS distance
+  of the label's drawn particles from their centre for a label with ``r > 0.5``) counted by
+  distance;
 * each reward simulates the ideal measurement with :func:`~searchtrack.models.radio.stft.
   ideal_stft` from the estimates (``r > 0.5``, weighted mean position, weighted-mode frame),
   updates the posterior with the exact likelihood of eq. 22 (every cell of every particle's
   influence region, ``log I0`` by SciPy, amplitudes and frames by the signal model) and the
   belief seam's update (eqs. 29–30,
   :func:`~searchtrack.estimate.labelled_particles.update`), and evaluates eq. 41 or eqs. 42–43
-  over all label sets.
+  over all label sets, the densities of the reward holding ``r̃`` for each label with
+  ``r ≤ 0.5`` whose ``r`` is below it (``explore_existence``).
 """
 
 from __future__ import annotations
@@ -138,9 +141,10 @@ def _set_weight(r: FloatArray, subset: tuple[int, ...]) -> float:
     return math.prod(float(r[i]) if i in subset else 1.0 - float(r[i]) for i in range(r.size))
 
 
-def _void(r: FloatArray, w: FloatArray, xy: FloatArray, centre: FloatArray, r_min: float) -> float:
-    """Eq. 44 over every label set."""
-    inside = np.hypot(xy[..., 0] - centre[0], xy[..., 1] - centre[1]) < r_min
+def _void(r: FloatArray, w: FloatArray, xy: FloatArray, centre: FloatArray,
+          radii: FloatArray) -> float:
+    """Eq. 44 over every label set, label λ's region the disc of radius ``radii[λ]``."""
+    inside = np.hypot(xy[..., 0] - centre[0], xy[..., 1] - centre[1]) < radii[:, None]
     mass = (w * inside).sum(axis=1)
     return sum(_set_weight(r, s) * math.prod(1.0 - float(mass[i]) for i in s)
                for s in _label_sets(r.size))
@@ -225,7 +229,16 @@ def check_plan(problem: RadioPlanProblem, plan: RadioPlan, *, seed: int = 0,
     sc, st = problem.scenario, problem.settings
     rng = np.random.default_rng(seed)
     cloud = resample(problem.belief, rng, st.plan_particles)
-    posterior = cloud
+    radii = np.empty(cloud.n_labels)   # r_min, + κ_σ · RMS distance from the centre if r > 0.5
+    for lab in range(cloud.n_labels):
+        px, py = cloud.x[lab, :, 0], cloud.x[lab, :, 2]
+        rms = math.sqrt(float(np.mean((px - px.mean()) ** 2 + (py - py.mean()) ** 2)))
+        radii[lab] = st.r_min_m + (st.spread_inflation * rms if cloud.r[lab] > 0.5 else 0.0)
+    unheard = [lab for lab in range(cloud.n_labels) if float(cloud.r[lab]) <= 0.5]
+    scored = cloud.r.copy()   # the reward's existences: r̃ for a label not heard yet
+    for lab in unheard:
+        scored[lab] = max(float(scored[lab]), st.explore_existence)
+    posterior = LabelledParticles(cloud.x, cloud.mode, cloud.tau, cloud.w, scored)
     void, rewards = [], []
     n_p = problem.steps_per_interval
     for k in range(problem.n_poses):
@@ -233,11 +246,12 @@ def check_plan(problem: RadioPlanProblem, plan: RadioPlan, *, seed: int = 0,
         cloud = LabelledParticles(x, mode, tau, cloud.w, cloud.r)
         posterior = LabelledParticles(x, mode, tau, posterior.w, posterior.r)
         pose = plan.path[k]
-        void.append(_void(cloud.r, cloud.w, x[:, :, ::2], pose[:2], st.r_min_m))
+        void.append(_void(cloud.r, cloud.w, x[:, :, ::2], pose[:2], radii))
         if (k + 1) % n_p == 0:
             z = _ideal(problem, cloud, pose)
             posterior = update(posterior, _log_likelihoods(sc.signal, z, x, tau, pose))
-            rewards.append(_divergence(problem, cloud, posterior))
+            prior = LabelledParticles(x, mode, tau, cloud.w, scored)
+            rewards.append(_divergence(problem, prior, posterior))
     voids, gains = np.array(void), np.array(rewards)
     objective = float(np.sum(gains * st.discount ** np.arange(gains.size)))
     return PlanCheck(not faults, voids, bool(np.all(voids > st.p_void_min)), gains, objective,

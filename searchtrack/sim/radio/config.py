@@ -61,6 +61,17 @@ class RadioMissionConfig:
         ``"stft"`` or ``"time"`` (:data:`MEASUREMENTS`).
     keep_out
         Fly each primitive through a trajectory controller keeping r_min from every estimate.
+    roughening_m
+        The filter's roughening floor (m,
+        :attr:`~searchtrack.estimate.radio.filter.FilterConfig.roughening_m`); 0: none.
+    temper_correlated
+        On time-domain spectrograms (``measurement = "time"``), temper the TBD likelihood by
+        :func:`~searchtrack.estimate.radio.likelihood.correlated_cells_temper` (neighbouring
+        bins correlate there); no effect on STFT-domain ones or on DTT.
+    replan_on_breach
+        Plan again at the next second when, after a measurement, the updated belief's void
+        probability (eq. 44, with the plan's keep-out radii) at a pose still to be flown is no
+        more than ``P_vmin``, rather than fly the rest of the planning interval.
     ospa_c_m, ospa_p
         OSPA cut-off and order (§IV-B: 100 m, 1).
     """
@@ -73,6 +84,9 @@ class RadioMissionConfig:
     plan_time_limit_s: float = 5.0
     measurement: str = "stft"
     keep_out: bool = False
+    roughening_m: float = 0.0
+    temper_correlated: bool = True
+    replan_on_breach: bool = False
     ospa_c_m: float = 100.0
     ospa_p: float = 1.0
 
@@ -87,9 +101,11 @@ class RadioMissionConfig:
             raise InvalidInputError("particles_per_label", self.particles_per_label,
                                     f"must be an integer in [1, {MAX_PARTICLES_PER_LABEL}]")
         checks.positive("plan_time_limit_s", self.plan_time_limit_s)
+        checks.real("roughening_m", self.roughening_m, low=0.0, high=1e4)
         checks.positive("ospa_c_m", self.ospa_c_m)
         checks.positive("ospa_p", self.ospa_p)
-        if not isinstance(self.keep_out, bool):
-            raise InvalidInputError("keep_out", self.keep_out, "must be true or false")
+        for name in ("keep_out", "temper_correlated", "replan_on_breach"):
+            if not isinstance(getattr(self, name), bool):
+                raise InvalidInputError(name, getattr(self, name), "must be true or false")
         if self.planner != STRAIGHT and self.plan.reward != self.planner:
             object.__setattr__(self, "plan", dataclasses.replace(self.plan, reward=self.planner))

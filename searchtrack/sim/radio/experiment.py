@@ -38,7 +38,15 @@ PARAMS: tuple[Param, ...] = (
     Param.of(RadioMissionConfig, "backend", choices=PLAN_BACKENDS),
     Param.of(RadioMissionConfig, "measurement", choices=MEASUREMENTS),
     Param.of(RadioMissionConfig, "keep_out"),
+    Param.of(RadioMissionConfig, "temper_correlated"),
+    Param.of(RadioMissionConfig, "roughening_m"),
+    Param.of(RadioMissionConfig, "replan_on_breach"),
     Param.of(RadioPlanSettings, "p_void_min"),
+    Param.of(RadioPlanSettings, "spread_inflation"),
+    Param.of(RadioPlanSettings, "explore_existence"),
+    # The signal's calibration (models.radio.calibration): "unscaled" is calibration_gain_db 0.
+    Param.of(RadioSignal, "calibration_gain_db"),
+    Param.of(RadioSignal, "front_to_back_db"),
     Param.of(RadioScenario, "duration_s"),
 )
 """Parameters, in column order; the defaults of the mission's, the planner's, the UAV's and the
@@ -47,9 +55,12 @@ scenario's settings are :class:`RadioMissionConfig`'s, :class:`RadioPlanSettings
 fewer particles than the paper)."""
 
 METRICS = {"mean_ospa_m": float, "mean_localisation_m": float, "mean_cardinality_m": float,
-           "unsafe_fraction": float, "filter_ms": float, "planner_ms": float,
+           "unsafe_fraction": float, "cardinality_hit_fraction": float,
+           "objects_detected": int, "filter_ms": float, "planner_ms": float,
            "ospa_series": str}
-"""Metrics of one run; ``ospa_series`` is the OSPA at every second (JSON)."""
+"""Metrics of one run; ``cardinality_hit_fraction`` and ``objects_detected`` are
+:class:`~searchtrack.sim.radio.mission.RadioMissionLog`'s (Fig. 5), ``ospa_series`` is the OSPA
+at every second (JSON)."""
 
 
 def radio_episode(params: Mapping[str, bool | int | float | str],
@@ -58,18 +69,28 @@ def radio_episode(params: Mapping[str, bool | int | float | str],
     base = RadioScenario.paper(noise_var_v2=float(params["noise_std_v"]) ** 2)
     scenario = dataclasses.replace(
         base, duration_s=float(params["duration_s"]),
+        signal=dataclasses.replace(
+            base.signal, calibration_gain_db=float(params["calibration_gain_db"]),
+            front_to_back_db=float(params["front_to_back_db"])),
         uav=dataclasses.replace(base.uav, n_headings=int(params["headings"])))
     plan = RadioPlanSettings(horizon=int(params["horizon"]),
                              plan_particles=int(params["plan_particles"]),
-                             p_void_min=float(params["p_void_min"]))
+                             p_void_min=float(params["p_void_min"]),
+                             spread_inflation=float(params["spread_inflation"]),
+                             explore_existence=float(params["explore_existence"]))
     config = RadioMissionConfig(
         filter=str(params["filter"]), planner=str(params["planner"]),
         backend=str(params["backend"]), particles_per_label=int(params["particles"]),
-        plan=plan, measurement=str(params["measurement"]), keep_out=bool(params["keep_out"]))
+        plan=plan, measurement=str(params["measurement"]), keep_out=bool(params["keep_out"]),
+        temper_correlated=bool(params["temper_correlated"]),
+        roughening_m=float(params["roughening_m"]),
+        replan_on_breach=bool(params["replan_on_breach"]))
     log = run_radio_mission(scenario, config, seed)
     total, loc, card = log.mean_ospa()
     return {"mean_ospa_m": total, "mean_localisation_m": loc, "mean_cardinality_m": card,
-            "unsafe_fraction": log.unsafe_fraction(), "filter_ms": log.filter_ms,
+            "unsafe_fraction": log.unsafe_fraction(),
+            "cardinality_hit_fraction": log.cardinality_hit_fraction(),
+            "objects_detected": log.objects_detected(), "filter_ms": log.filter_ms,
             "planner_ms": float(np.mean(log.planner_ms)) if log.planner_ms else None,
             "ospa_series": json.dumps([round(float(v), 2) for v in log.ospa[:, 0]])}
 

@@ -9,12 +9,15 @@ controller that keeps a disc of radius r_min around every estimate, :mod:`.radio
 the spectrogram is simulated at the UAV's pose, the filter steps, and the step is scored: OSPA
 (p = 1, c = 100 m, §IV-B) with its localisation and cardinality parts, the cardinality mean and
 variance (Fig. 5c), and whether a live object was within r_min of the UAV (ground distance), the
-event the void-probability constraint (eq. 44) guards against.
+event the void-probability constraint (eq. 44) guards against. With ``replan_on_breach`` the
+updated belief is checked against the constraint at the poses still to be flown after every
+measurement, and a breach makes the next second plan again (the paper plans every N_p only).
 """
 
 from __future__ import annotations
 
 import logging
+import math
 import time
 from collections import Counter
 from collections.abc import Callable
@@ -29,6 +32,7 @@ from searchtrack.core.result import Status
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.metrics import ospa_components
 from searchtrack.estimate.radio import LabelledFilter
+from searchtrack.estimate.radio.likelihood import correlated_cells_temper
 from searchtrack.models.radio import (
     RadioScenario,
     RadioTruth,
@@ -36,8 +40,8 @@ from searchtrack.models.radio import (
     simulate_truth,
     straight_sweep_heading,
 )
-from searchtrack.plan.radio import RadioPlanProblem, solve
-from searchtrack.plan.radio.problem import check_lookahead_size
+from searchtrack.plan.radio import RadioPlanProblem, solve, void_probability
+from searchtrack.plan.radio.problem import check_lookahead_size, keep_out_radii
 from searchtrack.sim.radio.config import STRAIGHT, RadioMissionConfig
 from searchtrack.sim.radio.keep_out import KeepOut, fly_with_keep_out
 from searchtrack.sim.radio.run import SIMULATORS, spectrogram
@@ -70,6 +74,7 @@ class RadioMissionLog:
     planner_ms: list[float]
     plan_status: dict[str, int]
     keep_out_fallbacks: int = 0
+    breach_replans: int = 0
     interrupted: bool = False
 
     @property
@@ -82,6 +87,25 @@ class RadioMissionLog:
         if not self.steps:
             return 0.0
         return float(np.mean(self.nearest_m < self.config.plan.r_min_m))
+
+    def cardinality_hit_fraction(self, tolerance: float = 0.5) -> float:
+        """Fraction of steps whose mean cardinality ``Σ r`` is within ``tolerance`` of the
+        number of live objects (Fig. 5c: the estimate following the truth)."""
+        if not self.steps:
+            return 0.0
+        alive = np.array([self.truth.positions(k)[0].size for k in range(self.steps)])
+        return float(np.mean(np.abs(self.cardinality_mean - alive) <= tolerance))
+
+    def objects_detected(self) -> int:
+        """How many objects were ever reported under their own label within the OSPA cut-off
+        ``c`` of their true position while alive."""
+        found: set[int] = set()
+        for k, row in enumerate(self.estimates):
+            labels, xy = self.truth.positions(k)
+            where = {int(lab): xy[i] for i, lab in enumerate(labels)}
+            found.update(lab for lab, p in row if lab in where and math.hypot(
+                where[lab][0] - p[0], where[lab][1] - p[1]) < self.config.ospa_c_m)
+        return len(found)
 
     def mean_ospa(self) -> tuple[float, float, float]:
         """Time means of OSPA and its localisation and cardinality parts."""
@@ -101,11 +125,14 @@ class RadioMissionLog:
             "interrupted": self.interrupted,
             "summary": {"mean_ospa_m": total, "mean_localisation_m": loc,
                         "mean_cardinality_m": card, "unsafe_fraction": self.unsafe_fraction(),
+                        "cardinality_hit_fraction": self.cardinality_hit_fraction(),
+                        "objects_detected": self.objects_detected(),
                         "filter_ms": self.filter_ms,
                         "planner_ms": float(np.mean(self.planner_ms)) if self.planner_ms
                         else None,
                         "plan_status": self.plan_status,
-                        "keep_out_fallbacks": self.keep_out_fallbacks},
+                        "keep_out_fallbacks": self.keep_out_fallbacks,
+                        "breach_replans": self.breach_replans},
             "times_s": self.times_s.tolist(),
             "uav_poses": np.round(self.poses, 3).tolist(),
             "estimates": [[{"label": lab, "xy": [round(x, 3), round(y, 3)]}
@@ -128,6 +155,7 @@ class _Flight:
         self.statuses: Counter[str] = Counter()
         self.planner_ms: list[float] = []
         self.keep_out_fallbacks = 0
+        self.breach_replans = 0
         self.interval = max(1, round(uav.plan_interval_s / uav.step_s))
         self.keep = KeepOut(radius_m=config.plan.r_min_m) if config.keep_out else None
 
@@ -159,6 +187,21 @@ class _Flight:
         heading = straight_sweep_heading(uav, self.pose, self.scenario.area_m)
         return fly_heading(uav, self.pose, heading, duration_s)
 
+    def check_breach(self, belief: LabelledFilter) -> None:
+        """Drop the rest of the path (so the next step plans again) when the belief's void
+        probability at one of its poses is no more than ``P_vmin``."""
+        plan = self.config.plan
+        if (not self.config.replan_on_breach or self.config.planner == STRAIGHT
+                or self.path.shape[0] == 0):
+            return
+        state = belief.state
+        xy = state.x[:, :, ::2]
+        void = void_probability(state.r, state.w, xy, self.path[:, :2],
+                                keep_out_radii(xy, state.r, plan))
+        if np.any(void <= plan.p_void_min):
+            self.path = self.path[:0]
+            self.breach_replans += 1
+
     def advance(self, estimates: list[tuple[int, FloatArray]]) -> FloatArray:
         """Fly one second; the pose reached."""
         if self.keep is None:
@@ -183,8 +226,11 @@ def run_radio_mission(scenario: RadioScenario, config: RadioMissionConfig, seed:
     streams = np.random.SeedSequence(seed).spawn(3)
     truth = simulate_truth(scenario, np.random.default_rng(streams[0]))
     meas_rng = np.random.default_rng(streams[1])
+    temper = (correlated_cells_temper(scenario.signal)
+              if config.temper_correlated and config.measurement == "time" else 1.0)
     filt = make_filter(config.filter, scenario, config.particles_per_label,
-                       int(streams[2].generate_state(1)[0] % (2**31 - 1)))
+                       int(streams[2].generate_state(1)[0] % (2**31 - 1)),
+                       temper if config.filter == "tbd" else 1.0, config.roughening_m)
     simulate = SIMULATORS[config.measurement]
     flight = _Flight(scenario, config, seed)
     n = scenario.n_steps
@@ -207,6 +253,7 @@ def run_radio_mission(scenario: RadioScenario, config: RadioMissionConfig, seed:
         filt.step(z, pose)
         filter_s += time.perf_counter() - t0
         current = filt.estimates()
+        flight.check_breach(filt)
         est_xy = np.array([p for _, p in current], dtype=float).reshape(-1, 2)
         ospa_rows.append(ospa_components(est_xy, xy, config.ospa_c_m, config.ospa_p))
         d = np.hypot(xy[:, 0] - pose[0], xy[:, 1] - pose[1]) if xy.size else np.array([])
@@ -231,4 +278,5 @@ def run_radio_mission(scenario: RadioScenario, config: RadioMissionConfig, seed:
         nearest_m=np.array(nearest, dtype=float),
         filter_ms=1e3 * filter_s / max(1, done), planner_ms=flight.planner_ms,
         plan_status=dict(flight.statuses), keep_out_fallbacks=flight.keep_out_fallbacks,
+        breach_replans=flight.breach_replans,
         interrupted=interrupted)

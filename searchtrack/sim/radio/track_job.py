@@ -39,10 +39,13 @@ STFT, detection-then-track (§IV-B)."""
 
 
 def make_filter(name: str, scenario: RadioScenario, particles_per_label: int,
-                seed: int) -> LabelledFilter:
-    """The filter ``name`` (:data:`FILTERS`) for ``scenario``."""
+                seed: int, temper: float = 1.0, roughening_m: float = 0.0) -> LabelledFilter:
+    """The filter ``name`` (:data:`FILTERS`) for ``scenario``, its likelihood tempered by
+    ``temper`` and its particles roughened by ``roughening_m``
+    (:class:`~searchtrack.estimate.radio.filter.FilterConfig`)."""
     checks.choice("filter", name, tuple(FILTERS))
-    config = FilterConfig(particles_per_label=particles_per_label)
+    config = FilterConfig(particles_per_label=particles_per_label, temper=temper,
+                          roughening_m=roughening_m)
     return FILTERS[name](scenario, config, seed=seed)
 
 

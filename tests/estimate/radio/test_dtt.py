@@ -22,6 +22,7 @@ from searchtrack.estimate.radio.dtt import (
 from searchtrack.estimate.radio.filter import FilterConfig
 from searchtrack.estimate.radio.tbd import TbdLmbFilter
 from searchtrack.models.radio import RadioScenario, RadioSignal, TagSpec, simulate_stft
+from searchtrack.models.radio.calibration import calibrated
 
 SIGMA2 = 0.02  # a cell noise variance Σ_z (V²)
 SIGNAL = RadioSignal()
@@ -191,8 +192,9 @@ def test_detector_false_alarm_rate_on_simulated_noise() -> None:
 
 
 def _scenario(noise_var_v2: float) -> RadioScenario:
-    """One static-ish tag of label 0 at (600, 600) m, births 36 m off with a 50 m spread."""
-    signal = RadioSignal(noise_var_v2=noise_var_v2)
+    """One static-ish tag of label 0 at (600, 600) m, births 36 m off with a 50 m spread; the
+    ``"unscaled"`` calibration (the ranges below are chosen for it)."""
+    signal = calibrated(RadioSignal(noise_var_v2=noise_var_v2), "unscaled")
     tag = TagSpec(0, 0.0, 100.0, (TAG_XY[0], 0.0, TAG_XY[1], 0.0), TAG_TAU)
     return RadioScenario(signal=signal, tags=(tag,), duration_s=100.0,
                          birth_means=((TAG_XY[0] + 30.0, 0.0, TAG_XY[1] - 20.0, 0.0),),

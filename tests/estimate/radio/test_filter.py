@@ -12,7 +12,7 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.belief import LabelledParticleBelief
 from searchtrack.estimate.particle_belief import ParticleBelief
 from searchtrack.estimate.radio.dtt import DttLmbFilter
-from searchtrack.estimate.radio.filter import FilterConfig, LabelledFilter
+from searchtrack.estimate.radio.filter import ROUGHENING_K, FilterConfig, LabelledFilter, roughen
 from searchtrack.estimate.radio.particles import LabelledParticles
 from searchtrack.estimate.radio.tbd import TbdLmbFilter
 from searchtrack.models.radio.scenario import RadioScenario
@@ -237,3 +237,36 @@ def test_radio_filters_are_labelled_filters(cls: type[LabelledFilter]) -> None:
         with pytest.raises(InvalidInputError) as err:
             cls(args["scenario"], args["config"], seed=args["seed"])  # type: ignore[arg-type]
         assert err.value.field == field
+
+
+def test_roughening_keeps_a_collapsed_cloud_alive() -> None:
+    """A likelihood that picks one particle collapses the resampled cloud (spread 0) without
+    roughening; with a floor σ_r every axis keeps a spread close to σ_r. roughen() itself:
+    σ = max(floor, K E N^(−1/4)) per label and axis."""
+    def one(z: np.ndarray, pose: np.ndarray, pred: LabelledParticles) -> np.ndarray:
+        out = np.full(pred.w.shape, -1e3)
+        out[:, 0] = 0.0
+        return out
+
+    spreads = {}
+    for floor in (0.0, 3.0):
+        config = FilterConfig(particles_per_label=400, birth_fraction=0.01, roughening_m=floor)
+        f = LabelledFilter(SCENARIO, config, likelihood=one, seed=2)
+        f.step(Z, POSE)
+        spreads[floor] = f.state.x[:, :, ::2].std(axis=1)
+    assert np.all(spreads[0.0] < 1e-9)
+    np.testing.assert_allclose(spreads[3.0], 3.0, rtol=0.15)
+    rng = np.random.default_rng(0)
+    x = np.zeros((1, 10_000, 4))
+    x[0, :, 0] = np.linspace(0.0, 1000.0, 10_000)          # extent 1000 m in x, 0 in y
+    state = LabelledParticles(x.copy(), np.zeros((1, 10_000), dtype=np.int8),
+                              np.full((1, 10_000), 0.1), np.full((1, 10_000), 1e-4),
+                              np.array([0.9]))
+    roughen(state, 1.0, rng)
+    jitter = state.x[0] - x[0]
+    assert jitter[:, 0].std() == pytest.approx(ROUGHENING_K * 1000.0 * 10_000 ** -0.25, rel=0.05)
+    assert jitter[:, 2].std() == pytest.approx(1.0, rel=0.05)
+    assert np.all(jitter[:, [1, 3]] == 0.0)
+    for bad in (-1.0, math.nan):
+        with pytest.raises(InvalidInputError, match="roughening_m"):
+            FilterConfig(roughening_m=bad)

@@ -13,11 +13,13 @@ from scipy.stats import rayleigh, rice
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.radio.likelihood import (
     amplitude,
+    correlated_cells_temper,
     label_log_likelihoods,
     log_likelihood_ratio,
     log_likelihood_ratio_reference,
 )
 from searchtrack.models.radio import RadioSignal
+from searchtrack.models.radio.stft import simulate_stft, simulate_time_domain
 
 SIGNAL = RadioSignal()
 M, L = SIGNAL.frames, SIGNAL.fft_size
@@ -201,3 +203,29 @@ def test_label_log_likelihoods_bad_input(kwargs: dict[str, object], field: str) 
     with pytest.raises(InvalidInputError) as err:
         label_log_likelihoods(SIGNAL, **args)  # type: ignore[arg-type]
     assert err.value.field == field
+
+
+def test_correlated_cells_temper_matches_time_domain_noise() -> None:
+    """On noise-only spectrograms computed from time-domain windows, neighbouring bins' squared
+    magnitudes correlate as ρ(k)² says, and the exponent from the measured correlations is the
+    function's; directly simulated STFT cells are independent."""
+    rng = np.random.default_rng(3)
+    empty = (np.zeros((0, 2)), np.zeros(0, dtype=np.int64), np.zeros(0), [0.0, 0.0, 0.0])
+    for route, want in ((simulate_time_domain, None), (simulate_stft, 0.0)):
+        power = np.concatenate([route(SIGNAL, *empty, rng) for _ in range(12)])[:, 20:230] ** 2
+        corr = [float(np.corrcoef(power[:, :-k].ravel(), power[:, k:].ravel())[0, 1])
+                for k in (1, 2, 3, 4)]
+        if want is not None:
+            assert np.allclose(corr, want, atol=0.03)
+            continue
+        w2 = SIGNAL.window**2
+        n = np.arange(w2.size)
+        rho2 = [float(abs(np.sum(w2 * np.exp(-2j * np.pi * k * n / L))) / w2.sum()) ** 2
+                for k in (1, 2, 3, 4)]
+        np.testing.assert_allclose(corr, rho2, atol=0.03)
+        width = 2 * SIGNAL.half_width_bins + 1
+        measured = width / (width + 2 * sum((width - k) * c for k, c in zip((1, 2, 3, 4), corr,
+                                                                              strict=True)))
+        beta = correlated_cells_temper(SIGNAL)
+        assert beta == pytest.approx(measured, abs=0.03)
+        assert 0.35 < beta < 0.45

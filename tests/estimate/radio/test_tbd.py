@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.radio.tbd import FilterConfig, TbdLmbFilter
 from searchtrack.models.radio.scenario import RadioScenario
 from searchtrack.models.radio.stft import simulate_stft
@@ -71,3 +72,18 @@ def test_noise_only_confirms_nothing() -> None:
     assert np.all(f.state.r < 1e-3)
     assert f.estimates() == []
     assert f.cardinality()[0] > 0.99
+
+
+def test_temper_scales_the_log_likelihood_ratios() -> None:
+    """FilterConfig.temper β multiplies eq. 22 (the update uses g^β); it must lie in (0, 1]."""
+    rng = np.random.default_rng(5)
+    z = simulate_stft(SIGNAL, TAG_XY, [0], [0.1], _pose(0), rng)
+    plain = TbdLmbFilter(SCENARIO, SMALL, seed=1)
+    half = TbdLmbFilter(SCENARIO, FilterConfig(particles_per_label=300, birth_fraction=0.2,
+                                               temper=0.5), seed=1)
+    state = plain.labelled_particles()
+    full = plain._log_likelihoods(z, _pose(0), state)
+    np.testing.assert_allclose(half._log_likelihoods(z, _pose(0), state), 0.5 * full)
+    for bad in (0.0, 1.5, -0.2, math.nan):
+        with pytest.raises(InvalidInputError, match="temper"):
+            FilterConfig(temper=bad)

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.models.radio.signal import RadioSignal, blackman_harris, window_dtft
+from searchtrack.models.radio.calibration import CALIBRATIONS, calibrated
+from searchtrack.models.radio.signal import FIG5_GAIN_DB, RadioSignal, blackman_harris, window_dtft
 
 FS, L = 2e6, 256
 BIN_HZ = FS / L  # 7812.5 Hz
@@ -62,15 +63,20 @@ def test_dtft_matches_the_fft_of_a_windowed_tone(paper: RadioSignal) -> None:
     np.testing.assert_allclose(window_dtft(w, np.zeros((2, 3)), 8), np.full((2, 3), w.sum()))
 
 
-def test_calibration_gives_17_8_db_at_100_m(paper: RadioSignal) -> None:
-    """Per-cell SNR ν²/(2Σ_z) of an on-bin tone straight ahead at 100 m ground range ≈ 17.8 dB."""
-    gamma = float(paper.amplitude([100.0, 0.0], [0.0, 0.0, 0.0]))
-    nu = gamma * paper.window.sum()
-    snr_db = 10 * math.log10(nu**2 / (2 * paper.cell_var))
-    assert snr_db == pytest.approx(17.8, abs=0.1)
+@pytest.mark.parametrize("name", list(CALIBRATIONS))
+def test_calibration_gives_17_8_db_at_100_m_plus_its_gain(paper: RadioSignal, name: str) -> None:
+    """Per-cell SNR ν²/(2Σ_z) of an on-bin tone straight ahead at 100 m ground range ≈ 17.8 dB
+    without the calibration gain G_c, and G_c dB more with it."""
+    signal = calibrated(paper, name)
+    g_c = CALIBRATIONS[name].calibration_gain_db
+    gamma = float(signal.amplitude([100.0, 0.0], [0.0, 0.0, 0.0]))
+    nu = gamma * signal.window.sum()
+    snr_db = 10 * math.log10(nu**2 / (2 * signal.cell_var))
+    assert snr_db == pytest.approx(17.8 + g_c, abs=0.1)
     d = math.hypot(100.0, 29.0)
-    expected = 0.0059 * 10 ** (72 / 20) * d ** (-3.1068 / 2)
+    expected = 0.0059 * 10 ** ((72 + g_c) / 20) * d ** (-3.1068 / 2)
     assert gamma == pytest.approx(expected, rel=1e-12)
+    assert paper.calibration_gain_db == FIG5_GAIN_DB == CALIBRATIONS["fig5"].calibration_gain_db
 
 
 def test_antenna_gain_and_amplitude_geometry(paper: RadioSignal) -> None:
@@ -83,8 +89,8 @@ def test_antenna_gain_and_amplitude_geometry(paper: RadioSignal) -> None:
     xy = np.random.default_rng(0).uniform(0, 1500, (3, 5, 2))
     gamma = paper.amplitude(xy, pose)
     assert gamma.shape == (3, 5)
-    assert paper.amplitude([500.0, 500.0], pose) == pytest.approx(
-        0.0059 * 10 ** 3.6 * 29.0 ** (-3.1068 / 2))  # straight below counts as ahead
+    assert paper.amplitude([500.0, 500.0], pose) == pytest.approx(  # below counts as ahead
+        0.0059 * 10 ** ((72 + paper.calibration_gain_db) / 20) * 29.0 ** (-3.1068 / 2))
     near, far = paper.amplitude([[600.0, 500.0], [900.0, 500.0]], [500.0, 500.0, 0.0])
     assert near > far > 0
 

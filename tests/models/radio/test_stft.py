@@ -20,7 +20,7 @@ from searchtrack.models.radio.stft import (
 BIN_HZ = 2e6 / 256
 POSE = np.array([0.0, 0.0, 0.0])
 #: A small receiver (20 frames) with one on-bin tone at bin 32 and one off-bin tone.
-SMALL = RadioSignal(frequencies_hz=(32 * BIN_HZ, 401e3), frames=20)
+SMALL = RadioSignal(frequencies_hz=(32 * BIN_HZ, 401e3), frames=20, calibration_gain_db=0.0)
 
 
 def _tau_for_frame(sig: RadioSignal, frame: int) -> float:

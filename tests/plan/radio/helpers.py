@@ -10,6 +10,7 @@ import numpy as np
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.labelled_particles import LabelledParticles
 from searchtrack.models.radio import RadioSignal, UavModel
+from searchtrack.models.radio.calibration import DEFAULT_CALIBRATION, calibrated
 from searchtrack.models.radio.scenario import RadioScenario
 from searchtrack.plan.radio import RadioPlanProblem, RadioPlanSettings
 
@@ -17,9 +18,11 @@ from searchtrack.plan.radio import RadioPlanProblem, RadioPlanSettings
 POSE = np.array([600.0, 600.0, 0.0])
 
 
-def scenario(n_headings: int = 4) -> RadioScenario:
-    """The paper's scenario with ``n_headings`` primitives (4 keeps brute force small)."""
-    return RadioScenario(uav=UavModel(n_headings=n_headings))
+def scenario(n_headings: int = 4, calibration: str = DEFAULT_CALIBRATION) -> RadioScenario:
+    """The paper's scenario with ``n_headings`` primitives (4 keeps brute force small) and the
+    signal's ``calibration``."""
+    return RadioScenario(signal=calibrated(RadioSignal(), calibration),
+                         uav=UavModel(n_headings=n_headings))
 
 
 def belief(centres: Sequence[Sequence[float]], r: Sequence[float], *, spread_m: float = 60.0,
@@ -48,12 +51,14 @@ def spread_belief(seed: int = 0, n: int = 200) -> LabelledParticles:
 
 
 def problem(b: LabelledParticles | None = None, pose: FloatArray = POSE, *,
-            n_headings: int = 4, **settings: object) -> RadioPlanProblem:
+            n_headings: int = 4, calibration: str = DEFAULT_CALIBRATION,
+            **settings: object) -> RadioPlanProblem:
     """A planning problem on ``b`` (default :func:`spread_belief`) with small settings
     (``plan_particles = 60``, ``horizon = 2``) unless overridden."""
     kw: dict[str, object] = {"plan_particles": 60, "horizon": 2}
     kw.update(settings)
-    return RadioPlanProblem(spread_belief() if b is None else b, pose, scenario(n_headings),
+    return RadioPlanProblem(spread_belief() if b is None else b, pose,
+                            scenario(n_headings, calibration),
                             RadioPlanSettings(**kw))  # type: ignore[arg-type]
 
 

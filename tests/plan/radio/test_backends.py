@@ -67,10 +67,12 @@ def test_nothing_feasible_gives_the_least_violating_plan(reward: str) -> None:
 @pytest.mark.parametrize(("reward", "alpha"), [("renyi", 0.5), ("cs", 0.5), ("renyi", 1.0)])
 def test_information_draws_the_uav_to_an_uncertain_tag(reward: str, alpha: float) -> None:
     """A tag of uncertain existence 350 m ahead: flying toward it earns more than flying away
-    (H = 1, no constraint), and the plan's heading points toward it."""
+    (H = 1, no constraint, the paper's reward: no exploration; the short-range calibration, so
+    that flying away loses the tag), and the plan's heading points toward it."""
     b = belief([[950.0, 600.0], [1450.0, 50.0], [50.0, 1450.0], [1450.0, 1450.0]],
                [0.6, 0.01, 0.01, 0.01], spread_m=80.0)
-    p = problem(b, horizon=1, plan_particles=150, reward=reward, alpha=alpha, p_void_min=0.0)
+    p = problem(b, horizon=1, plan_particles=150, reward=reward, alpha=alpha, p_void_min=0.0,
+                explore_existence=0.0, calibration="unscaled")
     rewards = {seq[0]: plan.rewards[0] for seq, _, plan in every_sequence(Scorer(p, 0))}
     toward, away = rewards[2], rewards[0]  # Δ = 0 and Δ = −π from heading east
     assert toward > 1.5 * away > 0.0
@@ -133,3 +135,26 @@ def test_too_close_already_leaves_the_soonest() -> None:
     assert np.hypot(first[0] - (POSE[0] + 20.0), first[1] - POSE[1]) > 50.0
     beam = solve_beam(p)
     assert beam.plan is not None and beam.plan.violation(0.9) == pytest.approx(least, rel=1e-9)
+
+
+@pytest.mark.parametrize(("reward", "alpha"), [("renyi", 0.5), ("cs", 0.5), ("renyi", 1.0)])
+def test_exploration_draws_the_uav_to_a_tag_not_heard(reward: str, alpha: float) -> None:
+    """Every label at about r_B, one of them (label 0) 450 m ahead: the paper's reward is next
+    to nothing whichever way the UAV flies; with exploration, flying toward the cloud earns
+    more than flying away, and the plan heads for it (the short-range calibration: at the
+    default one the whole cloud is heard from either way)."""
+    b = belief([[1050.0, 600.0], [100.0, 100.0], [100.0, 1400.0], [1400.0, 1400.0]],
+               [1e-6] * 4, spread_m=60.0)
+    paper = 0.0
+    for explore in (0.0, 0.5):
+        p = problem(b, horizon=1, plan_particles=150, reward=reward, alpha=alpha,
+                    p_void_min=0.0, explore_existence=explore, calibration="unscaled")
+        rewards = {seq[0]: plan.rewards[0] for seq, _, plan in every_sequence(Scorer(p, 0))}
+        toward, away = rewards[2], rewards[0]  # Δ = 0 and Δ = −π from heading east
+        if explore == 0.0:
+            paper = max(rewards.values())
+            assert paper < 1e-5
+            continue
+        assert toward > 2.0 * away > 1e4 * paper
+        res = solve_exhaustive(p)
+        assert res.plan is not None and math.cos(res.plan.headings[0]) > 0.5

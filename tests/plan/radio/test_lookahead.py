@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.labelled_particles import resample
 from searchtrack.models.radio import propagate
 from searchtrack.plan.radio.divergences import disc_mass, void_probability
@@ -76,3 +77,35 @@ def test_no_trees_without_a_void_region() -> None:
     assert np.array_equal(la.void(3, np.array([[850.0, 650.0]]), 0.0), [1.0])
     assert np.allclose(la.void(3, np.array([[850.0, 650.0]]), 80.0),
                        void_probability(la.r, la.w, la.xy[3], np.array([[850.0, 650.0]]), 80.0))
+
+
+def test_keep_out_radii_grow_with_each_label_spread() -> None:
+    """spread_inflation κ: an estimated label's void disc has radius r_min + κ √(var x + var y)
+    of the drawn cloud (before the prediction), the others' (r ≤ 0.5: label 2) r_min; κ = 0
+    leaves r_min for every label; the per-label discs give the same void as the dense form and
+    never more void than r_min alone."""
+    p = problem(plan_particles=50, spread_inflation=2.0)
+    la = look_ahead(p, np.random.default_rng(3))
+    drawn = resample(p.belief, np.random.default_rng(3), 50)
+    xy = drawn.x[:, :, ::2]
+    want = 50.0 + 2.0 * np.sqrt(xy[..., 0].var(axis=1) + xy[..., 1].var(axis=1))
+    want[2] = 50.0
+    assert p.belief.r[2] <= 0.5 < p.belief.r[[0, 1, 3]].min()
+    np.testing.assert_allclose(la.radii, want, rtol=1e-12)
+    assert np.all(la.radii[[0, 1, 3]] > 50.0)
+    plain = look_ahead(problem(plan_particles=50), np.random.default_rng(3))
+    assert plain.radii.tolist() == [50.0] * 4
+    centres = np.random.default_rng(4).uniform(200.0, 1100.0, (25, 2))
+    for t in (0, 7):
+        dense = void_probability(la.r, la.w, la.xy[t], centres, la.radii)
+        assert np.allclose(la.void(t, centres), dense, atol=1e-12)
+        assert np.all(la.void(t, centres) <= plain.void(t, centres) + 1e-12)
+    assert np.any(la.void(7, centres) < plain.void(7, centres) - 1e-3)
+
+
+def test_radii_per_label_are_checked() -> None:
+    """One radius per label, each finite and ≥ 0, else InvalidInputError naming radius_m."""
+    la = look_ahead(problem(plan_particles=20), np.random.default_rng(0))
+    for bad in ([10.0, 20.0], [10.0, -1.0, 5.0, 5.0], [10.0, np.nan, 5.0, 5.0]):
+        with pytest.raises(InvalidInputError, match="radius_m"):
+            la.void(0, np.zeros((1, 2)), np.array(bad))

@@ -17,11 +17,15 @@ from .helpers import problem
 
 
 def test_root() -> None:
-    """The root is the UAV's pose with π₂ = π₁: equal weights, the belief's r."""
+    """The root is the UAV's pose with π₂ = π₁: equal weights, the belief's r, raised to
+    ``explore_existence`` for the labels not in the ideal measurement set (r ≤ 0.5)."""
     p = problem(plan_particles=20)
     root = Scorer(p, 0).root()
     assert root.size == 1 and root.level == 0 and root.min_void.tolist() == [1.0]
-    assert np.allclose(np.exp(root.log_w), 1 / 20) and np.array_equal(root.r[0], p.belief.r)
+    assert p.belief.r.tolist() == [0.9, 0.6, 0.3, 0.97]
+    assert np.allclose(np.exp(root.log_w), 1 / 20) and root.r[0].tolist() == [0.9, 0.6, 0.5, 0.97]
+    plain = Scorer(problem(plan_particles=20, explore_existence=0.0), 0).root()
+    assert np.array_equal(plain.r[0], p.belief.r)
     assert np.array_equal(root.pose[0], p.uav_pose)
 
 
@@ -44,7 +48,9 @@ def _posterior(scorer: Scorer, parent_w: np.ndarray, parent_r: np.ndarray, level
 @pytest.mark.parametrize("reward", ["renyi", "cs"])
 def test_two_levels_by_hand(reward: str) -> None:
     """Each child: the primitives' path, the filter's update of its parent, D(π₂, π₁), the
-    discounted sum, and the void probability of the cloud at each of its poses."""
+    discounted sum, and the void probability of the cloud at each of its poses; the reward's
+    densities start from the exploration existences (label 2, r = 0.3 → 0.5), the void from
+    the belief's r."""
     p = problem(plan_particles=40, reward=reward, discount=0.7, alpha=0.3, cs_k=2.0)
     sc = Scorer(p, 3)
     one = sc.expand(sc.root())
@@ -54,18 +60,20 @@ def test_two_levels_by_hand(reward: str) -> None:
     assert two.size == sum(primitives(p.scenario.uav, q, p.scenario.area_m)[0].size
                            for q in one.pose)
     la = sc.look
+    r1 = np.where(la.r <= 0.5, np.maximum(la.r, 0.5), la.r)
+    assert r1.tolist() == [0.9, 0.6, 0.5, 0.97]
     parent = 0
     for c in range(two.size):
         while not np.array_equal(two.path[c, :5], one.path[parent]):
             parent += 1
         for level, node, idx, prev in ((0, one, parent, None), (1, two, c, parent)):
             w_in = la.w if prev is None else np.exp(one.log_w[prev])
-            r_in = la.r if prev is None else one.r[prev]
+            r_in = r1 if prev is None else one.r[prev]
             post = _posterior(sc, w_in, r_in, level, node.path[idx, 5 * level + 4])
             assert np.allclose(np.exp(node.log_w[idx]), post.w, rtol=1e-9, atol=1e-15)
             assert np.allclose(node.r[idx], post.r, rtol=1e-9, atol=1e-15)
-            div = (renyi(la.r, la.w, post.r, post.w, 0.3) if reward == "renyi"
-                   else cauchy_schwarz(la.r, la.w, post.r, post.w, 2.0))
+            div = (renyi(r1, la.w, post.r, post.w, 0.3) if reward == "renyi"
+                   else cauchy_schwarz(r1, la.w, post.r, post.w, 2.0))
             assert node.rewards[idx, level] == pytest.approx(float(div), rel=1e-8, abs=1e-12)
         assert two.value[c] == pytest.approx(two.rewards[c, 0] + 0.7 * two.rewards[c, 1])
         for s in range(10):

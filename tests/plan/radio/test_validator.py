@@ -17,12 +17,18 @@ from .helpers import problem, spread_belief, surrounded, tag_ahead
 BACKENDS = ["exhaustive", "beam", "greedy", "straight", "auto"]
 
 
+@pytest.mark.parametrize(("explore", "inflation"), [(0.0, 0.0), (0.5, 0.0), (0.3, 1.5)])
 @pytest.mark.parametrize("reward", ["renyi", "cs"])
 @pytest.mark.parametrize("backend", BACKENDS)
-def test_every_backend_plan_checks(backend: str, reward: str) -> None:
+def test_every_backend_plan_checks(backend: str, reward: str, explore: float,
+                                   inflation: float) -> None:
     """Valid kinematics; void equal to the planner's; rewards equal to the exact-likelihood
-    recomputation (rel. 1e-6); the constraint verdict and the objective agree."""
-    p = problem(tag_ahead(), horizon=2, plan_particles=40, reward=reward, alpha=0.7)
+    recomputation (rel. 1e-6); the constraint verdict and the objective agree — with and
+    without exploration (label 2 not heard: r = 1e-4) and spread-inflated keep-out discs."""
+    b = tag_ahead()
+    b.r[2] = 1e-4
+    p = problem(b, horizon=2, plan_particles=40, reward=reward, alpha=0.7,
+                explore_existence=explore, spread_inflation=inflation)
     res = solve(p, backend=backend, seed=7, time_limit_s=30.0)
     assert res.plan is not None
     check = check_plan(p, res.plan, seed=7, any_heading=backend == "straight")
@@ -125,3 +131,18 @@ def test_solve_rejects_a_tampered_answer() -> None:
     lie = dataclasses.replace(res, plan=_tampered(res.plan, rewards=res.plan.rewards * 1.01))
     assert any("rewards" in r for r in answer_problems(p, lie, seed=3))
     assert RADIO_BACKENDS.validated(p, lie, seed=3).status is Status.ERROR
+
+
+def test_rewards_without_the_exploration_term_are_caught() -> None:
+    """A plan scored with exploration does not check against the paper's reward, and back:
+    the validator reads explore_existence on its own."""
+    b = tag_ahead()
+    b.r[2] = 1e-4
+    explored = problem(b, horizon=2, plan_particles=40, explore_existence=0.5)
+    paper = problem(b, horizon=2, plan_particles=40, explore_existence=0.0)
+    res = solve(explored, backend="exhaustive", seed=7, time_limit_s=30.0)
+    assert res.plan is not None and res.status is not Status.ERROR
+    assert np.allclose(check_plan(explored, res.plan, seed=7).rewards, res.plan.rewards,
+                       rtol=1e-6)
+    assert not np.allclose(check_plan(paper, res.plan, seed=7).rewards, res.plan.rewards,
+                           rtol=1e-6)

@@ -7,7 +7,7 @@ import json
 import pytest
 
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.models.radio import RadioScenario, UavModel
+from searchtrack.models.radio import RadioScenario, RadioSignal, UavModel
 from searchtrack.plan.radio import RadioPlanSettings
 from searchtrack.sim.campaigns.experiments import get
 from searchtrack.sim.radio.config import RadioMissionConfig
@@ -20,7 +20,10 @@ def test_registered_with_its_parameters_and_metrics() -> None:
     assert exp.params == PARAMS
     assert [p.name for p in exp.params] == [
         "filter", "planner", "noise_std_v", "particles", "plan_particles", "horizon", "headings",
-        "backend", "measurement", "keep_out", "p_void_min", "duration_s"]
+        "backend", "measurement", "keep_out", "temper_correlated", "roughening_m",
+        "replan_on_breach", "p_void_min",
+        "spread_inflation", "explore_existence", "calibration_gain_db", "front_to_back_db",
+        "duration_s"]
     assert dict(exp.metrics) == METRICS
     assert exp.claims()[0].startswith("paper 002, Fig. 8:")
     with pytest.raises(InvalidInputError, match="planner"):
@@ -36,7 +39,14 @@ def test_defaults_are_the_settings() -> None:
                "backend": RadioMissionConfig.backend,
                "measurement": RadioMissionConfig.measurement,
                "keep_out": RadioMissionConfig.keep_out, "horizon": RadioPlanSettings.horizon,
+               "replan_on_breach": RadioMissionConfig.replan_on_breach,
+               "temper_correlated": RadioMissionConfig.temper_correlated,
+               "roughening_m": RadioMissionConfig.roughening_m,
                "p_void_min": RadioPlanSettings.p_void_min, "headings": UavModel.n_headings,
+               "spread_inflation": RadioPlanSettings.spread_inflation,
+               "explore_existence": RadioPlanSettings.explore_existence,
+               "calibration_gain_db": RadioSignal.calibration_gain_db,
+               "front_to_back_db": RadioSignal.front_to_back_db,
                "duration_s": RadioScenario.duration_s}
     for name, default in sources.items():
         assert exp.param(name).default == default, name
@@ -54,3 +64,5 @@ def test_one_short_run(planner: str) -> None:
     assert metrics["mean_ospa_m"] == pytest.approx(sum(series) / 6, abs=0.01)
     assert 0.0 <= float(metrics["unsafe_fraction"]) <= 1.0  # type: ignore[arg-type]
     assert (metrics["planner_ms"] is None) == (planner == "straight")
+    assert 0.0 <= float(metrics["cardinality_hit_fraction"]) <= 1.0  # type: ignore[arg-type]
+    assert 0 <= int(metrics["objects_detected"]) <= 1  # type: ignore[call-overload]  # one born
