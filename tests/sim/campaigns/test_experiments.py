@@ -84,10 +84,18 @@ COLUMNS = {
                                 ("plan_particles", int, 300, None), ("horizon", int, 3, None),
                                 ("headings", int, 8, None), ("backend", str, "exhaustive", None),
                                 ("measurement", str, "stft", None), ("keep_out", bool, False, None),
+                                ("temper_correlated", bool, True, None),
+                                ("roughening_m", float, 0.0, None),
+                                ("replan_on_breach", bool, False, None),
                                 ("p_void_min", float, 0.9, None),
+                                ("spread_inflation", float, 0.0, None),
+                                ("explore_existence", float, 0.5, None),
+                                ("calibration_gain_db", float, 15.0, None),
+                                ("front_to_back_db", float, 10.0, None),
                                 ("duration_s", float, 400.0, None)],
                                {"mean_ospa_m": float, "mean_localisation_m": float,
                                 "mean_cardinality_m": float, "unsafe_fraction": float,
+                                "cardinality_hit_fraction": float, "objects_detected": int,
                                 "filter_ms": float, "planner_ms": float, "ospa_series": str}),
 }
 
