@@ -18,7 +18,6 @@ cardinality is within 0.5 of the truth ≥ 80 % of the seconds on average and wh
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import sys
 from pathlib import Path
 
@@ -60,8 +59,7 @@ def main() -> None:
         cell = [r for r in rows if float(r["calibration_gain_db"]) == gain]
         signal = RadioSignal(calibration_gain_db=gain, front_to_back_db=float(max(fb)))
         ahead = float(zero_db_range_m(signal).min())
-        behind = float(zero_db_range_m(dataclasses.replace(
-            signal, calibration_gain_db=gain - signal.front_to_back_db)).min())
+        behind = float(zero_db_range_m(signal, behind=True).min())
         hit = estimate([float(r["cardinality_hit_fraction"]) for r in cell])
         ospa = estimate([float(r["mean_ospa_m"]) for r in cell])
         all4 = sum(int(r["objects_detected"]) == 4 for r in cell)

@@ -19,6 +19,25 @@ def positive_float(text: str) -> float:
     return value
 
 
+def float_in(low: float, high: float, *, low_open: bool = False, high_open: bool = False,
+             unit: str = "") -> Callable[[str], float]:
+    """An argument type: the text as a number in the interval from ``low`` to ``high`` (open at
+    an end when asked), else an :class:`argparse.ArgumentTypeError` naming the interval."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+        above = value > low if low_open else value >= low
+        below = value < high if high_open else value <= high
+        if not (above and below):
+            interval = f"{'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
+            raise argparse.ArgumentTypeError(f"must be in {interval}{unit}: {text!r}")
+        return value
+
+    return parse
+
+
 def int_at_least(low: int) -> Callable[[str], int]:
     """An argument type: the text as an integer ≥ ``low``, else an
     :class:`argparse.ArgumentTypeError`."""

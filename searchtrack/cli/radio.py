@@ -20,7 +20,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-from searchtrack.cli.common import int_at_least, seed_arg
+from searchtrack.cli.common import float_in, int_at_least, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_dir, output_file
 from searchtrack.core.errors import InvalidInputError
@@ -42,31 +42,14 @@ if TYPE_CHECKING:
 #: Largest ``--noise`` (V): the root of the largest noise variance a signal takes.
 MAX_NOISE_SIGMA_V = math.sqrt(MAX_NOISE_VAR_V2)
 
+#: ``--noise``: a standard deviation in ``(0, MAX_NOISE_SIGMA_V]`` volts.
+_noise_sigma = float_in(0.0, MAX_NOISE_SIGMA_V, low_open=True, unit=" V")
+#: ``--explore``: an existence in ``[0, 1)``.
+_explore = float_in(0.0, 1.0, high_open=True)
+
 #: The defaults of the options: a mission's and its planner's settings (the dataclasses' field
 #: defaults, read from the classes so that no filter module is loaded).
 MISSION, PLAN = RadioMissionConfig, RadioPlanSettings
-
-
-def _noise_sigma(text: str) -> float:
-    """``--noise``: a number in ``(0, MAX_NOISE_SIGMA_V]``, else an argparse error."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not 0.0 < value <= MAX_NOISE_SIGMA_V:
-        raise argparse.ArgumentTypeError(f"must be in (0, {MAX_NOISE_SIGMA_V:g}] V: {text!r}")
-    return value
-
-
-def _explore(text: str) -> float:
-    """``--explore``: a number in ``[0, 1)``, else an argparse error."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
-    if not 0.0 <= value < 1.0:
-        raise argparse.ArgumentTypeError(f"must be in [0, 1): {text!r}")
-    return value
 
 
 def _particles(args: argparse.Namespace) -> int:

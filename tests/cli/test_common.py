@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from searchtrack.cli.common import int_at_least, int_in, positive_float, seed_arg
+from searchtrack.cli.common import float_in, int_at_least, int_in, positive_float, seed_arg
 from searchtrack.core.registry import MAX_SEED
 
 
@@ -90,3 +90,19 @@ def test_seed_arg_takes_what_every_backend_takes() -> None:
     for bad in (str(MAX_SEED + 1), "-1"):
         with pytest.raises(argparse.ArgumentTypeError, match=r"\[0, 2147483647\]"):
             seed_arg(bad)
+
+
+def test_float_in_takes_its_interval_and_names_it() -> None:
+    """Closed and open ends as asked; NaN, out-of-range and non-numbers are refused naming
+    the interval (and the unit)."""
+    half_open = float_in(0.0, 1.0, high_open=True)
+    assert half_open("0") == 0.0 and half_open("0.999") == 0.999
+    volts = float_in(0.0, 5.0, low_open=True, unit=" V")
+    assert volts("5") == 5.0
+    for parse, text, message in ((half_open, "1", r"must be in \[0, 1\)"),
+                                 (half_open, "-0.1", r"must be in \[0, 1\)"),
+                                 (half_open, "nan", r"must be in \[0, 1\)"),
+                                 (volts, "0", r"must be in \(0, 5\] V"),
+                                 (volts, "loud", "not a number")):
+        with pytest.raises(argparse.ArgumentTypeError, match=message):
+            parse(text)

@@ -73,13 +73,15 @@ def calibrated(signal: RadioSignal, name: str) -> RadioSignal:
                                front_to_back_db=cal.front_to_back_db)
 
 
-def zero_db_range_m(signal: RadioSignal) -> FloatArray:
-    """``(Λ,)`` ground range (m) at which each tag's strongest cell, seen straight ahead, has a
-    per-cell SNR of 0 dB; 0 where it is below 0 dB even straight below the UAV."""
+def zero_db_range_m(signal: RadioSignal, *, behind: bool = False) -> FloatArray:
+    """``(Λ,)`` ground range (m) at which each tag's strongest cell, seen straight ahead (or,
+    with ``behind``, straight behind: the antenna's back gain), has a per-cell SNR of 0 dB; 0
+    where it is below 0 dB even straight below the UAV."""
     peak = np.max(np.abs(signal.tag_leakage()), axis=1)               # (Λ,) max_b |W_b|
     noise = math.sqrt(2.0 * signal.cell_var)
-    # amplitude · peak = noise  ⇔  (d0/d)^(κ/2) = noise / (A G peak)
-    loss = noise / (signal.amplitude_v * signal.voltage_gain * peak)
+    antenna = float(signal.antenna_gain(-1.0 if behind else 1.0))
+    # amplitude · peak = noise  ⇔  (d0/d)^(κ/2) = noise / (A G G_a peak)
+    loss = noise / (signal.amplitude_v * signal.voltage_gain * antenna * peak)
     d = signal.reference_distance_m * loss ** (-2.0 / signal.path_loss_exponent)
     ground = np.sqrt(np.maximum(d * d - signal.height_difference_m**2, 0.0))
     return np.asarray(np.where(loss <= 1.0, ground, 0.0), dtype=np.float64)

@@ -226,11 +226,12 @@ def run_radio_mission(scenario: RadioScenario, config: RadioMissionConfig, seed:
     streams = np.random.SeedSequence(seed).spawn(3)
     truth = simulate_truth(scenario, np.random.default_rng(streams[0]))
     meas_rng = np.random.default_rng(streams[1])
-    temper = (correlated_cells_temper(scenario.signal)
-              if config.temper_correlated and config.measurement == "time" else 1.0)
+    tempered = (config.temper_correlated and config.measurement == "time"
+                and config.filter == "tbd")  # DTT reads peaks, not the cells' likelihood
+    temper = correlated_cells_temper(scenario.signal) if tempered else 1.0
     filt = make_filter(config.filter, scenario, config.particles_per_label,
                        int(streams[2].generate_state(1)[0] % (2**31 - 1)),
-                       temper if config.filter == "tbd" else 1.0, config.roughening_m)
+                       temper, config.roughening_m)
     simulate = SIMULATORS[config.measurement]
     flight = _Flight(scenario, config, seed)
     n = scenario.n_steps

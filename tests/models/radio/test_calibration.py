@@ -45,6 +45,10 @@ def test_zero_db_range_is_where_the_peak_cell_meets_the_noise(name: str) -> None
     d3_louder = np.hypot(louder, signal.height_difference_m)
     np.testing.assert_allclose(d3_louder / d3, 10 ** (6.0 / (10 * signal.path_loss_exponent)),
                                rtol=1e-9)
+    back = zero_db_range_m(signal, behind=True)      # the back gain costs FB dB
+    np.testing.assert_allclose(np.hypot(back, signal.height_difference_m) / d3,
+                               10 ** (-signal.front_to_back_db / (10 * signal.path_loss_exponent)),
+                               rtol=1e-9)
 
 
 def test_a_tag_too_faint_to_reach_0_db_has_no_range() -> None:
