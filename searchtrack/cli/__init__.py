@@ -10,8 +10,10 @@ once; either way the status is 130.
 from __future__ import annotations
 
 import argparse
+import difflib
 import logging
 import os
+import re
 import sys
 from collections.abc import Sequence
 from typing import NoReturn, cast
@@ -50,7 +52,20 @@ class _Parser(argparse.ArgumentParser):
     """An argument parser whose usage errors are one line (and exit status 2)."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+        self.exit(EXIT_BAD_INPUT,
+                  f"{self.prog}: error: {_suggest(message)} (see {self.prog} --help)\n")
+
+
+def _suggest(message: str) -> str:
+    """argparse's "invalid choice" message with the nearest choice offered first."""
+    found = re.match(r"argument (\S+): invalid choice: '([^']*)' \(choose from (.*)\)$", message)
+    if found is None:
+        return message
+    name, given, listed = found.groups()
+    choices = re.findall(r"'([^']*)'", listed)
+    near = difflib.get_close_matches(given, choices, n=1, cutoff=0.6)
+    hint = f"did you mean '{near[0]}'? " if near else ""
+    return f"argument {name}: invalid choice '{given}': {hint}choose from {', '.join(choices)}"
 
 
 def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:

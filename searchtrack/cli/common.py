@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import re
 from collections.abc import Callable
 
 from searchtrack.core.registry import MAX_SEED
@@ -66,3 +67,14 @@ def _integer(low: int, high: int | None) -> Callable[[str], int]:
 
 seed_arg = int_in(0, MAX_SEED)
 """An argument type for seeds: every backend takes ``[0, MAX_SEED]``."""
+
+
+def description(doc: str | None) -> str | None:
+    """A command's help description: the first paragraph of its module docstring, its reST
+    markup read as plain text (``x`` → x, :func:`~a.b` → b)."""
+    if not doc:
+        return None
+    text = doc.split("\n\n")[0]
+    text = re.sub(r":[a-z]+:`~?(?:[\w.]*\.)?([^`]+)`", r"\1", text)
+    return text.replace("``", "")
+

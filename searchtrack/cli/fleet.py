@@ -21,7 +21,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from searchtrack.cli.common import int_at_least, int_in, positive_float
+from searchtrack.cli.common import description, int_at_least, int_in, positive_float
 from searchtrack.cli.output import output_file
 from searchtrack.core.checks import finite_or_none
 from searchtrack.core.errors import SearchtrackError
@@ -234,7 +234,7 @@ def configure(parser: argparse.ArgumentParser) -> None:
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Register ``fleet-size`` on the top-level subparsers."""
     p = sub.add_parser("fleet-size", help="fewest UAVs for a tracking-variance requirement",
-                       description=__doc__.split("\n\n")[0] if __doc__ else None)
+                       description=description(__doc__))
     configure(p)
 
 

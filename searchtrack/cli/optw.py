@@ -104,7 +104,8 @@ def solve_command(args: argparse.Namespace, console: Console) -> int:
         table.add_row("message", result.message)
     console.print(table)
     if json_out is not None:
-        write_text_atomic(json_out, json.dumps(record, indent=2) + "\n")
+        written = write_text_atomic(json_out, json.dumps(record, indent=2) + "\n")
+        console.print(f"wrote {written}")
     return exit_status(result)
 
 
@@ -173,7 +174,8 @@ def bench_command(args: argparse.Namespace, console: Console) -> int:
                   + (f"; {len(files) - len(records)} not run (interrupted)"
                      if len(records) < len(files) else ""))
     if json_out is not None:
-        write_text_atomic(json_out, json.dumps(records, indent=2) + "\n")
+        written = write_text_atomic(json_out, json.dumps(records, indent=2) + "\n")
+        console.print(f"wrote {written}")
     return 1 if failed else 0
 
 

@@ -19,7 +19,7 @@ from typing import Any
 from rich.console import Console
 from rich.table import Table
 
-from searchtrack.cli.common import positive_float, seed_arg
+from searchtrack.cli.common import description, positive_float, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
 from searchtrack.core.errors import SearchtrackError
@@ -106,6 +106,8 @@ def result_table(title: str, record: dict[str, Any]) -> Table:
         value = record[key]
         if key == "gap" and value is not None:
             value = f"{100 * value:.2f} %"
+        elif key in ("objective", "bound") and isinstance(value, float):
+            value = f"{value:.6g}"  # the record keeps every digit
         table.add_row(key, "-" if value is None else str(value))
     if record.get("message"):
         table.add_row("message", str(record["message"]))
@@ -141,10 +143,10 @@ def plan_command(args: argparse.Namespace, console: Console) -> int:
     record["plan"] = module.plan_json(problem, result) if result.plan is not None else None
     console.print(result_table(f"{args.family}: {Path(args.problem).name}", record))
     write_text_atomic(out, json.dumps(record, indent=2) + "\n")
-    console.print(f"plan → {out}")
+    console.print(f"wrote {out}")
     if fig_out is not None:
         drawn = module.figure(problem, result, fig_out) if result.plan is not None else None
-        console.print(f"figure → {drawn}" if drawn is not None
+        console.print(f"wrote {drawn}" if drawn is not None
                       else "no figure: nothing to draw for this result")
     return exit_status(result)
 
@@ -154,8 +156,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser], *,
     """Register ``plan FAMILY`` on the top-level subparsers (one subcommand per family; with
     ``families`` false, the ``plan`` command alone, whose families are not imported)."""
     plan = sub.add_parser("plan", help="solve one planning problem from a JSON file",
-                          description=(__doc__.split("\n\n")[0].replace("``", "")
-                                       if __doc__ else None))
+                          description=description(__doc__))
     psub = plan.add_subparsers(dest="family", required=True)
     for name in available_families() if families else ():
         p = psub.add_parser(name, help=_help()[name],

@@ -20,7 +20,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-from searchtrack.cli.common import float_in, int_at_least, seed_arg
+from searchtrack.cli.common import description, float_in, int_at_least, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_dir, output_file
 from searchtrack.core.errors import InvalidInputError
@@ -107,10 +107,10 @@ def simulate(args: argparse.Namespace, console: Console) -> int:
         return 0
     write_run(run, out)
     shown = f"{run.n_steps} intervals of {scenario.signal.frames}×{scenario.signal.fft_size} " \
-            f"frames, {scenario.signal.n_labels} tags → {out}"
+            f"frames, {scenario.signal.n_labels} tags; wrote {out}"
     if truth_out is not None:
         write_truth(truth, truth_out)
-        shown += f"; truth → {truth_out}"
+        shown += f", {truth_out} (the truth)"
     console.print(escape(shown))
     return 0
 
@@ -134,7 +134,7 @@ def track(args: argparse.Namespace, console: Console) -> int:
              f"{result.cardinality[-1]:.2f})" if result.steps else "")
     console.print(escape(f"{result.steps} of {run.n_steps} intervals, {args.filter.upper()} "
                          f"with {args.particles} particles per label, "
-                         f"{result.ms_per_step:.1f} ms/step{final} → {out}"))
+                         f"{result.ms_per_step:.1f} ms/step{final}; wrote {out}"))
     return 0
 
 
@@ -178,7 +178,7 @@ def mission(args: argparse.Namespace, console: Console) -> int:
         f"{log.objects_detected()} of {len(scenario.tags)}; unsafe "
         f"{100 * log.unsafe_fraction():.1f} % of steps; filter {log.filter_ms:.1f} ms/step; "
         f"plans: {plans}"))
-    console.print(escape("written: " + ", ".join(str(Path(p)) for p in written)))
+    console.print(escape("wrote " + ", ".join(str(Path(p)) for p in written)))
     return 0
 
 
@@ -200,7 +200,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     """Register ``radio simulate|track|mission`` on the top-level subparsers."""
     radio = sub.add_parser("radio", help="radio-tagged objects: simulate, track, fly missions "
                                          "(paper 002)",
-                           description=__doc__.split("\n\n")[0] if __doc__ else None)
+                           description=description(__doc__))
     rsub = radio.add_subparsers(dest="command", required=True)
     p_sim = rsub.add_parser("simulate", help="record a straight-sweep run's spectrograms")
     p_sim.add_argument("scenario", metavar="SCENARIO.toml",

@@ -10,7 +10,7 @@ import argparse
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-from searchtrack.cli.common import int_at_least, seed_arg
+from searchtrack.cli.common import description, int_at_least, seed_arg
 from searchtrack.cli.output import output_file
 from searchtrack.sim.particles.track_job import run_track_file
 
@@ -27,14 +27,14 @@ def track_command(args: argparse.Namespace, console: Console) -> int:
                                                                 total=total))
     console.print(f"{summary.scans} scans, {summary.ms_per_scan:.2f} ms/scan, "
                   f"{summary.mean_estimates:.2f} estimates per scan on average, expected "
-                  f"count {summary.final_expected_count:.2f} at the end → {summary.out_path}")
+                  f"count {summary.final_expected_count:.2f} at the end; wrote {summary.out_path}")
     return 0
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Register ``track`` on the top-level subparsers."""
     p = sub.add_parser("track", help="SMC-PHD filter on recorded 2-D detections",
-                       description=__doc__.split("\n\n")[0] if __doc__ else None)
+                       description=description(__doc__))
     p.add_argument("scans", metavar="SCANS.json",
                    help="recorded detections (example: examples/problems/scans.json)")
     p.add_argument("--particles", type=int_at_least(1), default=None, metavar="N",

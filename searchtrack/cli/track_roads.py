@@ -12,7 +12,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-from searchtrack.cli.common import seed_arg
+from searchtrack.cli.common import description, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
 from searchtrack.sim.kernels import ROAD_FILTER_KERNELS
@@ -42,14 +42,14 @@ def track_roads_command(args: argparse.Namespace, console: Console) -> int:
         f"{result.steps} of {job.n_steps} steps ({job.n_scans} scans, {job.n_detections} "
         f"detections) on {job.map_label}, {job.config.n_targets} targets, "
         f"{job.config.n_histories}×{job.config.n_particles} particles per target, "
-        f"{result.ms_per_step:.2f} ms/step{final} → {written}"))
+        f"{result.ms_per_step:.2f} ms/step{final}; wrote {written}"))
     return 0
 
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Register ``track-roads`` on the top-level subparsers."""
     p = sub.add_parser("track-roads", help="Rao-Blackwellized road filter on recorded detections",
-                       description=__doc__.split("\n\n")[0] if __doc__ else None)
+                       description=description(__doc__))
     p.add_argument("detections", metavar="DETECTIONS.json",
                    help="recorded road detections (examples/make_road_detections.py writes one)")
     p.add_argument("--out", required=True, metavar="EST.json",

@@ -214,7 +214,8 @@ def heuristic_then_exact(
     deadline = Deadline(time_limit_s)
     first = heuristic(problem, time_limit_s=min(heuristic_limit_s, time_limit_s), seed=seed)
     if first.status is Status.OPTIMAL or exact is None or deadline.remaining() < 1e-3:
-        return relabel(first, deadline, f"auto: {first.backend} answered ({first.message})")
+        said = f" ({first.message})" if first.message else ""
+        return relabel(first, deadline, f"auto: {first.backend} answered{said}")
     second = exact(problem, first, max(1e-3, deadline.remaining()), seed)
     merged = merge_answers(first, second, deadline.elapsed(), tol,
                            {"heuristic_objective": first.objective or 0.0,

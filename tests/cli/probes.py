@@ -16,6 +16,7 @@ from typing import Any
 
 OPTW = Path(__file__).parents[2] / "searchtrack" / "data" / "optw"
 C101 = OPTW / "c101.txt"
+SCENARIOS = Path(__file__).parents[2] / "searchtrack" / "data" / "scenarios"
 
 Build = Callable[[Path], list[str]]
 Probe = tuple[str, Build, int, tuple[str, ...]]
@@ -142,7 +143,9 @@ PROBES: list[Probe] = [
     ("optw: empty file", lambda t: ["optw", "solve", str(_write(t / "e.txt", ""))], 2,
      ("e.txt", "too short")),
     ("optw: header of 3 fields", lambda t: ["optw", "solve", _instance(
-        t, lambda ls: ["1 1 100", *ls[1:]])], 2, ("bad.txt", "line 1", "expected 4 fields")),
+        t, lambda ls: ["1 1 100", *ls[1:]])], 2, ("bad.txt", "line 1", "not an OPTW instance")),
+    ("optw: a scenario file", lambda t: ["optw", "solve", str(SCENARIOS / "demo.toml")], 2,
+     ("demo.toml", "not an OPTW instance", "'k v N t'")),
     ("optw: NaN coordinate", lambda t: ["optw", "solve", _instance(
         t, lambda ls: [*ls[:3], _set_field(ls[3], 1, "nan"), *ls[4:]])], 2,
      ("bad.txt", "line 4", "not a finite number")),

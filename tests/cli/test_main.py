@@ -71,6 +71,13 @@ def test_every_argument_has_help_and_no_bracketed_options() -> None:
     assert not bracketed, bracketed
 
 
+def test_help_pages_show_no_rest_markup() -> None:
+    """No help page shows the docstrings' reST (````x````, ``:func:`x```)."""
+    marked = [" ".join(path) for path, parser in _parsers(build_parser(["plan"]))
+              if re.search(r"``|:[a-z]+:`", parser.format_help())]
+    assert not marked, marked
+
+
 def test_plan_help_lists_each_familys_backends() -> None:
     """``plan FAMILY --help`` names the family's backends, as its module registers them."""
     for name in available_families():
@@ -102,3 +109,19 @@ def test_only_the_plan_command_imports_the_plan_families() -> None:
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout.split()
     assert out == ["False", "True"]
+
+
+@pytest.mark.parametrize(("argv", "offered"), [
+    (["misson", "run"], "did you mean 'mission'?"),
+    (["mission", "rnu", "x.toml"], "did you mean 'run'?"),
+    (["optw", "solve", "x.txt", "--backend", "cpsta"], "did you mean 'cpsat'?"),
+    (["zzzz"], "choose from optw, mission"),
+])
+def test_a_mistyped_choice_offers_the_nearest(argv: list[str], offered: str,
+                                              capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as done:
+        main(argv)
+    assert done.value.code == 2
+    err = capsys.readouterr().err
+    assert offered in err and len(err.strip().splitlines()) == 1, err
+    assert "did you mean" not in err or argv[0] != "zzzz"

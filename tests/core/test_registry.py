@@ -71,7 +71,16 @@ def test_heuristic_then_exact_without_an_exact_stage() -> None:
     out = heuristic_then_exact(1, _backend("heur", Status.FEASIBLE, 3.0, None, calls), None,
                                time_limit_s=1.0, seed=0, heuristic_limit_s=5.0)
     assert calls == [("heur", 1.0)] and out.plan == "heur-plan"
-    assert out.message.startswith("auto: heur answered")
+    assert out.message == "auto: heur answered (heur says hi)"
+
+
+def test_heuristic_then_exact_says_no_empty_parentheses() -> None:
+    """A heuristic answer with no message of its own reads "answered", not "answered ()"."""
+    def quiet(problem: int, /, *, time_limit_s: float, seed: int) -> Result[str]:
+        return Result(Status.FEASIBLE, 3.0, None, 0.0, "ils", "plan")
+
+    out = heuristic_then_exact(1, quiet, None, time_limit_s=1.0, seed=0, heuristic_limit_s=1.0)
+    assert out.message == "auto: ils answered"
 
 
 def test_fallback_chain_takes_the_first_answer() -> None:

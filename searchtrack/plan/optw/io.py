@@ -41,6 +41,15 @@ def _number(path: Path, line: int, field: str, token: str) -> Decimal:
     return value
 
 
+def _numeric(token: str) -> bool:
+    """Whether ``token`` reads as a number."""
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
 def _integer(path: Path, line: int, field: str, token: str) -> int:
     value = _number(path, line, field, token)
     if value != value.to_integral_value():
@@ -85,8 +94,12 @@ def read_optw(
     if len(numbered) < 2:
         raise ParseError(p, None, None, "too short: needs a header, a second line and vertices")
     hline, header = numbered[0]
-    if len(header) != 4:
-        raise ParseError(p, hline, "k v N t", f"expected 4 fields, found {len(header)}")
+    if len(header) != 4 or not all(_numeric(tok) for tok in header):
+        start = " ".join(header)
+        raise ParseError(p, hline, "k v N t",
+                         "not an OPTW instance in the Solomon/Cordeau text format (its first "
+                         "line is four numbers 'k v N t'; this one reads "
+                         f"{start[:40]!r}{'…' if len(start) > 40 else ''})")
     n_customers = _integer(p, hline, "N", header[2])
     if n_customers < 0:
         raise ParseError(p, hline, "N", f"must be non-negative, got {n_customers}")
