@@ -73,10 +73,11 @@ def run(args: argparse.Namespace, console: Console) -> int:
 
 def status(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack campaign status`` (of a campaign running now, too)."""
-    from searchtrack.sim.campaigns.store import StoreBusy, describe
+    from searchtrack.sim.campaigns.store import StoreBusy, describe, missing_runs
 
     try:
         name, experiment, counts = describe(args.db)
+        missing = missing_runs(args.db)
     except StoreBusy as busy:
         if busy.progress is None:
             raise
@@ -86,8 +87,14 @@ def status(args: argparse.Namespace, console: Console) -> int:
     table.add_column("runs", justify="right")
     for key in sorted(counts):
         table.add_row(key, str(counts[key]))
-    table.add_row("total", str(sum(counts.values())))
+    table.add_row("recorded", str(sum(counts.values())))
+    if missing is not None:
+        table.add_row("not run yet", str(missing))
+        table.add_row("planned", str(sum(counts.values()) + missing))
     console.print(table)
+    if missing:
+        console.print(f"{missing} planned runs are missing: `searchtrack campaign run FILE "
+                      f"--db {args.db}` runs them")
     return 1 if counts.get("error", 0) else 0
 
 
@@ -129,10 +136,11 @@ def report(args: argparse.Namespace, console: Console) -> int:
     folder = output_dir("--out", args.out) if args.out is not None else None
     with open_existing(args.db) as store:
         rows = store.rows()
+        missing = store.missing()
         definition = store.experiment
         name = store.campaign
         metrics = store.metrics
-    result = build_report(name, definition, list(metrics), rows)
+    result = build_report(name, definition, list(metrics), rows, missing)
     table = Table(title=f"{name} ({definition.name}): mean ± 95 % CI over seeds")
     cells = table_rows(list(result.groups), list(result.metrics))
     for col in cells[0]:
@@ -142,6 +150,10 @@ def report(args: argparse.Namespace, console: Console) -> int:
     console.print(table)
     if result.claim:
         console.print(f"claim: {result.claim}")
+    if missing:
+        partial = sum(1 for g in result.groups if g.missing)
+        console.print(f"partial: {len(missing)} planned runs are missing, in {partial} of "
+                      f"{len(result.groups)} cells (marked 'of' in the runs column)")
     if folder is not None:
         written = write_figures(result, folder) + write_series_figures(
             name, definition, result.group_keys, rows, list(metrics), folder)

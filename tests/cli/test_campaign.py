@@ -141,3 +141,40 @@ def test_status_of_a_running_campaign_reads_its_progress(
     finally:
         holder.kill()
         holder.wait()
+
+
+def test_status_and_report_of_a_stopped_campaign_say_what_is_missing(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A campaign stopped after 3 of its 8 planned runs: `status` counts the 5 not run yet,
+    `report` marks each partial cell ("1 of 4") and says how many runs are missing."""
+    from searchtrack.sim.campaigns.experiments import get
+    from searchtrack.sim.campaigns.runner import run_one
+    from searchtrack.sim.campaigns.store import ResultStore
+    from tests.sim.campaigns.toy import toy_spec
+
+    spec, db = toy_spec(seeds=4), tmp_path / "r.duckdb"
+    runs = spec.runs()
+    with ResultStore(db, spec.name, get("toy")) as store:
+        store.plan((r.key, r.params) for r in runs)
+        store.plan((r.key, r.params) for r in runs[:2])   # planning again adds nothing
+        for run in [runs[0], runs[1], runs[4]]:
+            store.insert(run_one(run))
+    assert main(["campaign", "status", str(db)]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "not run yet │ 5" in out and "planned │ 8" in out and "5 planned runs are missing" in out
+    assert main(["campaign", "report", str(db)]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "2 of 4" in out and "1 of 4" in out
+    assert "5 planned runs are missing, in 2 of 2 cells" in out
+
+
+def test_a_finished_campaign_reports_nothing_missing(tmp_path: Path,
+                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    path, db = write_toy_file(tmp_path), tmp_path / "r.duckdb"
+    assert main(["campaign", "run", str(path), "--db", str(db), "--workers", "0"]) == 0
+    capsys.readouterr()
+    assert main(["campaign", "status", str(db)]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "not run yet │ 0" in out and "missing" not in out
+    assert main(["campaign", "report", str(db)]) == 0
+    assert " of " not in capsys.readouterr().out.replace("mean ± 95 % CI", "")

@@ -29,25 +29,33 @@ class GroupSummary:
     runs: int
     failed: int
     metrics: dict[str, Estimate]
+    missing: int = 0
 
     def label(self) -> str:
         """``key=value, ...`` of the group's parameters."""
         return ", ".join(f"{k}={v}" for k, v in self.params) or "(all)"
 
 
-def summarise(rows: Sequence[Row], group_keys: Sequence[str],
-              metrics: Sequence[str]) -> list[GroupSummary]:
+def summarise(rows: Sequence[Row], group_keys: Sequence[str], metrics: Sequence[str],
+              missing: Sequence[Row] = ()) -> list[GroupSummary]:
     """Group ``rows`` by ``group_keys`` (sorted: numbers by value, text alphabetically) and
-    estimate every metric over the ``ok`` runs of each group (NaN and missing values dropped)."""
+    estimate every metric over the ``ok`` runs of each group (NaN and missing values dropped);
+    ``missing`` are the parameters of the planned runs not run yet, counted in their groups (a
+    group with none run is listed with no estimates)."""
     groups: dict[tuple[Any, ...], list[Row]] = {}
     for row in rows:
         groups.setdefault(tuple(row.get(k) for k in group_keys), []).append(row)
+    absent: dict[tuple[Any, ...], int] = {}
+    for params in missing:
+        cell = tuple(params.get(k) for k in group_keys)
+        absent[cell] = absent.get(cell, 0) + 1
+        groups.setdefault(cell, [])
     out = []
     for values, members in sorted(groups.items(), key=lambda item: group_order(item[0])):
         ok = [r for r in members if r.get("status") == "ok"]
         est = {m: estimate([_number(r.get(m)) for r in ok]) for m in metrics}
         out.append(GroupSummary(tuple(zip(group_keys, values, strict=True)), len(members),
-                                len(members) - len(ok), est))
+                                len(members) - len(ok), est, absent.get(values, 0)))
     return out
 
 
@@ -73,7 +81,8 @@ def table_rows(summaries: Sequence[GroupSummary], metrics: Sequence[str]) -> lis
     header = [*keys, "runs", *metrics]
     rows = [header]
     for s in summaries:
-        runs = f"{s.runs}" + (f" ({s.failed} failed)" if s.failed else "")
+        runs = (f"{s.runs}" + (f" of {s.runs + s.missing}" if s.missing else "")
+                + (f" ({s.failed} failed)" if s.failed else ""))
         rows.append([*(str(v) for _, v in s.params), runs, *(str(s.metrics[m]) for m in metrics)])
     return rows
 
@@ -123,17 +132,19 @@ class Report:
 
 
 def build_report(name: str, experiment: Experiment, metric_names: Sequence[str],
-                 rows: Sequence[Row]) -> Report:
+                 rows: Sequence[Row], missing: Sequence[Row] = ()) -> Report:
     """Group ``rows`` by the parameters of ``experiment`` that take more than one value (the
     grid keys) and estimate every numeric metric; the claim is the experiment's for these rows
-    (:meth:`~searchtrack.sim.campaigns.experiments.Experiment.claim_for`)."""
+    (:meth:`~searchtrack.sim.campaigns.experiments.Experiment.claim_for`). ``missing``: the
+    parameters of the planned runs not run yet (:meth:`~searchtrack.sim.campaigns.store.
+    ResultStore.missing`), counted in their groups."""
     varying = tuple(p.name for p in experiment.params
-                    if len({_key(r.get(p.name)) for r in rows}) > 1)
+                    if len({_key(r.get(p.name)) for r in [*rows, *missing]}) > 1)
     numeric = tuple(m for m in metric_names
                     if any(isinstance(r.get(m), (int, float)) and not isinstance(r.get(m), bool)
                            for r in rows))
     return Report(name, experiment.name, varying, numeric,
-                  tuple(summarise(rows, varying, numeric)), experiment.claim_for(rows))
+                  tuple(summarise(rows, varying, numeric, missing)), experiment.claim_for(rows))
 
 
 def _key(value: Any) -> Any:

@@ -303,6 +303,7 @@ def run_campaign(spec: CampaignSpec, db_path: str | Path, *, workers: int | None
     count = _Count()
     with ResultStore(db_path, spec.name, spec.definition, spec.metrics) as store, \
             _reporting(db_path, spec, progress) as progress:
+        store.plan((r.key, r.params) for r in runs)
         finished = store.finished_keys(include_failed=not retry_failed)
         todo = [r for r in runs if r.key not in finished]
         log.info("campaign %s: %d runs, %d recorded, %d to run", spec.name, len(runs),

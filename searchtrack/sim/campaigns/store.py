@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 import logging
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
@@ -38,6 +38,10 @@ class StoreError(SearchtrackError):
     def __init__(self, path: Path, reason: str) -> None:
         super().__init__(f"{path}: {reason}")
         self.path, self.reason = path, reason
+
+
+#: The runs each campaign file asked for (key, parameters as JSON).
+PLANNED_TABLE = "CREATE TABLE IF NOT EXISTS planned (key VARCHAR PRIMARY KEY, params VARCHAR)"
 
 
 def columns(experiment: Experiment) -> dict[str, str]:
@@ -118,6 +122,7 @@ class ResultStore:
             if have != list(self._columns):
                 raise StoreError(self.path, "its runs table has other columns than experiment "
                                  f"{self.experiment.name!r} now has; give another --db")
+            self._db.execute(PLANNED_TABLE)  # databases before the table
             return
         if tables:
             raise StoreError(self.path, f"holds tables {sorted(tables)}, not a campaign")
@@ -128,6 +133,7 @@ class ResultStore:
         self._db.execute("INSERT INTO campaign VALUES (?, ?, ?)",
                          [self.campaign, self.experiment.name, json.dumps(list(self.metrics))])
         self._db.execute(f"CREATE TABLE runs ({cols})")
+        self._db.execute(PLANNED_TABLE)
         self._db.execute("COMMIT")
         log.info("created results database %s for campaign %s", self.path, self.campaign)
 
@@ -155,6 +161,20 @@ class ResultStore:
         names = ", ".join(_quote(c) for c in self._columns)
         marks = ", ".join("?" for _ in self._columns)
         self._db.execute(f"INSERT OR REPLACE INTO runs ({names}) VALUES ({marks})", values)
+
+    def plan(self, runs: Iterable[tuple[str, Mapping[str, Any]]]) -> None:
+        """Record the runs a campaign file asks for, as ``(key, parameters)`` (kept across
+        resumes: a file that asks for more seeds adds its new runs), so that a stopped
+        campaign's status and report can say which runs are missing."""
+        self._db.executemany("INSERT OR IGNORE INTO planned VALUES (?, ?)",
+                             [[key, json.dumps(dict(params), sort_keys=True)]
+                              for key, params in runs])
+
+    def missing(self) -> list[dict[str, Any]]:
+        """The parameters of each planned run with no row yet (none recorded: an empty list)."""
+        return [json.loads(r[0]) for r in self._db.execute(
+            "SELECT params FROM planned WHERE key NOT IN (SELECT key FROM runs) ORDER BY key"
+        ).fetchall()]
 
     def counts(self) -> dict[str, int]:
         """Number of rows per status."""
@@ -255,6 +275,27 @@ def describe(path: str | Path) -> tuple[str, str, dict[str, int]]:
     if row is None:
         raise StoreError(p, "not a campaign database (no campaign row)")
     return str(row[0]), str(row[1]), {str(s): int(n) for s, n in counts}
+
+
+def missing_runs(path: str | Path) -> int | None:
+    """How many planned runs the database at ``path`` has no row for (opened read-only);
+    ``None`` for a database written before runs were planned in it.
+
+    Raises
+    ------
+    StoreBusy, StoreError
+        As :func:`describe`.
+    """
+    p = Path(path)
+    describe(p)
+    with duckdb.connect(str(p), read_only=True) as db:
+        tables = {r[0] for r in db.execute("SELECT table_name FROM information_schema.tables"
+                                           ).fetchall()}
+        if "planned" not in tables:
+            return None
+        row = db.execute("SELECT count(*) FROM planned WHERE key NOT IN (SELECT key FROM runs)"
+                         ).fetchone()
+    return int(row[0]) if row is not None else 0
 
 
 def open_existing(path: str | Path) -> ResultStore:

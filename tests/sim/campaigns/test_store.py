@@ -18,6 +18,7 @@ from searchtrack.sim.campaigns.store import (
     StoreError,
     clear_progress,
     describe,
+    missing_runs,
     open_existing,
     progress_path,
     read_progress,
@@ -136,3 +137,23 @@ def test_progress_reports_round_trip_and_ignore_junk(tmp_path: Path) -> None:
     clear_progress(db)
     clear_progress(db)  # removing twice is fine
     assert not progress_path(db).exists()
+
+
+def test_missing_runs_counts_planned_runs_without_a_row(tmp_path: Path) -> None:
+    """Planned keys without a row are missing; a database written before runs were planned
+    says nothing (None) until a campaign run plans them."""
+    db = tmp_path / "r.duckdb"
+    spec = toy_spec(seeds=3)
+    runs = spec.runs()
+    with ResultStore(db, spec.name, get("toy")) as store:
+        store.insert(run_one(runs[0]))
+        with duckdb.connect(str(tmp_path / "old.duckdb")) as old:
+            old.execute("CREATE TABLE campaign (name VARCHAR, experiment VARCHAR)")
+            old.execute("INSERT INTO campaign VALUES ('toy-test', 'toy')")
+            old.execute("CREATE TABLE runs (key VARCHAR, status VARCHAR)")
+        assert store.missing() == []
+        store.plan((r.key, r.params) for r in runs)
+        assert len(store.missing()) == len(runs) - 1
+        assert sorted(m["value"] for m in store.missing()) == [1.0, 1.0, 2.0, 2.0, 2.0]
+    assert missing_runs(db) == len(runs) - 1
+    assert missing_runs(tmp_path / "old.duckdb") is None
