@@ -99,6 +99,11 @@ def watch(on_stop: Callable[[], None], poll_s: float = 0.05) -> Iterator[None]:
         thread.join()
 
 
+#: SIGINTs this close after the first (s) are the same press: ``timeout -s INT`` signals the
+#: command and then its whole process group, the command included, at once.
+SAME_PRESS_S = 0.25
+
+
 class Aborted(KeyboardInterrupt):
     """Raised in the main thread by the second Ctrl-C inside :func:`sigint_stops`."""
 
@@ -109,8 +114,9 @@ def _interrupt_main() -> None:
 
 @contextlib.contextmanager
 def sigint_stops(abort: Callable[[], None] = _interrupt_main) -> Iterator[None]:
-    """Inside the block, the first SIGINT requests a cooperative stop; the second calls
-    ``abort`` (by default: raise :class:`Aborted` in the main thread as soon as it runs Python).
+    """Inside the block, the first SIGINT requests a cooperative stop; the second (after
+    :data:`SAME_PRESS_S`) calls ``abort`` (by default: raise :class:`Aborted` in the main thread
+    as soon as it runs Python).
 
     A signal reaches Python's own handler only when the main thread runs Python code, which it
     does not while a native solver (CP-SAT, SCIP, Ipopt) holds it; so the presses are counted by
@@ -133,9 +139,10 @@ def sigint_stops(abort: Callable[[], None] = _interrupt_main) -> Iterator[None]:
     read_fd.setblocking(True)
     write_fd.setblocking(False)
     presses = 0
+    first = 0.0
 
     def count() -> None:
-        nonlocal presses
+        nonlocal presses, first
         while True:
             data = read_fd.recv(64)
             if not data:
@@ -145,8 +152,11 @@ def sigint_stops(abort: Callable[[], None] = _interrupt_main) -> Iterator[None]:
                     return
                 if signum != signal.SIGINT or aborting.is_set():
                     continue
+                if presses == 1 and time.monotonic() - first < SAME_PRESS_S:
+                    continue  # one press delivered twice (see SAME_PRESS_S)
                 presses += 1
                 if presses == 1:
+                    first = time.monotonic()
                     _STOP.set()
                 else:
                     aborting.set()

@@ -12,6 +12,7 @@ import pytest
 
 from searchtrack.core import Deadline, Result, Status
 from searchtrack.core.interrupt import (
+    SAME_PRESS_S,
     Aborted,
     clear_stop,
     request_stop,
@@ -62,11 +63,21 @@ def test_first_sigint_stops_second_aborts() -> None:
     before = signal.getsignal(signal.SIGINT)
     with pytest.raises(Aborted), sigint_stops():
         os.kill(os.getpid(), signal.SIGINT)
-        time.sleep(0.01)
+        time.sleep(SAME_PRESS_S + 0.05)
         assert stop_requested()
         os.kill(os.getpid(), signal.SIGINT)
         time.sleep(1.0)
     assert signal.getsignal(signal.SIGINT) is before
+
+
+def test_one_press_delivered_twice_only_stops() -> None:
+    """Two SIGINTs at once (``timeout -s INT`` signals the command, then its process group)
+    are one press: a stop, no abort."""
+    with sigint_stops():
+        os.kill(os.getpid(), signal.SIGINT)
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(0.5)
+        assert stop_requested()
 
 
 def test_interrupted_marks_only_unproven_answers() -> None:

@@ -180,6 +180,9 @@ def _client(workers: int | None, scheduler: str | None) -> Iterator[Any]:
     with dask.config.set({"distributed.worker.profile.enabled": False}), \
             LocalCluster(n_workers=n, threads_per_worker=1, processes=True,  # type: ignore[no-untyped-call]
                       dashboard_address=":0", env=ONE_THREAD_ENV,
+                      # the workers' warnings on a stop (tasks cancelled, comms closed) are
+                      # noise on the terminal; their errors are still shown
+                      silence_logs=logging.ERROR,
                       preload=["searchtrack.sim.campaigns.worker_setup"]) as cluster, \
             Client(cluster) as client:  # type: ignore[no-untyped-call]
         yield client
