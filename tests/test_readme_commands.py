@@ -56,3 +56,15 @@ def test_every_command_parses_and_names_files_that_exist() -> None:
                 continue
             made = arg in written or any(arg.startswith(f"{w}/") for w in written)
             assert (ROOT / arg).exists() or made, f"{line!r}: no file {arg}"
+
+
+def test_every_output_goes_under_out() -> None:
+    """The README's commands write under ``out/`` (ignored by git), never into the clone."""
+    stray = []
+    for line in COMMANDS:
+        argv = shlex.split(line)[1:]
+        outputs = [argv[i] for i in range(1, len(argv)) if argv[i - 1] in OUTPUT_OPTIONS]
+        if argv[:2] == ["campaign", "export"]:
+            outputs.append(argv[3])
+        stray += [f"{line!r}: {o}" for o in outputs if not o.startswith("out/")]
+    assert not stray, stray

@@ -33,6 +33,7 @@ EXPECTED = {
     "p002_exp1.toml": ("radio_tracking_episode", 2 * 20),
     "p002_calibration.toml": ("radio_tracking_episode", 7 * 6),
     "p002_time_domain.toml": ("radio_tracking_episode", 2 * 10),
+    "quick_start.toml": ("mission", 2 * 8),
 }
 
 
