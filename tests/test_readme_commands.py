@@ -12,7 +12,7 @@ import pytest
 from searchtrack.cli import build_parser
 
 ROOT = Path(__file__).resolve().parents[1]
-OUTPUT_OPTIONS = ("--out", "--json", "--truth", "--figure", "--db")
+OUTPUT_OPTIONS = ("--out", "--json", "--truth", "--figure", "--db", "--export")
 INPUT_SUFFIXES = (".txt", ".toml", ".json", ".npz", ".csv", ".duckdb")
 
 

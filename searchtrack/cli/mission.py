@@ -13,6 +13,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
+from searchtrack.cli import export
 from searchtrack.cli.common import positive_float, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import OutputError, output_dir, output_file
@@ -23,6 +24,9 @@ from searchtrack.sim.roads.figures import plot_map, plot_moc
 from searchtrack.sim.roads.mission import Mission
 from searchtrack.sim.roads.record import PHASES, MissionLog
 from searchtrack.sim.roads.scenario_file import load_scenario
+
+#: Flight altitude of an exported mission whose scenario states none (m).
+EXPORT_ALTITUDE_M = 120.0
 
 
 def _pct(x: float | None) -> str:
@@ -70,9 +74,12 @@ def run_mission(args: argparse.Namespace, console: Console) -> int:
     if args.duration is not None:
         scenario = dataclasses.replace(scenario, duration_s=args.duration)
     out = output_dir("--out", args.out)
+    exports = export.export_dir(args, known=False)   # the map's frame: once it is built
     ready_kernels(console, road_mission_kernels())
     with console.status(f"building {scenario.map.describe()}"):
         mission = Mission(scenario)
+    if exports is not None:
+        export.export_dir(args, mission.world.network.projection)
     started = time.perf_counter()
     with Progress(TextColumn("{task.description}"), BarColumn(),
                   TextColumn("{task.completed}/{task.total} steps"), TimeElapsedColumn(),
@@ -92,6 +99,13 @@ def run_mission(args: argparse.Namespace, console: Console) -> int:
     with console.status("writing the replay page"):
         written.append(write_replay(record, out / "replay.html", source=written[0]))
     console.print("wrote " + ", ".join(str(p) for p in written))
+    if exports is not None:
+        from searchtrack.sim.export.plans import road_mission_files
+
+        altitude = args.altitude or scenario.altitude_m or EXPORT_ALTITUDE_M
+        frame = export.geo_frame(args, log.network.projection, altitude)
+        export.write_files(exports, road_mission_files(log, frame,
+                                                       scenario.limits.speed_max_mps), console)
     return 0
 
 
@@ -118,11 +132,12 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p_run = msub.add_parser("run", help="fly a TOML scenario; write JSON, PNG figures and "
                             "the replay page")
     p_run.add_argument("scenario", help="scenario TOML file")
-    p_run.add_argument("--out", default="mission-output", metavar="DIR",
-                       help="output directory (default: mission-output)")
+    p_run.add_argument("--out", default="out/mission", metavar="DIR",
+                       help="output directory (default: out/mission)")
     p_run.add_argument("--seed", type=seed_arg, default=None, help="override the scenario's seed")
     p_run.add_argument("--duration", type=positive_float, default=None, metavar="S",
                        help="override the scenario's duration (s)")
+    export.add_arguments(p_run, altitude_m=None)
     p_run.set_defaults(run=run_mission)
     p_view = msub.add_parser("view", help="write the offline replay page (HTML) of a "
                              "mission.json")

@@ -15,6 +15,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
+from searchtrack.cli import export
 from searchtrack.cli.common import int_at_least, int_in, positive_float, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
@@ -27,6 +28,9 @@ from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw import BACKENDS, OPTWInstance, Routes, read_optw, solve
 from searchtrack.plan.optw.io import MAX_DECIMALS
 from searchtrack.sim.kernels import OPTW_KERNELS
+
+#: Flight altitude of an exported OPTW plan unless ``--altitude`` says otherwise (m).
+EXPORT_ALTITUDE_M = 120.0
 
 
 def result_json(inst: OPTWInstance, result: Result[Routes]) -> dict[str, Any]:
@@ -86,6 +90,7 @@ def exit_status(result: Result[Routes]) -> int:
 def solve_command(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack optw solve``."""
     json_out = output_file("--json", args.json) if args.json else None
+    exports = export.export_dir(args)
     inst = _load(Path(args.file), args)
     ready_kernels(console, OPTW_KERNELS)
     with console.status(f"solving {inst.name} with {args.backend} ({args.time_limit:g} s)"):
@@ -106,6 +111,11 @@ def solve_command(args: argparse.Namespace, console: Console) -> int:
     if json_out is not None:
         written = write_text_atomic(json_out, json.dumps(record, indent=2) + "\n")
         console.print(f"wrote {written}")
+    if exports is not None and result.plan:
+        from searchtrack.sim.export.plans import optw_files
+
+        frame = export.geo_frame(args, None, args.altitude)
+        export.write_files(exports, optw_files(inst, result.plan, frame, args.speed), console)
     return exit_status(result)
 
 
@@ -206,6 +216,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p_solve = osub.add_parser("solve", parents=[common], help="solve one instance file")
     p_solve.add_argument("file", metavar="INSTANCE.txt",
                          help="OPTW instance (Solomon / Cordeau format)")
+    export.add_arguments(p_solve, altitude_m=EXPORT_ALTITUDE_M, unit=True)
     p_solve.set_defaults(run=solve_command)
     p_bench = osub.add_parser("bench", parents=[common], help="solve every *.txt under DIR")
     p_bench.add_argument("dir", metavar="DIR",

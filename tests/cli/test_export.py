@@ -1,0 +1,60 @@
+"""``--export``: optw solve and mission run write autopilot missions and GeoJSON; a problem
+without a geographic frame needs --origin, asked for before any work."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from searchtrack.cli import main
+
+DATA = Path(__file__).parents[2] / "searchtrack" / "data"
+
+
+def test_optw_solve_exports_with_an_origin(tmp_path: Path,
+                                           capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "ex"
+    assert main(["optw", "solve", str(DATA / "optw" / "c101.txt"), "--vehicles", "2",
+                 "--time-limit", "1", "--export", str(out), "--origin", "21.88,-102.29",
+                 "--unit-m", "10", "--altitude", "90"]) == 0
+    assert "wrote" in capsys.readouterr().out
+    assert sorted(p.name for p in out.iterdir()) == [
+        "plan.geojson", "route0.plan", "route0.waypoints", "route1.plan", "route1.waypoints"]
+    plan = json.loads((out / "route0.plan").read_text(encoding="utf-8"))
+    assert plan["mission"]["items"][1]["Altitude"] == 90.0
+    assert (out / "route0.waypoints").read_text(encoding="utf-8").startswith("QGC WPL 110\n")
+
+
+@pytest.mark.parametrize(("extra", "said"), [
+    ([], "--origin is needed"),
+    (["--origin", "200,0"], "--origin"),
+    (["--origin", "21.88,-102.29", "--altitude", "-5"], "--altitude"),
+])
+def test_optw_export_refuses_before_solving(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                            extra: list[str], said: str) -> None:
+    out = tmp_path / "ex"
+    code = _exit(["optw", "solve", str(DATA / "optw" / "c101.txt"), "--time-limit", "5",
+                  "--export", str(out), *extra])
+    captured = capsys.readouterr()
+    assert code == 2 and said in captured.err and "objective" not in captured.out
+    assert not out.exists()
+
+
+def test_mission_on_an_osm_map_exports_in_its_own_frame(tmp_path: Path) -> None:
+    out = tmp_path / "m"
+    assert main(["mission", "run", str(DATA / "scenarios" / "demo.toml"), "--duration", "3",
+                 "--out", str(out), "--export", str(out / "export")]) == 0
+    names = sorted(p.name for p in (out / "export").iterdir())
+    assert "plan.geojson" in names and "uav0.plan" in names and "uav0.waypoints" in names
+    home = json.loads((out / "export" / "uav0.plan").read_text(encoding="utf-8"))
+    lat, lon, _ = home["mission"]["plannedHomePosition"]
+    assert 21.7 < lat < 22.0 and -102.4 < lon < -102.2      # Aguascalientes
+
+
+def _exit(argv: list[str]) -> int:
+    try:
+        return main(argv)
+    except SystemExit as exc:   # argparse refuses bad option values itself
+        return int(exc.code or 0)
