@@ -26,7 +26,8 @@ def add_arguments(parser: argparse.ArgumentParser, *, altitude_m: float | None,
                              "per vehicle and plan.geojson into DIR")
     parser.add_argument("--origin", default=None, metavar="LAT,LON",
                         help="latitude and longitude (degrees) of the problem's (0, 0), for "
-                             "--export (maps read from OpenStreetMap know theirs)")
+                             "--export (maps read from OpenStreetMap know theirs; a negative "
+                             "latitude as --origin=-35,149)")
     parser.add_argument("--altitude", type=positive_float, default=altitude_m, metavar="M",
                         help="flight altitude above home for --export (m; default: "
                              + ("the scenario's" if altitude_m is None else f"{altitude_m:g}")

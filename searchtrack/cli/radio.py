@@ -20,6 +20,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
+from searchtrack.cli import export
 from searchtrack.cli.common import description, float_in, int_at_least, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_dir, output_file
@@ -50,6 +51,9 @@ _explore = float_in(0.0, 1.0, high_open=True)
 #: The defaults of the options: a mission's and its planner's settings (the dataclasses' field
 #: defaults, read from the classes so that no filter module is loaded).
 MISSION, PLAN = RadioMissionConfig, RadioPlanSettings
+
+#: Flight altitude of an exported radio mission unless ``--altitude`` says otherwise (m).
+EXPORT_ALTITUDE_M = 100.0
 
 
 def _particles(args: argparse.Namespace) -> int:
@@ -146,6 +150,7 @@ def mission(args: argparse.Namespace, console: Console) -> int:
 
     particles = _particles(args)
     folder = output_dir("--out", args.out)
+    exports = export.export_dir(args)   # the radio scenario is in a local frame
     scenario = _scenario(args)
     plan = RadioPlanSettings(horizon=args.horizon, plan_particles=args.plan_particles,
                              r_min_m=args.r_min, p_void_min=args.p_void,
@@ -179,6 +184,11 @@ def mission(args: argparse.Namespace, console: Console) -> int:
         f"{100 * log.unsafe_fraction():.1f} % of steps; filter {log.filter_ms:.1f} ms/step; "
         f"plans: {plans}"))
     console.print(escape("wrote " + ", ".join(str(Path(p)) for p in written)))
+    if exports is not None and log.steps:
+        from searchtrack.sim.export.radio_files import radio_mission_files
+
+        frame = export.geo_frame(args, None, args.altitude)
+        export.write_files(exports, radio_mission_files(log, frame), console)
     return 0
 
 
@@ -274,4 +284,5 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p_mis.add_argument("--out", required=True, metavar="DIR",
                        help="folder for mission.json, map.png and ospa.png")
     _common(p_mis)
+    export.add_arguments(p_mis, altitude_m=EXPORT_ALTITUDE_M)
     p_mis.set_defaults(run=mission)

@@ -58,3 +58,18 @@ def _exit(argv: list[str]) -> int:
         return main(argv)
     except SystemExit as exc:   # argparse refuses bad option values itself
         return int(exc.code or 0)
+
+
+def test_radio_mission_needs_an_origin_before_flying(tmp_path: Path,
+                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    scenario = tmp_path / "s.toml"
+    scenario.write_text("duration_s = 3.0\n", encoding="utf-8")
+    code = _exit(["radio", "mission", str(scenario), "--particles", "50", "--out",
+                  str(tmp_path / "m"), "--export", str(tmp_path / "x")])
+    assert code == 2 and "--origin is needed" in capsys.readouterr().err
+    assert not (tmp_path / "m" / "mission.json").exists()
+    assert main(["radio", "mission", str(scenario), "--particles", "50", "--plan-particles",
+                 "20", "--horizon", "1", "--out", str(tmp_path / "m"), "--export",
+                 str(tmp_path / "x"), "--origin=-35,149"]) == 0
+    assert sorted(p.name for p in (tmp_path / "x").iterdir()) == [
+        "plan.geojson", "uav0.plan", "uav0.waypoints"]

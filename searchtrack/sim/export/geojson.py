@@ -14,7 +14,6 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.sim.export.autopilot import DEGREE_DECIMALS
 
 
-
 def _positions(latlon: ArrayLike) -> list[list[float]]:
     """``[[lon, lat], ...]`` of ``(n, 2)`` latitude/longitude degrees, rounded."""
     points = np.asarray(latlon, dtype=np.float64).reshape(-1, 2)
