@@ -18,9 +18,10 @@ from searchtrack.sim.export.geo import GeoFrame, parse_origin
 
 
 def add_arguments(parser: argparse.ArgumentParser, *, altitude_m: float | None,
-                  unit: bool = False) -> None:
+                  unit: bool = False, speed: bool = False) -> None:
     """Add ``--export``, ``--origin``, ``--altitude`` (default ``altitude_m``, or the
-    problem's own when ``None``) and, with ``unit``, ``--unit-m``."""
+    problem's own when ``None``), with ``unit`` ``--unit-m`` and ``--speed``, with ``speed``
+    ``--speed``."""
     parser.add_argument("--export", default=None, metavar="DIR",
                         help="also write a QGroundControl .plan and a MAVLink .waypoints file "
                              "per vehicle and plan.geojson into DIR")
@@ -35,9 +36,11 @@ def add_arguments(parser: argparse.ArgumentParser, *, altitude_m: float | None,
     if unit:
         parser.add_argument("--unit-m", type=positive_float, default=1.0, metavar="M",
                             help="metres per coordinate unit for --export (default: 1)")
+    if unit or speed:
         parser.add_argument("--speed", type=positive_float, default=15.0, metavar="M/S",
-                            help="cruise speed for --export (m/s; default: 15); a time unit "
-                                 "is the time to fly one coordinate unit")
+                            help="cruise speed for --export (m/s; default: 15)"
+                                 + ("; a time unit is the time to fly one coordinate unit"
+                                    if unit else ""))
 
 
 def export_dir(args: argparse.Namespace, projection: LocalProjection | None = None,

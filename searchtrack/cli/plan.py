@@ -19,6 +19,7 @@ from typing import Any
 from rich.console import Console
 from rich.table import Table
 
+from searchtrack.cli import export
 from searchtrack.cli.common import description, positive_float, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
@@ -30,6 +31,9 @@ from searchtrack.sim import jobs
 
 #: The rows of the result table, as ``optw solve`` prints them.
 SUMMARY_KEYS = ("backend", "status", "objective", "bound", "gap", "runtime_s")
+
+#: Flight altitude of an exported plan whose paths carry none (m).
+EXPORT_ALTITUDE_M = 120.0
 
 
 def available_families() -> list[str]:
@@ -128,6 +132,7 @@ def plan_command(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack plan FAMILY``."""
     out = output_file("--out", args.out)
     fig_out = output_file("--figure", args.figure) if args.figure else None
+    exports = export.export_dir(args, known=False)   # the problem's frame: once it is read
     module = family_module(args.family)
     names = _backend_names()[args.family]
     if args.backend not in names:
@@ -148,6 +153,15 @@ def plan_command(args: argparse.Namespace, console: Console) -> int:
         drawn = module.figure(problem, result, fig_out) if result.plan is not None else None
         console.print(f"wrote {drawn}" if drawn is not None
                       else "no figure: nothing to draw for this result")
+    if exports is not None and result.plan is not None:
+        from searchtrack.sim.export.plans import path_files
+
+        paths = module.vehicle_paths(problem, result)
+        if not paths.paths:
+            console.print(f"nothing to export: the {args.family} plan moves no vehicle")
+        else:
+            frame = export.geo_frame(args, paths.projection, args.altitude)
+            export.write_files(exports, path_files(paths, frame, args.speed), console)
     return exit_status(result)
 
 
@@ -171,4 +185,5 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser], *,
         p.add_argument("--seed", type=seed_arg, default=0,
                        help=f"random seed, 0 to {MAX_SEED} (default 0)")
         p.add_argument("--figure", metavar="PLAN.png", help="also draw the plan as a PNG")
+        export.add_arguments(p, altitude_m=EXPORT_ALTITUDE_M, speed=True)
         p.set_defaults(run=plan_command)

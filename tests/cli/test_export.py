@@ -73,3 +73,31 @@ def test_radio_mission_needs_an_origin_before_flying(tmp_path: Path,
                  str(tmp_path / "x"), "--origin=-35,149"]) == 0
     assert sorted(p.name for p in (tmp_path / "x").iterdir()) == [
         "plan.geojson", "uav0.plan", "uav0.waypoints"]
+
+
+@pytest.mark.parametrize("family", ["assign", "route", "trajectory", "search"])
+def test_plan_families_export_their_paths(tmp_path: Path, family: str) -> None:
+    """Each family that moves vehicles exports one mission per vehicle that pymavlink reads and
+    a valid GeoJSON; its first waypoint after home lies where the path goes next."""
+    mavwp = pytest.importorskip("pymavlink.mavwp", reason="pymavlink (the test extra)")
+    geojson = pytest.importorskip("geojson", reason="the geojson library (the test extra)")
+    out = tmp_path / "x"
+    problem = Path(__file__).parents[2] / "examples" / "problems" / f"{family}.json"
+    assert main(["plan", family, str(problem), "--out", str(tmp_path / "p.json"), "--export",
+                 str(out), "--origin", "21.88,-102.29", "--time-limit", "5"]) == 0
+    plans = sorted(out.glob("*.waypoints"))
+    assert plans and (out / "plan.geojson").is_file()
+    for path in plans:
+        loader = mavwp.MAVWPLoader()
+        assert loader.load(str(path)) >= 4       # home, take-off, a waypoint, return
+        assert all(21.0 < loader.wp(k).x < 23.0 for k in range(loader.count() - 1))
+    assert geojson.loads((out / "plan.geojson").read_text(encoding="utf-8")).is_valid
+
+
+def test_an_association_exports_nothing(tmp_path: Path,
+                                        capsys: pytest.CaptureFixture[str]) -> None:
+    problem = Path(__file__).parents[2] / "examples" / "problems" / "associate.json"
+    assert main(["plan", "associate", str(problem), "--out", str(tmp_path / "p.json"),
+                 "--export", str(tmp_path / "x"), "--origin", "21.88,-102.29"]) == 0
+    assert "nothing to export" in capsys.readouterr().out
+    assert not (tmp_path / "x").exists() or not any((tmp_path / "x").iterdir())

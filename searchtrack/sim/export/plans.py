@@ -17,11 +17,13 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
+from searchtrack.models.projection import LocalProjection
 from searchtrack.plan.optw.instance import OPTWInstance
 from searchtrack.sim.export import geojson
 from searchtrack.sim.export.autopilot import Mission, Waypoint, qgc_plan, wpl_text
@@ -30,6 +32,48 @@ from searchtrack.sim.roads.record import MissionLog
 
 #: Longest loiter item (s): a loiter over a moving target is re-centred this often.
 LOITER_CHUNK_S = 30.0
+#: Most waypoints a planned path exports (a longer one is thinned evenly, its ends kept).
+MAX_PATH_WAYPOINTS = 100
+
+
+@dataclass(frozen=True)
+class VehiclePaths:
+    """What a ``plan`` family's answer flies, for export.
+
+    Parameters
+    ----------
+    paths
+        Per vehicle, ``(n, 2)`` planar positions (m) from its start, or ``(n, 3)`` with each
+        position's altitude (m) as the third column.
+    projection
+        The planar frame's projection when the problem has one (a map read from
+        OpenStreetMap), else ``None``.
+    """
+
+    paths: tuple[FloatArray, ...] = ()
+    projection: LocalProjection | None = None
+
+
+def path_files(plan: VehiclePaths, frame: GeoFrame, speed_mps: float) -> dict[str, str]:
+    """The files of planned paths: one mission per vehicle from its first position (home) through
+    the others (at most :data:`MAX_PATH_WAYPOINTS`; each at its planned altitude when the path
+    has one above 0, else the frame's), and a GeoJSON of the paths."""
+    missions, features = [], []
+    for k, path in enumerate(plan.paths):
+        points = np.asarray(path, dtype=np.float64)
+        where = frame.degrees(points[:, :2])
+        keep = np.unique(np.round(np.linspace(1, len(points) - 1, min(
+            MAX_PATH_WAYPOINTS, len(points) - 1))).astype(np.int64)) if len(points) > 1 else \
+            np.zeros(1, dtype=np.int64)
+        height = np.full(len(points), frame.altitude_m)
+        if points.shape[1] > 2:   # a planned altitude; at or below the ground: the frame's
+            height = np.where(points[:, 2] > 0, points[:, 2], frame.altitude_m)
+        missions.append(Mission((float(where[0, 0]), float(where[0, 1])), tuple(
+            Waypoint(float(where[i, 0]), float(where[i, 1]), float(height[i]))
+            for i in keep), speed_mps))
+        features.append(geojson.line(where, {"kind": "route", "vehicle": k}) if len(where) > 1
+                        else geojson.point(where, {"kind": "route", "vehicle": k}))
+    return mission_files(missions, geojson.collection(features))
 
 
 def mission_files(missions: Sequence[Mission], collection: dict[str, object],

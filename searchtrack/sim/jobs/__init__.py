@@ -18,6 +18,7 @@ from typing import Any, Protocol, cast, runtime_checkable
 
 from searchtrack.core.registry import Registry
 from searchtrack.core.result import Result
+from searchtrack.sim.export.plans import VehiclePaths
 
 
 @runtime_checkable
@@ -59,6 +60,11 @@ class PlanJob(Protocol):
 
     def figure(self, problem: Any, result: Result[Any], path: Path) -> Path | None:
         """A PNG of the plan at ``path``, or ``None`` when there is nothing to draw."""
+        ...
+
+    def vehicle_paths(self, problem: Any, result: Result[Any]) -> VehiclePaths:
+        """The positions each vehicle of the plan flies through, for ``--export`` (none for a
+        plan that moves no vehicle; called only when there is a plan)."""
         ...
 
 

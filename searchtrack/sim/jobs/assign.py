@@ -49,6 +49,7 @@ from searchtrack.plan.assign import (
     Objective,
 )
 from searchtrack.plan.assign import solve as solve_assignment
+from searchtrack.sim.export.plans import VehiclePaths
 from searchtrack.sim.kernels import kernels_of
 
 DESCRIPTION = "one candidate action per UAV on a particle belief (paper 003)"
@@ -253,3 +254,13 @@ def figure(problem: AssignJob, result: Result[Assignment], path: Path) -> Path |
     ax.set_title(f"{problem.name}: {prob.objective.name}, {result.status.name}")
     ax.legend(loc="best", fontsize=7)
     return save_png(fig, Path(path))
+
+
+def vehicle_paths(problem: AssignJob, result: Result[Assignment]) -> VehiclePaths:
+    """Each UAV from its pose through the poses of its chosen action (at their altitudes)."""
+    plan, prob = result.plan, problem.problem
+    if plan is None:
+        raise ValueError("vehicle_paths needs a result with a plan")
+    origins = prob.origins if prob.origins is not None else np.zeros((prob.robots, 3))
+    return VehiclePaths(tuple(np.vstack([origins[r, :3], plan.poses[r, :, :3]])
+                              for r in range(prob.robots)))

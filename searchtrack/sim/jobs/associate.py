@@ -52,6 +52,7 @@ from searchtrack.estimate.node_tracker import (
     position_log_likelihood,
 )
 from searchtrack.models.roads import RoadNetwork
+from searchtrack.sim.export.plans import VehiclePaths
 from searchtrack.sim.kernels import kernels_of
 from searchtrack.sim.road_particles.track_job import FieldReader, read_map
 
@@ -273,3 +274,8 @@ def figure(problem: AssociateJob, result: Result[AssociationPlan], path: Path) -
     ax.set_title(f"{problem.name}: gate {problem.gate_m:g} m, {result.status.name}")
     ax.legend(loc="best", fontsize=7)
     return save_png(fig, Path(path))
+
+
+def vehicle_paths(problem: AssociateJob, result: Result[AssociationPlan]) -> VehiclePaths:
+    """None: an association moves no vehicle."""
+    return VehiclePaths()

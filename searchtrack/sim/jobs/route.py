@@ -50,6 +50,7 @@ from searchtrack.plan.optw import BACKENDS as BACKENDS
 from searchtrack.plan.optw import OPTWInstance, Routes
 from searchtrack.plan.optw import solve as solve_optw
 from searchtrack.plan.optw.routes import schedule
+from searchtrack.sim.export.plans import VehiclePaths
 from searchtrack.sim.kernels import kernels_of
 from searchtrack.sim.particles.track_job import MAX_DISTANCE_M
 from searchtrack.sim.road_particles.track_job import FieldReader, read_map
@@ -241,3 +242,9 @@ def figure(problem: RouteJob, result: Result[Routes], path: Path) -> Path | None
     ax.set_title(f"{problem.name}: profit {plan['profit']:.3g}, {result.status.name}")
     ax.legend(loc="best", fontsize=7)
     return save_png(fig, Path(path))
+
+
+def vehicle_paths(problem: RouteJob, result: Result[Routes]) -> VehiclePaths:
+    """The UAV from its start node through the route's road nodes, in the map's frame."""
+    nodes = plan_json(problem, result)["nodes"]
+    return VehiclePaths((problem.network.coords[nodes],), problem.network.projection)

@@ -62,6 +62,7 @@ from searchtrack.plan.search import (
     SearchSettings,
 )
 from searchtrack.plan.search import solve as solve_search
+from searchtrack.sim.export.plans import VehiclePaths
 from searchtrack.sim.jobs.assign import (
     ProblemFields,
     load_problem,
@@ -258,3 +259,10 @@ def figure(problem: SearchJob, result: Result[SearchPlan], path: Path) -> Path |
     ax.set_title(f"{problem.name}: {prob.settings.refinement.name}, {result.status.name}")
     ax.legend(loc="best", fontsize=7)
     return save_png(fig, Path(path))
+
+
+def vehicle_paths(problem: SearchJob, result: Result[SearchPlan]) -> VehiclePaths:
+    """The UAV from its position through the planned sequence, at their altitudes."""
+    if result.plan is None:
+        raise ValueError("vehicle_paths needs a result with a plan")
+    return VehiclePaths((np.vstack([problem.problem.position, result.plan.sequence]),))

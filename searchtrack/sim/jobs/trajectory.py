@@ -60,6 +60,7 @@ from searchtrack.core.types import FloatArray
 from searchtrack.models.vehicles import VehicleModel, fixed_wing, uav7, unicycle
 from searchtrack.plan.trajectory import BACKENDS as BACKENDS
 from searchtrack.plan.trajectory import Obstacles, SampledPath, waypoint_path
+from searchtrack.sim.export.plans import VehiclePaths
 from searchtrack.sim.flight.loop import FlightConfig, FlightLog, fly
 from searchtrack.sim.kernels import kernels_of
 from searchtrack.sim.toml_fields import MAX_MAGNITUDE, Table
@@ -365,3 +366,11 @@ def figure(problem: TrajectoryProblem, result: Result[FlightLog], path: Path) ->
     except BaseException:
         plt.close(fig)
         raise
+
+
+def vehicle_paths(problem: TrajectoryProblem, result: Result[FlightLog]) -> VehiclePaths:
+    """The vehicle's flown ground track (its position entries' first two)."""
+    if result.plan is None:
+        raise ValueError("vehicle_paths needs a result with a plan")
+    where = result.plan.states[:, list(problem.model.position_indices)]
+    return VehiclePaths((where[:, :2],))
