@@ -87,6 +87,12 @@ def table_rows(summaries: Sequence[GroupSummary], metrics: Sequence[str]) -> lis
     return rows
 
 
+#: Metric names (their endings) that cannot be negative: times, distances, fractions, counts;
+#: their confidence bands are drawn from 0 up.
+NON_NEGATIVE = ("_s", "_m", "_ms", "_m2", "fraction", "_pct", "detected", "moc_mean",
+                "moc_after_detection", "pvt", "pva", "estimates_mean")
+
+
 def plot_metric(summaries: Sequence[GroupSummary], metric: str, path: Path, *,
                 x_key: str, unit: str = "", title: str = "") -> Path:
     """``metric`` (mean with its 95 % CI band) against the parameter ``x_key``, one line per
@@ -109,8 +115,13 @@ def plot_metric(summaries: Sequence[GroupSummary], metric: str, path: Path, *,
         mean = [e.mean for _, e in points]
         half = [e.half_width if math.isfinite(e.half_width) else 0.0 for _, e in points]
         ax.plot(xs, mean, marker="o", label=label)
-        ax.fill_between(xs, [m - h for m, h in zip(mean, half, strict=True)],
+        floor = 0.0 if metric.endswith(NON_NEGATIVE) else -math.inf
+        ax.fill_between(xs, [max(floor, m - h) for m, h in zip(mean, half, strict=True)],
                         [m + h for m, h in zip(mean, half, strict=True)], alpha=0.2)
+        if numeric and all(isinstance(x, int) for x in xs):
+            from matplotlib.ticker import MaxNLocator
+
+            ax.xaxis.set_major_locator(MaxNLocator(integer=True))  # no 3.5 UAVs
     ax.set_xlabel(x_key)
     ax.set_ylabel(f"{metric} ({unit})" if unit else metric)
     ax.set_title(title or f"{metric}: mean and 95 % CI")

@@ -253,7 +253,7 @@ def figure(problem: AssignJob, result: Result[Assignment], path: Path) -> Path |
     ax.set_ylabel("north (m)")
     ax.set_title(f"{problem.name}: {prob.objective.name}, {result.status.name}")
     ax.legend(loc="best", fontsize=7)
-    return save_png(fig, Path(path))
+    return save_png(fig, Path(path), tight_bbox=True)   # equal axes leave blank bands
 
 
 def vehicle_paths(problem: AssignJob, result: Result[Assignment]) -> VehiclePaths:

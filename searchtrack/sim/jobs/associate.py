@@ -260,14 +260,17 @@ def figure(problem: AssociateJob, result: Result[AssociationPlan], path: Path) -
                    color=colour, alpha=0.5, label=f"tracker {i}")
     det = problem.detections
     ax.scatter(det[:, 0], det[:, 1], marker="x", color="k", s=50, label="detections")
-    for j, (x, y) in enumerate(det):
-        ax.annotate(str(j), (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
+    boxed = {"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none", "alpha": 0.85}
+    for j, (x, y) in enumerate(det):   # the detection's index above it, its EMD below
+        ax.annotate(f"det {j}", (x, y), textcoords="offset points", xytext=(0, 9),
+                    ha="center", fontsize=8, bbox=boxed, zorder=5)
     for i, j in result.plan.association.pairs:
         peak = net.coords[int(np.argmax(probabilities[i]))]
         ax.plot([peak[0], det[j, 0]], [peak[1], det[j, 1]], color=colours[i % len(colours)],
                 lw=2)
-        mid = (peak + det[j]) / 2.0
-        ax.annotate(f"{result.plan.costs[i, j]:.0f} m", mid, fontsize=7)
+        ax.annotate(f"{result.plan.costs[i, j]:.0f} m", det[j], textcoords="offset points",
+                    xytext=(0, -16), ha="center", fontsize=7, bbox=boxed, zorder=5,
+                    color=colours[i % len(colours)])
     ax.set_aspect("equal")
     ax.set_xlabel("east (m)")
     ax.set_ylabel("north (m)")

@@ -232,8 +232,10 @@ def figure(problem: SearchJob, result: Result[SearchPlan], path: Path) -> Path |
     bonus = prob.bonus
     gx, gy = np.meshgrid(bonus.axes[0], bonus.axes[1], indexing="ij")
     grid = np.stack([gx.ravel(), gy.ravel(), np.full(gx.size, prob.position[2])], axis=1)
-    ax.pcolormesh(gx, gy, bonus.at(grid).reshape(gx.shape), cmap="Greens", vmin=0.0, vmax=1.0,
-                  shading="auto", alpha=0.6)
+    shade = ax.pcolormesh(gx, gy, bonus.at(grid).reshape(gx.shape), cmap="Greens", vmin=0.0,
+                          vmax=1.0, shading="auto", alpha=0.6)
+    fig.colorbar(shade, ax=ax, shrink=0.8, label=f"exploration bonus at z = "
+                 f"{prob.position[2]:.0f} m")
     belief = prob.belief
     if belief is not None:
         w = np.asarray(belief.weights)

@@ -40,6 +40,7 @@ def plot_radio_map(log: RadioMissionLog, path: Path) -> Path:
     for step in range(0, k, interval):
         for _, xy in log.estimates[step]:
             ax.add_patch(Circle(xy, r_min, fill=False, color="crimson", lw=0.4, alpha=0.35))
+    ax.plot([], [], ".", color="0.4", ms=5, label="estimates (dots, the object's colour)")
     ax.plot([], [], "o", mfc="none", color="crimson",
             label=f"keep-out r_min = {r_min:g} m (at planning instants)")
     w, h = sc.area_m

@@ -68,15 +68,18 @@ def plot_moc(mission: MissionLog, path: Path) -> Path:
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 3.5), dpi=DPI)
     ax.plot(mission.time_s, mission.moc, label="MOC (valid trackers / targets)")
-    ax.set_ylim(-0.02, 1.02)
+    ax.set_ylim(-0.02, 1.25)   # headroom: the legend sits above MOC = 1
     ax.set_xlabel("time (s)")
     ax.set_ylabel("MOC")
     ax2 = ax.twinx()
     ax2.step(mission.time_s, [s.trackers for s in mission.steps], where="post", color="0.5",
              lw=0.8, label="trackers")
     ax2.set_ylabel("trackers")
+    most = max((s.trackers for s in mission.steps), default=0)
+    ax2.set_ylim(-0.02 * max(most, 1), 1.25 * max(most, 1))   # the same headroom as MOC
     ax2.yaxis.get_major_locator().set_params(integer=True)
     ax.set_title(f"{mission.scenario.name}: measure of completeness")
     handles = ax.get_legend_handles_labels()[0] + ax2.get_legend_handles_labels()[0]
-    ax.legend(handles=handles, loc="best", fontsize=7)   # inside the axes: off the ticks
+    ax.set_yticks([0.0, 0.25, 0.5, 0.75, 1.0])
+    ax.legend(handles=handles, loc="upper center", ncol=2, fontsize=7)   # over MOC = 1
     return save_png(fig, path)
