@@ -118,9 +118,9 @@ def test_mission_keeps_the_log_up_to_the_interrupt(tmp_path: Path) -> None:
 
 @pytest.mark.slow
 def test_second_sigint_aborts_at_once(tmp_path: Path) -> None:
-    """Two SIGINTs 0.4 s apart (beyond one press delivered twice), inside the native solver: status 130 at once, no traceback, no
-    half-written output. (Signals do not queue: when the first press has already ended the
-    solve, the run stops cleanly instead of aborting.)"""
+    """Two SIGINTs 0.4 s apart (beyond one press delivered twice), inside the native solver:
+    status 130 at once, no traceback, no half-written output. (Signals do not queue: when the
+    first press has already ended the solve, the run stops cleanly instead of aborting.)"""
     out = tmp_path / "r.json"
     code, waited, err = _interrupt(["optw", "solve", str(OPTW / "c101.txt"), "--backend",
                                     "cpsat", "--vehicles", "3", "--time-limit", "120",
