@@ -110,7 +110,7 @@ def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def _html(site: Path, page: str) -> str:
-    path = site / page / "index.html" if page else site / "index.html"
+    path = site / f"{page}.html" if page else site / "index.html"   # use_directory_urls: false
     assert path.is_file(), f"{path} was not built"
     return path.read_text(encoding="utf-8")
 
@@ -120,7 +120,7 @@ def test_home_and_guides_include_the_readme(site: Path) -> None:
     """The README sections arrive through the snippet markers, and no marker leaks."""
     home = _html(site, "")
     assert "A Python library for teams of UAVs" in home
-    assert "make demo" in home and "runs ruff, mypy and the whole test suite" in home
+    assert "make demo" in home and "runs ruff, mypy and the suite" in home
     for page, text in (("quickstart-python", "read_optw"), ("quickstart-cli", "track-roads"),
                        ("campaigns", "searchtrack campaign run"), ("benchmarks", "benchmarks/")):
         html = _html(site, page)
@@ -135,7 +135,7 @@ def test_paper_pages(site: Path, page: str) -> None:
     html = _html(site, f"papers/{page}")
     for text in PAPERS[page]:
         assert text in html, f"{page}: {text!r} missing"
-    assert re.search(rf'href="[^"]*api/[a-z]+/#searchtrack\.[\w.]*{PAPERS[page][1]}"', html), (
+    assert re.search(rf'href="[^"]*api/[a-z]+\.html#searchtrack\.[\w.]*{PAPERS[page][1]}"', html), (
         f"{page}: no link to {PAPERS[page][1]} in the API reference")
 
 
@@ -148,5 +148,7 @@ def test_api_pages(site: Path, layer: str) -> None:
     for name, page in _documented().items():
         if page == f"{layer}.md" and name != f"searchtrack.{layer}":
             assert f'id="{name}"' in html, f"{name} not rendered on api/{layer}"
+    folders = re.findall(r'href="((?:\.\./|\./)?[\w./-]*/)(?:#[^"]*)?"', html)
+    assert not folders, f"links to folders (a directory listing under file://): {folders[:5]}"
     # reST roles are rendered as code (linked where the target is documented), never literally
     assert ":class:`" not in html and ":func:`" not in html and ":meth:`" not in html
