@@ -320,6 +320,10 @@ def replay_figure(record: Mapping[str, Any], *,
     names = [str(h.step) for h in rp.heat]
     fig.frames = [go.Frame(name=name, traces=changing, data=scene.frame_data(h))
                   for name, h in zip(names, rp.heat, strict=True)]
+    if rp.heat:   # the page opens on the last frame: the whole mission, not an empty start
+        for k, trace in zip(changing, fig.frames[-1].data, strict=True):
+            fig.data[k].update({key: value for key, value in trace.to_plotly_json().items()
+                                if key != "type"})
     every = np.vstack([rp.nodes_xy_m, rp.uav_xy_m.reshape(-1, 2), rp.target_xy_m.reshape(-1, 2)])
     lo, hi = every.min(axis=0), every.max(axis=0)
     pad = 0.03 * np.maximum(hi - lo, 1.0)
@@ -331,7 +335,8 @@ def replay_figure(record: Mapping[str, Any], *,
         title={"text": f"{html.escape(rp.title)}<br><sup>{u} UAVs, {m} targets, {g.size} "
                f"steps to t = {g[-1]:.1f} s: beliefs, paths and tracker peaks at the slider's "
                "time</sup>", "x": 0.01, "y": 0.975, "yanchor": "top"},
-        template="plotly_white", height=1000, margin={"l": 60, "r": 20, "t": 120, "b": 90},
+        # 840 px: map, curves and slider fit a 1400 × 900 window with the browser's bars
+        template="plotly_white", height=840, margin={"l": 60, "r": 20, "t": 110, "b": 80},
         xaxis={"range": [lo[0] - pad[0], hi[0] + pad[0]], "title": {"text": "east (m)"}},
         yaxis={"range": [lo[1] - pad[1], hi[1] + pad[1]], "title": {"text": "north (m)"},
                "scaleanchor": "x", "scaleratio": 1.0},
@@ -342,7 +347,7 @@ def replay_figure(record: Mapping[str, Any], *,
                       "xanchor": "left", "yanchor": "top", "showactive": False, "buttons": [
                           {"label": "▶ play", "method": "animate", "args": [None, play]},
                           {"label": "❚❚ pause", "method": "animate", "args": [[None], still]}]}],
-        sliders=[{"active": 0, "x": 0.14, "y": -0.03, "len": 0.86, "yanchor": "top",
+        sliders=[{"active": max(len(names) - 1, 0), "x": 0.14, "y": -0.03, "len": 0.86, "yanchor": "top",
                   "font": {"color": "rgba(0,0,0,0)"}, "ticklen": 3, "minorticklen": 0,
                   "currentvalue": {"prefix": "t = ", "suffix": " s",
                                    "font": {"size": 13, "color": "#2a3f5f"}},

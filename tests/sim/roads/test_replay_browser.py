@@ -51,7 +51,7 @@ def page(replay: tuple[Path, int]) -> Iterator[tuple[Any, list[str]]]:
     errors: list[str] = []
     with sync_api.sync_playwright() as p:
         browser = p.chromium.launch(executable_path=str(CHROMIUM), args=ARGS)
-        tab = browser.new_page(viewport={"width": 1400, "height": 1050})
+        tab = browser.new_page(viewport={"width": 1400, "height": 900})   # a laptop window
         tab.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
         tab.on("pageerror", lambda e: errors.append(str(e)))
         tab.goto(replay[0].as_uri())
@@ -71,24 +71,29 @@ def test_page_loads_with_its_frames_and_slider(page: tuple[Any, list[str]],
     assert tab.evaluate(f"{PLOT}.layout.sliders[0].steps.length") == frames
     assert tab.locator(".slider-container").count() == 1
     assert tab.locator(".updatemenu-button").count() == 2
+    for part in (".slider-container", ".updatemenu-button"):   # above the fold at 1400 × 900
+        box = tab.locator(part).first.bounding_box()
+        assert box is not None and box["y"] + box["height"] <= 900, (part, box)
     assert errors == []
 
 
-def test_slider_moves_to_a_later_frame(page: tuple[Any, list[str]],
-                                       replay: tuple[Path, int]) -> None:
-    """Animating to the last frame moves the time cursor and the slider to its time and step,
-    and the screenshot is a picture (many colours), not a blank page."""
+def test_page_opens_on_the_last_frame_and_the_slider_moves(page: tuple[Any, list[str]],
+                                                           replay: tuple[Path, int]) -> None:
+    """The page opens on the last frame (the whole mission, slider at its end); animating to
+    the first frame moves the time cursor and the slider to its time and step; the screenshot
+    is a picture (many colours), not a blank page."""
     tab, errors = page
     cursor = f"{PLOT}.data[{PLOT}.data.length - 2].x[0]"
-    first = tab.evaluate(cursor)
+    opened = tab.evaluate(cursor)
+    assert tab.evaluate(f"{PLOT}.layout.sliders[0].active") == 49
     tab.evaluate(f"""() => {{
         const gd = {PLOT};
-        const last = gd._transitionData._frames.at(-1).name;
-        return Plotly.animate(gd, [last], {{mode: 'immediate', transition: {{duration: 0}},
-                                            frame: {{duration: 0, redraw: false}}}});
+        const first = gd._transitionData._frames[0].name;
+        return Plotly.animate(gd, [first], {{mode: 'immediate', transition: {{duration: 0}},
+                                             frame: {{duration: 0, redraw: false}}}});
     }}""")
-    tab.wait_for_function(f"{PLOT}.layout.sliders[0].active === 49", timeout=5_000)
-    assert first == pytest.approx(0.3) and tab.evaluate(cursor) == pytest.approx(15.0)
+    tab.wait_for_function(f"{PLOT}.layout.sliders[0].active === 0", timeout=5_000)
+    assert opened == pytest.approx(15.0) and tab.evaluate(cursor) == pytest.approx(0.3)
     keep = os.environ.get("SEARCHTRACK_SCREENSHOT_DIR")  # where to keep the picture, if set
     shot = Path(keep) / "replay.png" if keep else replay[0].with_suffix(".png")
     shot.parent.mkdir(parents=True, exist_ok=True)
