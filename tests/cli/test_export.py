@@ -21,7 +21,8 @@ def test_optw_solve_exports_with_an_origin(tmp_path: Path,
                  "--unit-m", "10", "--altitude", "90"]) == 0
     assert "wrote" in capsys.readouterr().out
     assert sorted(p.name for p in out.iterdir()) == [
-        "plan.geojson", "route0.plan", "route0.waypoints", "route1.plan", "route1.waypoints"]
+        "plan.geojson", "plan.html", "route0.plan", "route0.waypoints", "route1.plan",
+        "route1.waypoints"]
     plan = json.loads((out / "route0.plan").read_text(encoding="utf-8"))
     assert plan["mission"]["items"][1]["Altitude"] == 90.0
     assert (out / "route0.waypoints").read_text(encoding="utf-8").startswith("QGC WPL 110\n")
@@ -72,7 +73,7 @@ def test_radio_mission_needs_an_origin_before_flying(tmp_path: Path,
                  "20", "--horizon", "1", "--out", str(tmp_path / "m"), "--export",
                  str(tmp_path / "x"), "--origin=-35,149"]) == 0
     assert sorted(p.name for p in (tmp_path / "x").iterdir()) == [
-        "plan.geojson", "uav0.plan", "uav0.waypoints"]
+        "plan.geojson", "plan.html", "uav0.plan", "uav0.waypoints"]
 
 
 @pytest.mark.parametrize("family", ["assign", "route", "trajectory", "search"])

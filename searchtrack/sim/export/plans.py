@@ -28,6 +28,7 @@ from searchtrack.plan.optw.instance import OPTWInstance
 from searchtrack.sim.export import geojson
 from searchtrack.sim.export.autopilot import Mission, Waypoint, qgc_plan, wpl_text
 from searchtrack.sim.export.geo import GeoFrame
+from searchtrack.sim.export.map_page import map_page
 from searchtrack.sim.roads.record import MissionLog
 
 #: Longest loiter item (s): a loiter over a moving target is re-centred this often.
@@ -78,13 +79,15 @@ def path_files(plan: VehiclePaths, frame: GeoFrame, speed_mps: float) -> dict[st
 
 def mission_files(missions: Sequence[Mission], collection: dict[str, object],
                   stem: str = "uav") -> dict[str, str]:
-    """File name → text: ``{stem}{k}.plan`` and ``{stem}{k}.waypoints`` per mission and
-    ``plan.geojson``."""
+    """File name → text: ``{stem}{k}.plan`` and ``{stem}{k}.waypoints`` per mission,
+    ``plan.geojson`` and ``plan.html``, its offline map page
+    (:mod:`~searchtrack.sim.export.map_page`)."""
     files: dict[str, str] = {}
     for k, mission in enumerate(missions):
         files[f"{stem}{k}.plan"] = json.dumps(qgc_plan(mission), indent=1) + "\n"
         files[f"{stem}{k}.waypoints"] = wpl_text(mission)
     files["plan.geojson"] = json.dumps(collection) + "\n"
+    files["plan.html"] = map_page(collection, f"{len(missions)} vehicle(s): plan.geojson")
     return files
 
 

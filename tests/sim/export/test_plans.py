@@ -52,7 +52,7 @@ def test_road_mission_files_read_back(tmp_path: Path) -> None:
     log = two_step_log()
     files = road_mission_files(log, FRAME, speed_mps=30.0)
     uavs = log.uav_xy_m.shape[1]
-    assert set(files) == {"plan.geojson"} | {f"uav{j}.{s}" for j in range(uavs)
+    assert set(files) == {"plan.geojson", "plan.html"} | {f"uav{j}.{s}" for j in range(uavs)
                                               for s in ("plan", "waypoints")}
     for name, text in files.items():
         (tmp_path / name).write_text(text, encoding="utf-8")
@@ -82,7 +82,7 @@ def test_optw_files_visit_the_routes_customers(tmp_path: Path) -> None:
     files = optw_files(inst, routes, GeoFrame.at(21.88, -102.29, 80.0, unit_m=2.0),
                        speed_mps=10.0)
     assert set(files) == {"route0.plan", "route0.waypoints", "route1.plan",
-                          "route1.waypoints", "plan.geojson"}
+                          "route1.waypoints", "plan.geojson", "plan.html"}
     (tmp_path / "r.waypoints").write_text(files["route0.waypoints"], encoding="utf-8")
     loader = mavwp.MAVWPLoader()
     loader.load(str(tmp_path / "r.waypoints"))

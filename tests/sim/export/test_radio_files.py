@@ -25,7 +25,7 @@ def test_radio_mission_files_read_back(tmp_path: Path) -> None:
     log = run_radio_mission(scenario, config, 3)
     frame = GeoFrame.at(-35.0, 149.0, 100.0)
     files = radio_mission_files(log, frame)
-    assert set(files) == {"uav0.plan", "uav0.waypoints", "plan.geojson"}
+    assert set(files) == {"uav0.plan", "uav0.waypoints", "plan.geojson", "plan.html"}
     (tmp_path / "uav0.waypoints").write_text(files["uav0.waypoints"], encoding="utf-8")
     loader = mavwp.MAVWPLoader()
     n = loader.load(str(tmp_path / "uav0.waypoints"))
