@@ -87,22 +87,32 @@ def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
     words = [a for a in argv if not a.startswith("-")] if argv is not None else ["plan"]
     plan.add_parser(sub, families=bool(words) and words[0] == "plan")
     kernels.add_parser(sub)
-    for group in sub.choices.values():
-        _add_epilog(group)
+    for name, group in sub.choices.items():
+        leaf = not any(isinstance(a, argparse._SubParsersAction) for a in group._actions)
+        if leaf and "-v" not in group._option_string_actions and name not in SOLVE_NOTHING:
+            group.add_argument("-v", "--verbose", action="store_true",
+                               default=argparse.SUPPRESS, help="log solver progress")
+        _add_epilog(group, name)
     return parser
 
 
-def _add_epilog(parser: argparse.ArgumentParser) -> None:
-    """Every (sub)command's help ends with the exit statuses, and every command takes
-    ``-v`` after its name too (``searchtrack optw solve FILE -v``)."""
+#: Commands that solve nothing (they read or draw what was written): no ``-v`` of their own.
+SOLVE_NOTHING = frozenset({"mission view", "campaign status", "campaign export",
+                           "campaign report"})
+
+
+def _add_epilog(parser: argparse.ArgumentParser, path: str) -> None:
+    """Every (sub)command's help ends with the exit statuses, and every command that solves
+    something takes ``-v`` after its name too (``searchtrack optw solve FILE -v``)."""
     parser.epilog = EPILOG
     for action in parser._actions:
         if isinstance(action, argparse._SubParsersAction):
-            for child in action.choices.values():
-                if "-v" not in child._option_string_actions:
+            for name, child in action.choices.items():
+                here = f"{path} {name}"
+                if "-v" not in child._option_string_actions and here not in SOLVE_NOTHING:
                     child.add_argument("-v", "--verbose", action="store_true",
                                        default=argparse.SUPPRESS, help="log solver progress")
-                _add_epilog(child)
+                _add_epilog(child, here)
 
 
 def _abort() -> None:

@@ -125,3 +125,18 @@ def test_a_mistyped_choice_offers_the_nearest(argv: list[str], offered: str,
     err = capsys.readouterr().err
     assert offered in err and len(err.strip().splitlines()) == 1, err
     assert "did you mean" not in err or argv[0] != "zzzz"
+
+
+def test_only_commands_that_solve_offer_verbose() -> None:
+    """``-v`` (log solver progress) on every command that solves or simulates, not on those
+    that only read or draw what was written."""
+    from searchtrack.cli import SOLVE_NOTHING
+
+    parsers = dict(_parsers(build_parser(["plan"])))
+    for path, parser in parsers.items():
+        leaf = not any(isinstance(a, argparse._SubParsersAction) for a in parser._actions)
+        if not leaf or len(path) < 2:
+            continue
+        offered = "-v" in parser._option_string_actions
+        assert offered == (" ".join(path[1:]) not in SOLVE_NOTHING), path
+    assert {"mission view", "campaign status"} <= SOLVE_NOTHING
