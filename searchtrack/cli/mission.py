@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import threading
 import time
 from pathlib import Path
 
@@ -19,6 +20,7 @@ from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import OutputError, output_dir, output_file
 from searchtrack.core.files import write_text_atomic
 from searchtrack.core.interrupt import stop_requested
+from searchtrack.sim.figure_style import pyplot
 from searchtrack.sim.kernels import road_mission_kernels
 from searchtrack.sim.roads.figures import plot_map, plot_moc
 from searchtrack.sim.roads.mission import Mission
@@ -80,6 +82,9 @@ def run_mission(args: argparse.Namespace, console: Console) -> int:
         mission = Mission(scenario)
     if exports is not None:
         export.export_dir(args, mission.world.network.projection)
+    # matplotlib's import (about half a second) overlaps the flight instead of delaying the
+    # figures after it, or after Ctrl-C
+    threading.Thread(target=pyplot, name="searchtrack-pyplot", daemon=True).start()
     started = time.perf_counter()
     with Progress(TextColumn("{task.description}"), BarColumn(),
                   TextColumn("{task.completed}/{task.total} steps"), TimeElapsedColumn(),
