@@ -139,6 +139,8 @@ def plan_command(args: argparse.Namespace, console: Console) -> int:
         raise SearchtrackError(f"--backend {args.backend!r}: unknown {args.family} backend; "
                                f"choose one of {list(names)}")
     problem = module.read_problem(Path(args.problem))
+    if exports is not None:   # --origin asked for before the solve when the problem needs one
+        export.export_dir(args, module.geo_projection(problem))
     ready_kernels(console, module.KERNELS)
     with console.status(f"solving {args.family} problem {Path(args.problem).name} with "
                         f"{args.backend} ({args.time_limit:g} s)"):
@@ -160,7 +162,7 @@ def plan_command(args: argparse.Namespace, console: Console) -> int:
         if not paths.paths:
             console.print(f"nothing to export: the {args.family} plan moves no vehicle")
         else:
-            frame = export.geo_frame(args, paths.projection, args.altitude)
+            frame = export.geo_frame(args, module.geo_projection(problem), args.altitude)
             export.write_files(exports, path_files(paths, frame, args.speed), console)
     return exit_status(result)
 

@@ -102,3 +102,12 @@ def test_an_association_exports_nothing(tmp_path: Path,
                  "--export", str(tmp_path / "x"), "--origin", "21.88,-102.29"]) == 0
     assert "nothing to export" in capsys.readouterr().out
     assert not (tmp_path / "x").exists() or not any((tmp_path / "x").iterdir())
+
+
+def test_plan_export_asks_for_an_origin_before_solving(tmp_path: Path,
+                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    problem = Path(__file__).parents[2] / "examples" / "problems" / "assign.json"
+    out = tmp_path / "p.json"
+    assert _exit(["plan", "assign", str(problem), "--out", str(out), "--export",
+                  str(tmp_path / "x")]) == 2
+    assert "--origin is needed" in capsys.readouterr().err and not out.exists()

@@ -23,7 +23,6 @@ import numpy as np
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray
-from searchtrack.models.projection import LocalProjection
 from searchtrack.plan.optw.instance import OPTWInstance
 from searchtrack.sim.export import geojson
 from searchtrack.sim.export.autopilot import Mission, Waypoint, qgc_plan, wpl_text
@@ -46,13 +45,9 @@ class VehiclePaths:
     paths
         Per vehicle, ``(n, 2)`` planar positions (m) from its start, or ``(n, 3)`` with each
         position's altitude (m) as the third column.
-    projection
-        The planar frame's projection when the problem has one (a map read from
-        OpenStreetMap), else ``None``.
     """
 
     paths: tuple[FloatArray, ...] = ()
-    projection: LocalProjection | None = None
 
 
 def path_files(plan: VehiclePaths, frame: GeoFrame, speed_mps: float) -> dict[str, str]:

@@ -18,6 +18,7 @@ from typing import Any, Protocol, cast, runtime_checkable
 
 from searchtrack.core.registry import Registry
 from searchtrack.core.result import Result
+from searchtrack.models.projection import LocalProjection
 from searchtrack.sim.export.plans import VehiclePaths
 
 
@@ -65,6 +66,11 @@ class PlanJob(Protocol):
     def vehicle_paths(self, problem: Any, result: Result[Any]) -> VehiclePaths:
         """The positions each vehicle of the plan flies through, for ``--export`` (none for a
         plan that moves no vehicle; called only when there is a plan)."""
+        ...
+
+    def geo_projection(self, problem: Any) -> LocalProjection | None:
+        """The projection of the problem's planar frame when it has one (a map read from
+        OpenStreetMap), else ``None`` (``--export`` then needs ``--origin``)."""
         ...
 
 

@@ -44,6 +44,7 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.files import read_json
 from searchtrack.core.result import Result
 from searchtrack.core.types import FloatArray
+from searchtrack.models.projection import LocalProjection
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.guidance.reacquire import reacquisition_instance
 from searchtrack.plan.optw import BACKENDS as BACKENDS
@@ -247,4 +248,9 @@ def figure(problem: RouteJob, result: Result[Routes], path: Path) -> Path | None
 def vehicle_paths(problem: RouteJob, result: Result[Routes]) -> VehiclePaths:
     """The UAV from its start node through the route's road nodes, in the map's frame."""
     nodes = plan_json(problem, result)["nodes"]
-    return VehiclePaths((problem.network.coords[nodes],), problem.network.projection)
+    return VehiclePaths((problem.network.coords[nodes],))
+
+
+def geo_projection(problem: RouteJob) -> LocalProjection | None:
+    """The road map's projection (``None`` for a synthetic grid)."""
+    return problem.network.projection
