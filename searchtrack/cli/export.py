@@ -19,12 +19,13 @@ from searchtrack.sim.export.geo import GeoFrame, parse_origin
 
 def add_arguments(parser: argparse.ArgumentParser, *, altitude_m: float | None,
                   unit: bool = False, speed: bool = False) -> None:
-    """Add ``--export``, ``--origin``, ``--altitude`` (default ``altitude_m``, or the
-    problem's own when ``None``), with ``unit`` ``--unit-m`` and ``--speed``, with ``speed``
-    ``--speed``."""
+    """Add ``--export``, ``--origin`` and ``--altitude`` (default ``altitude_m``; ``None``: the
+    problem's own); ``--speed`` when ``speed`` or ``unit``, and ``--unit-m`` when ``unit`` (an
+    OPTW instance, whose coordinates and times have no unit)."""
     parser.add_argument("--export", default=None, metavar="DIR",
                         help="also write a QGroundControl .plan and a MAVLink .waypoints file "
-                             "per vehicle and plan.geojson into DIR")
+                             "per vehicle, plan.geojson and its offline map page plan.html "
+                             "into DIR")
     parser.add_argument("--origin", default=None, metavar="LAT,LON",
                         help="latitude and longitude (degrees) of the problem's (0, 0), for "
                              "--export (maps read from OpenStreetMap know theirs; a negative "

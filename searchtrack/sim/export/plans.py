@@ -58,9 +58,11 @@ def path_files(plan: VehiclePaths, frame: GeoFrame, speed_mps: float) -> dict[st
     for k, path in enumerate(plan.paths):
         points = np.asarray(path, dtype=np.float64)
         where = frame.degrees(points[:, :2])
-        keep = np.unique(np.round(np.linspace(1, len(points) - 1, min(
-            MAX_PATH_WAYPOINTS, len(points) - 1))).astype(np.int64)) if len(points) > 1 else \
-            np.zeros(1, dtype=np.int64)
+        if len(points) > 1:   # after home, evenly thinned, the last position kept
+            count = min(MAX_PATH_WAYPOINTS, len(points) - 1)
+            keep = np.unique(np.round(np.linspace(1, len(points) - 1, count)).astype(np.int64))
+        else:                 # a vehicle that stays: one waypoint over home
+            keep = np.zeros(1, dtype=np.int64)
         height = np.full(len(points), frame.altitude_m)
         if points.shape[1] > 2:   # a planned altitude; at or below the ground: the frame's
             height = np.where(points[:, 2] > 0, points[:, 2], frame.altitude_m)

@@ -95,3 +95,21 @@ def test_optw_files_visit_the_routes_customers(tmp_path: Path) -> None:
     assert collection.is_valid
     customers = [f for f in collection["features"] if f["properties"]["kind"] == "customer"]
     assert [f["properties"]["visited"] for f in customers] == [True, True, True]
+
+
+def test_planned_paths_are_thinned_and_keep_their_altitudes() -> None:
+    """A 500-point path exports at most MAX_PATH_WAYPOINTS waypoints, its last point kept;
+    planned altitudes above 0 are kept, others fly at the frame's."""
+    from searchtrack.sim.export.plans import MAX_PATH_WAYPOINTS, VehiclePaths, path_files
+
+    long = np.column_stack([np.arange(500.0), np.zeros(500), np.full(500, 40.0)])
+    flat = np.array([[0.0, 0.0, 0.0], [50.0, 0.0, 0.0]])
+    files = path_files(VehiclePaths((long, flat, np.zeros((1, 2)))), FRAME, speed_mps=12.0)
+    plans = [json.loads(files[f"uav{k}.plan"])["mission"] for k in range(3)]
+    items = plans[0]["items"][1:-1]               # after take-off, before return
+    assert len(items) == MAX_PATH_WAYPOINTS
+    last = FRAME.degrees(long[-1, :2])[0]
+    assert items[-1]["params"][4:6] == pytest.approx(list(last))
+    assert all(i["Altitude"] == 40.0 for i in items)
+    assert [i["Altitude"] for i in plans[1]["items"][1:-1]] == [100.0]
+    assert len(plans[2]["items"]) == 3 and plans[0]["cruiseSpeed"] == 12.0
