@@ -82,8 +82,8 @@ def run_mission(args: argparse.Namespace, console: Console) -> int:
         mission = Mission(scenario)
     if exports is not None:
         export.export_dir(args, mission.world.network.projection)
-    # matplotlib's import (about half a second) overlaps the flight instead of delaying the
-    # figures after it, or after Ctrl-C
+    # matplotlib's import overlaps the flight instead of delaying the figures after it, or
+    # after Ctrl-C
     threading.Thread(target=pyplot, name="searchtrack-pyplot", daemon=True).start()
     started = time.perf_counter()
     with Progress(TextColumn("{task.description}"), BarColumn(),
