@@ -38,7 +38,7 @@ def test_page_draws_a_mission_in_the_browser(tmp_path: Path) -> None:
     sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
     if not CHROMIUM.is_file():
         pytest.skip(f"no Chromium at {CHROMIUM} (set SEARCHTRACK_CHROMIUM to its path)")
-    scenario = dataclasses.replace(load_scenario(DEMO), duration_s=30.0)
+    scenario = dataclasses.replace(load_scenario(DEMO), duration_s=10.0)
     log = Mission(scenario).run()
     assert log.network.projection is not None
     frame = GeoFrame(log.network.projection, 100.0)
