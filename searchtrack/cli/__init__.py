@@ -123,8 +123,27 @@ def _abort() -> None:
     os._exit(EXIT_INTERRUPTED)
 
 
+def run() -> NoReturn:
+    """The ``searchtrack`` console script: :func:`main`, then the process ends with its status
+    once the output is flushed, without the interpreter's teardown of every imported module
+    (numba, SciPy, ...), which a command would otherwise spend after its last line and after
+    Ctrl-C. Every file is written and closed by then (atomically); the campaign's cluster is
+    closed by its own block."""
+    try:
+        code = main()
+    except SystemExit as done:   # argparse's --help, --version and usage errors
+        code = done.code if isinstance(done.code, int) else (0 if done.code is None else 1)
+        if isinstance(done.code, str):
+            sys.stderr.write(done.code + "\n")
+    sys.stdout.flush()
+    sys.stderr.flush()
+    logging.shutdown()
+    os._exit(code)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``searchtrack`` console script; returns the exit status."""
+    """The ``searchtrack`` command on ``argv`` (default: the process's arguments); returns the
+    exit status (:func:`run` is the console script)."""
     given = sys.argv[1:] if argv is None else list(argv)
     parser = build_parser(given)
     if not given:

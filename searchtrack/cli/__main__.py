@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import sys
+from searchtrack.cli import run
 
-from searchtrack.cli import main
-
-sys.exit(main())
+run()

@@ -9,6 +9,7 @@ import re
 import subprocess
 import sys
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 
@@ -140,3 +141,20 @@ def test_only_commands_that_solve_offer_verbose() -> None:
         offered = "-v" in parser._option_string_actions
         assert offered == (" ".join(path[1:]) not in SOLVE_NOTHING), path
     assert {"mission view", "campaign status"} <= SOLVE_NOTHING
+
+
+@pytest.mark.parametrize(("argv", "code", "said"), [
+    (["--version"], 0, "searchtrack "),
+    (["optw", "solve", "searchtrack/data/optw/c101.txt", "--time-limit", "0.5"], 0, "objective"),
+    (["misson"], 2, "did you mean 'mission'?"),
+    (["optw", "solve", "missing.txt"], 2, "no such file"),
+])
+def test_the_console_entry_flushes_and_keeps_the_status(argv: list[str], code: int,
+                                                        said: str) -> None:
+    """``run`` (the console script) ends the process without the interpreter's teardown: the
+    piped output still arrives whole and the exit status is main's (or argparse's)."""
+    root = Path(__file__).parents[2]
+    done = subprocess.run([sys.executable, "-m", "searchtrack.cli", *argv], cwd=root,
+                          capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == code, done.stderr
+    assert said in done.stdout + done.stderr
