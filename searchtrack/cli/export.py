@@ -5,20 +5,25 @@
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 from rich.console import Console
 
 from searchtrack.cli.common import positive_float
 from searchtrack.cli.output import OutputError, output_dir
-from searchtrack.core.errors import SearchtrackError
+from searchtrack.core.errors import InvalidInputError, SearchtrackError
 from searchtrack.core.files import write_text_atomic
 from searchtrack.models.projection import LocalProjection
-from searchtrack.sim.export.geo import GeoFrame, parse_origin
+from searchtrack.sim.export.geo import GeoFrame
+
+#: Flight altitude above home of an export whose problem states none (m).
+DEFAULT_ALTITUDE_M = 120.0
 
 
-def add_arguments(parser: argparse.ArgumentParser, *, altitude_m: float | None,
-                  unit: bool = False, speed: bool = False) -> None:
+def add_arguments(parser: argparse.ArgumentParser, *,
+                  altitude_m: float | None = DEFAULT_ALTITUDE_M, unit: bool = False,
+                  speed: bool = False) -> None:
     """Add ``--export``, ``--origin`` and ``--altitude`` (default ``altitude_m``; ``None``: the
     problem's own); ``--speed`` when ``speed`` or ``unit``, and ``--unit-m`` when ``unit`` (an
     OPTW instance, whose coordinates and times have no unit)."""
@@ -44,18 +49,22 @@ def add_arguments(parser: argparse.ArgumentParser, *, altitude_m: float | None,
                                     if unit else ""))
 
 
-def export_dir(args: argparse.Namespace, projection: LocalProjection | None = None,
-               *, known: bool = True) -> Path | None:
-    """The checked ``--export`` folder (before any work), or ``None`` without it; ``--origin``
-    is checked too, and asked for when the problem has no geographic frame (``projection`` is
-    ``None`` and ``known``: the frame is known before the work)."""
+def export_dir(args: argparse.Namespace) -> Path | None:
+    """The checked ``--export`` folder (before any work), or ``None`` without it; a given
+    ``--origin`` is checked too (:func:`require_frame` asks for a missing one once the
+    problem's frame is known)."""
     if args.export is None:
         return None
     if args.origin is not None:
         parse_origin(args.origin)   # refused before the work, too
-    elif known and projection is None:
-        raise _no_frame()
     return output_dir("--export", args.export)
+
+
+def require_frame(args: argparse.Namespace, projection: LocalProjection | None) -> None:
+    """Refuse (before the work) an ``--export`` without ``--origin`` of a problem with no
+    geographic frame (``projection`` ``None``)."""
+    if args.export is not None and args.origin is None and projection is None:
+        raise _no_frame()
 
 
 def _no_frame() -> SearchtrackError:
@@ -82,3 +91,21 @@ def write_files(folder: Path, files: dict[str, str], console: Console) -> None:
     except OSError as exc:
         raise OutputError("--export", folder, exc.strerror or str(exc)) from None
     console.print("wrote " + ", ".join(str(p) for p in written))
+
+
+def parse_origin(text: str) -> tuple[float, float]:
+    """``"LAT,LON"`` (degrees) as two floats; :class:`InvalidInputError` naming ``--origin``
+    otherwise."""
+    parts = text.split(",")
+    try:
+        if len(parts) != 2:
+            raise ValueError
+        lat, lon = float(parts[0]), float(parts[1])
+    except ValueError:
+        raise InvalidInputError("--origin", text, "must be LAT,LON in degrees, e.g. "
+                                "21.88,-102.29") from None
+    if not (math.isfinite(lat) and abs(lat) <= 85.0 and math.isfinite(lon)
+            and abs(lon) <= 180.0):
+        raise InvalidInputError("--origin", text, "must be a latitude within ±85° and a "
+                                "longitude within ±180°")
+    return lat, lon

@@ -27,9 +27,6 @@ from searchtrack.sim.roads.mission import Mission
 from searchtrack.sim.roads.record import PHASES, MissionLog
 from searchtrack.sim.roads.scenario_file import load_scenario
 
-#: Flight altitude of an exported mission whose scenario states none (m).
-EXPORT_ALTITUDE_M = 120.0
-
 
 def _pct(x: float | None) -> str:
     return "-" if x is None else f"{100 * x:.1f} %"
@@ -76,12 +73,11 @@ def run_mission(args: argparse.Namespace, console: Console) -> int:
     if args.duration is not None:
         scenario = dataclasses.replace(scenario, duration_s=args.duration)
     out = output_dir("--out", args.out)
-    exports = export.export_dir(args, known=False)   # the map's frame: once it is built
+    exports = export.export_dir(args)
     ready_kernels(console, road_mission_kernels())
     with console.status(f"building {scenario.map.describe()}"):
         mission = Mission(scenario)
-    if exports is not None:
-        export.export_dir(args, mission.world.network.projection)
+    export.require_frame(args, mission.world.network.projection)   # the map built, not flown
     # matplotlib's import overlaps the flight instead of delaying the figures after it, or
     # after Ctrl-C
     threading.Thread(target=pyplot, name="searchtrack-pyplot", daemon=True).start()
@@ -107,7 +103,7 @@ def run_mission(args: argparse.Namespace, console: Console) -> int:
     if exports is not None:
         from searchtrack.sim.export.plans import road_mission_files
 
-        altitude = args.altitude or scenario.altitude_m or EXPORT_ALTITUDE_M
+        altitude = args.altitude or scenario.altitude_m or export.DEFAULT_ALTITUDE_M
         frame = export.geo_frame(args, log.network.projection, altitude)
         export.write_files(exports, road_mission_files(log, frame,
                                                        scenario.limits.speed_max_mps), console)

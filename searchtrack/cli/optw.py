@@ -29,9 +29,6 @@ from searchtrack.plan.optw import BACKENDS, OPTWInstance, Routes, read_optw, sol
 from searchtrack.plan.optw.io import MAX_DECIMALS
 from searchtrack.sim.kernels import OPTW_KERNELS
 
-#: Flight altitude of an exported OPTW plan unless ``--altitude`` says otherwise (m).
-EXPORT_ALTITUDE_M = 120.0
-
 
 def result_json(inst: OPTWInstance, result: Result[Routes]) -> dict[str, Any]:
     """The JSON record of one OPTW solve (vertex ids as in the file)."""
@@ -91,6 +88,7 @@ def solve_command(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack optw solve``."""
     json_out = output_file("--json", args.json) if args.json else None
     exports = export.export_dir(args)
+    export.require_frame(args, None)   # OPTW instances are in a local frame
     inst = _load(Path(args.file), args)
     ready_kernels(console, OPTW_KERNELS)
     with console.status(f"solving {inst.name} with {args.backend} ({args.time_limit:g} s)"):
@@ -216,7 +214,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p_solve = osub.add_parser("solve", parents=[common], help="solve one instance file")
     p_solve.add_argument("file", metavar="INSTANCE.txt",
                          help="OPTW instance (Solomon / Cordeau format)")
-    export.add_arguments(p_solve, altitude_m=EXPORT_ALTITUDE_M, unit=True)
+    export.add_arguments(p_solve, unit=True)
     p_solve.set_defaults(run=solve_command)
     p_bench = osub.add_parser("bench", parents=[common], help="solve every *.txt under DIR")
     p_bench.add_argument("dir", metavar="DIR",

@@ -32,9 +32,6 @@ from searchtrack.sim import jobs
 #: The rows of the result table, as ``optw solve`` prints them.
 SUMMARY_KEYS = ("backend", "status", "objective", "bound", "gap", "runtime_s")
 
-#: Flight altitude of an exported plan whose paths carry none (m).
-EXPORT_ALTITUDE_M = 120.0
-
 
 def available_families() -> list[str]:
     """The families: the modules of :mod:`searchtrack.sim.jobs`."""
@@ -132,15 +129,14 @@ def plan_command(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack plan FAMILY``."""
     out = output_file("--out", args.out)
     fig_out = output_file("--figure", args.figure) if args.figure else None
-    exports = export.export_dir(args, known=False)   # the problem's frame: once it is read
+    exports = export.export_dir(args)
     module = family_module(args.family)
     names = _backend_names()[args.family]
     if args.backend not in names:
         raise SearchtrackError(f"--backend {args.backend!r}: unknown {args.family} backend; "
                                f"choose one of {list(names)}")
     problem = module.read_problem(Path(args.problem))
-    if exports is not None:   # --origin asked for before the solve when the problem needs one
-        export.export_dir(args, module.geo_projection(problem))
+    export.require_frame(args, module.geo_projection(problem))   # read, not solved
     ready_kernels(console, module.KERNELS)
     with console.status(f"solving {args.family} problem {Path(args.problem).name} with "
                         f"{args.backend} ({args.time_limit:g} s)"):
@@ -187,5 +183,5 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser], *,
         p.add_argument("--seed", type=seed_arg, default=0,
                        help=f"random seed, 0 to {MAX_SEED} (default 0)")
         p.add_argument("--figure", metavar="PLAN.png", help="also draw the plan as a PNG")
-        export.add_arguments(p, altitude_m=EXPORT_ALTITUDE_M, speed=True)
+        export.add_arguments(p, speed=True)
         p.set_defaults(run=plan_command)

@@ -150,7 +150,8 @@ def mission(args: argparse.Namespace, console: Console) -> int:
 
     particles = _particles(args)
     folder = output_dir("--out", args.out)
-    exports = export.export_dir(args)   # the radio scenario is in a local frame
+    exports = export.export_dir(args)
+    export.require_frame(args, None)   # the radio scenario is in a local frame
     scenario = _scenario(args)
     plan = RadioPlanSettings(horizon=args.horizon, plan_particles=args.plan_particles,
                              r_min_m=args.r_min, p_void_min=args.p_void,

@@ -9,6 +9,8 @@ from pathlib import Path
 import pytest
 
 from searchtrack.cli import main
+from searchtrack.cli.export import parse_origin
+from searchtrack.core.errors import InvalidInputError
 
 DATA = Path(__file__).parents[2] / "searchtrack" / "data"
 
@@ -111,3 +113,10 @@ def test_plan_export_asks_for_an_origin_before_solving(tmp_path: Path,
     assert _exit(["plan", "assign", str(problem), "--out", str(out), "--export",
                   str(tmp_path / "x")]) == 2
     assert "--origin is needed" in capsys.readouterr().err and not out.exists()
+
+
+def test_parse_origin() -> None:
+    assert parse_origin("21.88,-102.29") == (21.88, -102.29)
+    for bad in ("21.88", "a,b", "91,0", "0,181", "nan,0", "1,2,3"):
+        with pytest.raises(InvalidInputError, match="--origin"):
+            parse_origin(bad)

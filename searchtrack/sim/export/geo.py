@@ -4,7 +4,7 @@ longitude, and the altitude the vehicles fly at.
 Maps read from OpenStreetMap keep their projection
 (:class:`~searchtrack.models.projection.LocalProjection`); a problem in a local frame (a
 synthetic grid, an OPTW instance, the radio scenario) is placed with an origin, the
-latitude and longitude of its ``(0, 0)``, given on the command line as ``--origin LAT,LON``.
+latitude and longitude of its ``(0, 0)`` (on the command line ``--origin LAT,LON``).
 """
 
 from __future__ import annotations
@@ -67,21 +67,3 @@ class GeoFrame:
         lat, lon = self.projection.inverse(points * self.unit_m)
         lon = (lon + math.pi) % (2.0 * math.pi) - math.pi
         return np.column_stack([np.degrees(lat), np.degrees(lon)])
-
-
-def parse_origin(text: str) -> tuple[float, float]:
-    """``"LAT,LON"`` (degrees) as two floats; :class:`InvalidInputError` naming ``--origin``
-    otherwise."""
-    parts = text.split(",")
-    try:
-        if len(parts) != 2:
-            raise ValueError
-        lat, lon = float(parts[0]), float(parts[1])
-    except ValueError:
-        raise InvalidInputError("--origin", text, "must be LAT,LON in degrees, e.g. "
-                                "21.88,-102.29") from None
-    if not (math.isfinite(lat) and abs(lat) <= 85.0 and math.isfinite(lon)
-            and abs(lon) <= 180.0):
-        raise InvalidInputError("--origin", text, "must be a latitude within ±85° and a "
-                                "longitude within ±180°")
-    return lat, lon

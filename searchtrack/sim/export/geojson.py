@@ -35,6 +35,15 @@ def line(latlon: ArrayLike, properties: Mapping[str, Any]) -> dict[str, Any]:
     return _feature({"type": "LineString", "coordinates": positions}, properties)
 
 
+def path(latlon: ArrayLike, properties: Mapping[str, Any]) -> dict[str, Any]:
+    """A ``LineString`` through two or more latitudes/longitudes, a ``Point`` for one (a path
+    that has not moved yet)."""
+    positions = _positions(latlon)
+    if len(positions) == 1:
+        return _feature({"type": "Point", "coordinates": positions[0]}, properties)
+    return line(latlon, properties)
+
+
 def lines(segments: Sequence[ArrayLike], properties: Mapping[str, Any]) -> dict[str, Any]:
     """A ``MultiLineString`` feature of several ``(n ≥ 2, 2)`` latitude/longitude lines."""
     parts = [_positions(s) for s in segments]

@@ -69,8 +69,7 @@ def path_files(plan: VehiclePaths, frame: GeoFrame, speed_mps: float) -> dict[st
         missions.append(Mission((float(where[0, 0]), float(where[0, 1])), tuple(
             Waypoint(float(where[i, 0]), float(where[i, 1]), float(height[i]))
             for i in keep), speed_mps))
-        features.append(geojson.line(where, {"kind": "route", "vehicle": k}) if len(where) > 1
-                        else geojson.point(where, {"kind": "route", "vehicle": k}))
+        features.append(geojson.path(where, {"kind": "route", "vehicle": k}))
     return mission_files(missions, geojson.collection(features))
 
 
@@ -121,16 +120,13 @@ def flown_waypoints(xy: FloatArray, loitering: Sequence[bool], dt_s: float, fram
 def road_mission_files(log: MissionLog, frame: GeoFrame, speed_mps: float,
                        spacing_s: float = 10.0) -> dict[str, str]:
     """The files of a road mission (module docstring)."""
-    dt = float(log.time_s[1] - log.time_s[0]) if len(log.time_s) > 1 else 1.0
     missions = []
     for j in range(log.uav_xy_m.shape[1]):
-        path = log.uav_xy_m[:, j]
-        loitering = [False] + [modes[j] == "loiter" for modes in log.modes]
-        loitering = (loitering + [False] * len(path))[:len(path)]
+        path = log.uav_xy_m[:, j]   # the start, then one position per step (and mode)
+        loitering = [False, *(modes[j] == "loiter" for modes in log.modes)]
         home = frame.degrees(path[0])[0]
-        missions.append(Mission((float(home[0]), float(home[1])),
-                                flown_waypoints(path, loitering, dt, frame, spacing_s),
-                                speed_mps))
+        missions.append(Mission((float(home[0]), float(home[1])), flown_waypoints(
+            path, loitering, log.scenario.dt_s, frame, spacing_s), speed_mps))
     net = log.network
     features = [geojson.lines([frame.degrees(net.coords[e]) for e in net.edges],
                               {"kind": "road", "source": net.source})]
@@ -145,9 +141,7 @@ def road_mission_files(log: MissionLog, frame: GeoFrame, speed_mps: float,
             peaks.setdefault(track_id, []).append(node)
     for track_id, nodes in sorted(peaks.items()):
         where = frame.degrees(net.coords[nodes])
-        features.append(geojson.line(where, {"kind": "estimate", "track": track_id})
-                        if len(nodes) > 1 else
-                        geojson.point(where, {"kind": "estimate", "track": track_id}))
+        features.append(geojson.path(where, {"kind": "estimate", "track": track_id}))
     return mission_files(missions, geojson.collection(features))
 
 

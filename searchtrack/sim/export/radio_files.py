@@ -20,29 +20,23 @@ def radio_mission_files(log: RadioMissionLog, frame: GeoFrame,
     if log.steps == 0:
         return {}
     xy = log.poses[:, :2]
-    dt = float(log.times_s[1] - log.times_s[0]) if len(log.times_s) > 1 else 1.0
     home = frame.degrees(xy[0])[0]
     mission = Mission((float(home[0]), float(home[1])),
-                      flown_waypoints(xy, [False] * len(xy), dt, frame, spacing_s),
+                      flown_waypoints(xy, [False] * len(xy), log.scenario.uav.step_s, frame,
+                                      spacing_s),
                       log.scenario.uav.speed_mps)
-    features = [_path(frame.degrees(xy), {"kind": "uav", "uav": 0})]
+    features = [geojson.path(frame.degrees(xy), {"kind": "uav", "uav": 0})]
     truth = log.truth
     for tag in range(truth.states.shape[1]):
         alive = truth.alive[:, tag]
         if alive.any():
-            features.append(_path(frame.degrees(truth.states[alive, tag][:, [0, 2]]),
+            features.append(geojson.path(frame.degrees(truth.states[alive, tag][:, [0, 2]]),
                                   {"kind": "target", "label": tag}))
     tracks: dict[int, list[tuple[float, float]]] = {}
     for step in log.estimates:
         for label, point in step:
             tracks.setdefault(label, []).append(point)
     for label, points in sorted(tracks.items()):
-        features.append(_path(frame.degrees(np.array(points)),
+        features.append(geojson.path(frame.degrees(np.array(points)),
                               {"kind": "estimate", "label": label}))
     return mission_files([mission], geojson.collection(features))
-
-
-def _path(latlon: np.ndarray, properties: dict[str, object]) -> dict[str, object]:
-    """A line through the points, or a point when there is one."""
-    return geojson.line(latlon, properties) if len(latlon) > 1 else geojson.point(latlon,
-                                                                                  properties)

@@ -329,9 +329,9 @@ def replay_spec(record: Mapping[str, Any], *,
     frames = [{"name": name, "traces": changing,
                "data": [{"type": "scatter", **data} for data in scene.frame_data(h)]}
               for name, h in zip(names, rp.heat, strict=True)]
-    if rp.heat:   # the page opens on the last frame: the whole mission, not an empty start
-        for k, data in zip(changing, scene.frame_data(rp.heat[-1]), strict=True):
-            fig.data[k].update(data)
+    if frames:   # the page opens on the last frame: the whole mission, not an empty start
+        for k, data in zip(changing, frames[-1]["data"], strict=True):
+            fig.data[k].update({key: value for key, value in data.items() if key != "type"})
     every = np.vstack([rp.nodes_xy_m, rp.uav_xy_m.reshape(-1, 2), rp.target_xy_m.reshape(-1, 2)])
     lo, hi = every.min(axis=0), every.max(axis=0)
     pad = 0.03 * np.maximum(hi - lo, 1.0)

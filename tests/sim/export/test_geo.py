@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.sim.export.geo import GeoFrame, parse_origin
+from searchtrack.sim.export.geo import GeoFrame
 
 
 def test_origin_and_metres_to_degrees() -> None:
@@ -22,13 +22,6 @@ def test_origin_and_metres_to_degrees() -> None:
     scaled = GeoFrame.at(45.0, 7.0, 100.0, unit_m=10.0).degrees([[0.0, 100.0]])
     assert np.allclose(scaled, latlon[1:2])
     assert np.allclose(frame.projection.forward(*np.radians(latlon[1])), [[0.0, 1000.0]])
-
-
-def test_parse_origin() -> None:
-    assert parse_origin("21.88,-102.29") == (21.88, -102.29)
-    for bad in ("21.88", "a,b", "91,0", "0,181", "nan,0", "1,2,3"):
-        with pytest.raises(InvalidInputError, match="--origin"):
-            parse_origin(bad)
 
 
 def test_bad_frames_are_refused() -> None:
