@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import difflib
+import importlib
 import logging
 import os
 import re
@@ -22,18 +23,7 @@ from rich.console import Console
 from rich.markup import escape
 
 from searchtrack import __version__
-from searchtrack.cli import (
-    campaign,
-    fleet,
-    kernels,
-    mission,
-    optw,
-    plan,
-    radio,
-    rl,
-    track,
-    track_roads,
-)
+from searchtrack.cli.common import GROUPS
 from searchtrack.core.errors import SearchtrackError
 from searchtrack.core.interrupt import Aborted, sigint_stops, stop_requested
 
@@ -69,24 +59,20 @@ def _suggest(message: str) -> str:
 
 
 def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
-    """The argument parser of the ``searchtrack`` command; given the command line ``argv``, the
-    ``plan`` families (which import their solvers) are built only when it runs ``plan``."""
+    """The argument parser of the ``searchtrack`` command; given the command line ``argv``, only
+    the group it names is built (each group imports its solvers), the others are listed by name
+    and help line. Without ``argv``, every group is built."""
     parser = _Parser(prog="searchtrack", description=DESCRIPTION, epilog=EPILOG)
     parser.add_argument("-v", "--verbose", action="store_true", help="log solver progress")
     parser.add_argument("--version", action="version", version=f"searchtrack {__version__}")
     sub = cast("argparse._SubParsersAction[argparse.ArgumentParser]",
                parser.add_subparsers(dest="group", required=True))
-    optw.add_parser(sub)
-    mission.add_parser(sub)
-    track.add_parser(sub)
-    track_roads.add_parser(sub)
-    campaign.add_parser(sub)
-    fleet.add_parser(sub)
-    rl.add_parser(sub)
-    radio.add_parser(sub)
-    words = [a for a in argv if not a.startswith("-")] if argv is not None else ["plan"]
-    plan.add_parser(sub, families=bool(words) and words[0] == "plan")
-    kernels.add_parser(sub)
+    words = [a for a in argv if not a.startswith("-")] if argv is not None else None
+    for name, (module, help_line) in GROUPS.items():
+        if words is None or words[:1] == [name]:
+            importlib.import_module(f"searchtrack.cli.{module}").add_parser(sub)
+        else:
+            sub.add_parser(name, help=help_line)
     for name, group in sub.choices.items():
         leaf = not any(isinstance(a, argparse._SubParsersAction) for a in group._actions)
         if leaf and "-v" not in group._option_string_actions and name not in SOLVE_NOTHING:

@@ -12,7 +12,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskID, TextColumn, TimeRemainingColumn
 from rich.table import Table
 
-from searchtrack.cli.common import int_at_least
+from searchtrack.cli.common import add_group, int_at_least
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import OutputError, output_dir, output_file
 from searchtrack.sim.kernels import warm_up_sets
@@ -164,7 +164,7 @@ def report(args: argparse.Namespace, console: Console) -> int:
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Register ``campaign run|status|export|report`` on the top-level subparsers."""
-    campaign = sub.add_parser("campaign", help="Monte Carlo campaigns on Dask into DuckDB")
+    campaign = add_group(sub, "campaign")
     csub = campaign.add_subparsers(dest="command", required=True)
     p_run = csub.add_parser("run", help="run (or resume) a TOML campaign")
     p_run.add_argument("file", help="campaign TOML file")

@@ -8,6 +8,28 @@ from collections.abc import Callable
 
 from searchtrack.core.registry import MAX_SEED
 
+#: The ``searchtrack`` command's groups in the order its help lists them: name -> (the module of
+#: :mod:`searchtrack.cli` that builds it, its line of help). A command line imports only the
+#: group it names, and the solvers behind that group.
+GROUPS: dict[str, tuple[str, str]] = {
+    "optw": ("optw", "orienteering with time windows (team OPTW)"),
+    "mission": ("mission", "closed-loop road search-and-track missions"),
+    "track": ("track", "SMC-PHD filter on recorded 2-D detections"),
+    "track-roads": ("track_roads", "Rao-Blackwellized road filter on recorded detections"),
+    "campaign": ("campaign", "Monte Carlo campaigns on Dask into DuckDB"),
+    "fleet-size": ("fleet", "fewest UAVs for a tracking-variance requirement"),
+    "rl": ("rl", "train or evaluate the deep-RL road planner (paper 000)"),
+    "radio": ("radio", "radio-tagged objects: simulate, track, fly missions (paper 002)"),
+    "plan": ("plan", "solve one planning problem from a JSON file"),
+    "warm-up": ("kernels", "compile the numba solver kernels now (once per install)"),
+}
+
+
+def add_group(sub: argparse._SubParsersAction[argparse.ArgumentParser], name: str,
+              description: str | None = None) -> argparse.ArgumentParser:
+    """The parser of the command group ``name`` (one of :data:`GROUPS`) with its line of help."""
+    return sub.add_parser(name, help=GROUPS[name][1], description=description)
+
 
 def positive_float(text: str) -> float:
     """``text`` as a number > 0, else an :class:`argparse.ArgumentTypeError`."""

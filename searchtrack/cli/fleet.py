@@ -21,7 +21,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from searchtrack.cli.common import description, int_at_least, int_in, positive_float
+from searchtrack.cli.common import add_group, description, int_at_least, int_in, positive_float
 from searchtrack.cli.output import output_file
 from searchtrack.core.checks import finite_or_none
 from searchtrack.core.errors import SearchtrackError
@@ -233,8 +233,7 @@ def configure(parser: argparse.ArgumentParser) -> None:
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Register ``fleet-size`` on the top-level subparsers."""
-    p = sub.add_parser("fleet-size", help="fewest UAVs for a tracking-variance requirement",
-                       description=description(__doc__))
+    p = add_group(sub, "fleet-size", description(__doc__))
     configure(p)
 
 

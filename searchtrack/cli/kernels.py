@@ -10,6 +10,7 @@ from collections.abc import Iterable
 from rich.console import Console
 from rich.table import Table
 
+from searchtrack.cli.common import add_group
 from searchtrack.sim.kernels import KERNEL_SETS, cold_sets, is_cold, warm, warm_up_sets
 
 NOTICE = "compiling solver kernels, once per install"
@@ -53,9 +54,8 @@ def warm_up_command(args: argparse.Namespace, console: Console) -> int:
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Register ``warm-up`` on the top-level subparsers."""
-    p = sub.add_parser("warm-up", help="compile the numba solver kernels now (once per install)",
-                       description="Compile every numba kernel set into numba's on-disk cache, "
-                       "so that the first solve starts at once (make runs it at install).")
+    p = add_group(sub, "warm-up", "Compile every numba kernel set into numba's on-disk cache, so "
+                  "that the first solve starts at once (make runs it at install).")
     p.add_argument("--only", nargs="+", metavar="SET",
                    help="kernel sets to compile: " + ", ".join(KERNEL_SETS) + " (default all)")
     p.set_defaults(run=warm_up_command)

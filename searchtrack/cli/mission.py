@@ -15,7 +15,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from searchtrack.cli import export
-from searchtrack.cli.common import positive_float, seed_arg
+from searchtrack.cli.common import add_group, positive_float, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import OutputError, output_dir, output_file
 from searchtrack.core.files import write_text_atomic
@@ -128,7 +128,7 @@ def view_mission(args: argparse.Namespace, console: Console) -> int:
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Register ``mission run`` and ``mission view`` on the top-level subparsers."""
-    mission = sub.add_parser("mission", help="closed-loop road search-and-track missions")
+    mission = add_group(sub, "mission")
     msub = mission.add_subparsers(dest="command", required=True)
     p_run = msub.add_parser("run", help="fly a TOML scenario; write JSON, PNG figures and "
                             "the replay page")

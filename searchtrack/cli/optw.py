@@ -16,7 +16,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
 from searchtrack.cli import export
-from searchtrack.cli.common import int_at_least, int_in, positive_float, seed_arg
+from searchtrack.cli.common import add_group, int_at_least, int_in, positive_float, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
 from searchtrack.cli.plan import json_number, result_record
@@ -195,7 +195,7 @@ def _cell(value: float | int | None) -> str:
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Register ``optw solve`` and ``optw bench`` on the top-level subparsers."""
-    optw = sub.add_parser("optw", help="orienteering with time windows (team OPTW)")
+    optw = add_group(sub, "optw")
     osub = optw.add_subparsers(dest="command", required=True)
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("--backend", default="auto", choices=BACKENDS.names(),

@@ -20,7 +20,7 @@ from rich.console import Console
 from rich.table import Table
 
 from searchtrack.cli import export
-from searchtrack.cli.common import description, positive_float, seed_arg
+from searchtrack.cli.common import add_group, description, positive_float, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
 from searchtrack.core.errors import SearchtrackError
@@ -163,14 +163,11 @@ def plan_command(args: argparse.Namespace, console: Console) -> int:
     return exit_status(result)
 
 
-def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser], *,
-               families: bool = True) -> None:
-    """Register ``plan FAMILY`` on the top-level subparsers (one subcommand per family; with
-    ``families`` false, the ``plan`` command alone, whose families are not imported)."""
-    plan = sub.add_parser("plan", help="solve one planning problem from a JSON file",
-                          description=description(__doc__))
+def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Register ``plan FAMILY`` on the top-level subparsers (one subcommand per family)."""
+    plan = add_group(sub, "plan", description(__doc__))
     psub = plan.add_subparsers(dest="family", required=True)
-    for name in available_families() if families else ():
+    for name in available_families():
         p = psub.add_parser(name, help=_help()[name],
                             description=f"{name}: {_help()[name]} (format: module "
                             f"searchtrack.sim.jobs.{name})")

@@ -21,7 +21,7 @@ from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from searchtrack.cli import export
-from searchtrack.cli.common import description, float_in, int_at_least, seed_arg
+from searchtrack.cli.common import add_group, description, float_in, int_at_least, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_dir, output_file
 from searchtrack.core.errors import InvalidInputError
@@ -209,9 +209,7 @@ def _common(p: argparse.ArgumentParser) -> None:
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Register ``radio simulate|track|mission`` on the top-level subparsers."""
-    radio = sub.add_parser("radio", help="radio-tagged objects: simulate, track, fly missions "
-                                         "(paper 002)",
-                           description=description(__doc__))
+    radio = add_group(sub, "radio", description(__doc__))
     rsub = radio.add_subparsers(dest="command", required=True)
     p_sim = rsub.add_parser("simulate", help="record a straight-sweep run's spectrograms")
     p_sim.add_argument("scenario", metavar="SCENARIO.toml",

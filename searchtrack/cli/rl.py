@@ -17,7 +17,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 from rich.table import Table
 
-from searchtrack.cli.common import description, int_at_least, positive_float, seed_arg
+from searchtrack.cli.common import add_group, description, int_at_least, positive_float, seed_arg
 from searchtrack.cli.output import output_file
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.interrupt import stop_requested
@@ -91,8 +91,7 @@ def evaluate(args: argparse.Namespace, console: Console) -> int:
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Register ``rl train|evaluate`` on the top-level subparsers."""
-    rl = sub.add_parser("rl", help="train or evaluate the deep-RL road planner (paper 000)",
-                        description=description(__doc__))
+    rl = add_group(sub, "rl", description(__doc__))
     rsub = rl.add_subparsers(dest="command", required=True)
     p_train = rsub.add_parser("train", help="train a policy with PPO (needs the rl extra)")
     p_train.add_argument("--timesteps", type=int_at_least(1), default=100_000, metavar="N",

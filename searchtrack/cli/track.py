@@ -10,7 +10,7 @@ import argparse
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-from searchtrack.cli.common import description, int_at_least, seed_arg
+from searchtrack.cli.common import add_group, description, int_at_least, seed_arg
 from searchtrack.cli.output import output_file
 from searchtrack.sim.particles.track_job import run_track_file
 
@@ -33,8 +33,7 @@ def track_command(args: argparse.Namespace, console: Console) -> int:
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Register ``track`` on the top-level subparsers."""
-    p = sub.add_parser("track", help="SMC-PHD filter on recorded 2-D detections",
-                       description=description(__doc__))
+    p = add_group(sub, "track", description(__doc__))
     p.add_argument("scans", metavar="SCANS.json",
                    help="recorded detections (example: examples/problems/scans.json)")
     p.add_argument("--particles", type=int_at_least(1), default=None, metavar="N",

@@ -12,7 +12,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-from searchtrack.cli.common import description, seed_arg
+from searchtrack.cli.common import add_group, description, seed_arg
 from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
 from searchtrack.sim.kernels import ROAD_FILTER_KERNELS
@@ -48,8 +48,7 @@ def track_roads_command(args: argparse.Namespace, console: Console) -> int:
 
 def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Register ``track-roads`` on the top-level subparsers."""
-    p = sub.add_parser("track-roads", help="Rao-Blackwellized road filter on recorded detections",
-                       description=description(__doc__))
+    p = add_group(sub, "track-roads", description(__doc__))
     p.add_argument("detections", metavar="DETECTIONS.json",
                    help="recorded road detections (examples/make_road_detections.py writes one)")
     p.add_argument("--out", required=True, metavar="EST.json",

@@ -112,6 +112,47 @@ def test_only_the_plan_command_imports_the_plan_families() -> None:
     assert out == ["False", "True"]
 
 
+@pytest.mark.parametrize("argv", [["--version"], ["--help"], ["-v"], []])
+def test_the_command_alone_imports_no_group_and_no_solver(argv: list[str]) -> None:
+    """``searchtrack --version`` and the group list start at once: no group's module is
+    imported, nor numba, SciPy or networkx; every group is still listed."""
+    code = ("import sys; from searchtrack.cli import build_parser; "
+            f"p = build_parser({argv!r}); "
+            "heavy = [m for m in ('numba', 'scipy', 'networkx') if m in sys.modules]; "
+            "from searchtrack.cli.common import GROUPS; "
+            "groups = [m for m, _ in GROUPS.values() if f'searchtrack.cli.{m}' in sys.modules]; "
+            "print(heavy, groups, 'fleet-size' in p.format_help())")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == "[] [] True"
+
+
+def test_a_command_line_builds_only_the_group_it_names() -> None:
+    """Each group's command line builds that group's parser whole (its arguments and
+    subcommands, as the full parser has them); the other groups are only listed."""
+    from searchtrack.cli.common import GROUPS
+
+    def actions(parser: argparse.ArgumentParser) -> set[str]:
+        return {a.dest for a in parser._actions}
+
+    whole = {name: actions(p) for name, p in _subcommands(build_parser()).items()}
+    assert list(whole) == list(GROUPS)
+    for name in GROUPS:
+        built = _subcommands(build_parser(["-v", name, "x"]))
+        assert list(built) == list(GROUPS)
+        for other, parser in built.items():
+            if other == name:
+                assert actions(parser) == whole[name], name
+            else:
+                assert actions(parser) <= {"help", "verbose"}, (name, other)
+                assert parser.epilog == searchtrack.cli.EPILOG
+
+
+def _subcommands(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return dict(sub.choices)
+
+
 @pytest.mark.parametrize(("argv", "offered"), [
     (["misson", "run"], "did you mean 'mission'?"),
     (["mission", "rnu", "x.toml"], "did you mean 'run'?"),

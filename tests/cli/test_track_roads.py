@@ -3,16 +3,14 @@ the key of a bad file with nothing written; Ctrl-C keeps the steps filtered and 
 
 from __future__ import annotations
 
-import argparse
 import json
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import searchtrack.cli as cli
-from searchtrack.cli import track_roads
 from searchtrack.core.interrupt import clear_stop, request_stop
 from searchtrack.estimate.road_rbpf import RoadRBPF
 from tests.sim.road_particles.test_track_job import BAD_INPUTS, EXAMPLE, GOOD, mutated, write_json
@@ -21,20 +19,8 @@ Main = Callable[[list[str]], int]
 
 
 @pytest.fixture
-def main(monkeypatch: pytest.MonkeyPatch) -> Iterator[Main]:
-    """``searchtrack.cli.main`` with ``track-roads`` registered (added here if the package does
-    not register it yet); the stop flag cleared afterwards."""
-    built = cli.build_parser
-
-    def build_parser(argv: Sequence[str] | None = None) -> argparse.ArgumentParser:
-        parser = built(argv)
-        sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
-        if "track-roads" not in sub.choices:
-            track_roads.add_parser(sub)
-            sub.choices["track-roads"].epilog = cli.EPILOG
-        return parser
-
-    monkeypatch.setattr(cli, "build_parser", build_parser)
+def main() -> Iterator[Main]:
+    """``searchtrack.cli.main``, the stop flag cleared afterwards."""
     clear_stop()
     yield cli.main
     clear_stop()
