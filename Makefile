@@ -54,7 +54,8 @@ browser:
 	  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; } || \
 	  echo "note: no Chromium at $(CHROMIUM); the replay-page browser test will be skipped"
 
-# The documentation site (mkdocs-material + mkdocstrings), warnings as errors, into out/site.
+# The documentation site (mkdocs-material + mkdocstrings), warnings as errors, into out/site;
+# the paper pages' figures are drawn first by docs/_ext/gallery.py (kept in out/gallery).
 docs: $(TEST_STAMP)
 	$(BIN)/mkdocs build --strict --site-dir out/site
 

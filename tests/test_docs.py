@@ -8,6 +8,7 @@ import re
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -91,6 +92,54 @@ def test_api_pages_name_only_existing_modules() -> None:
     assert sorted(page.stem for page in API_PAGES) == sorted(LAYERS)
 
 
+def _load_gallery() -> Any:
+    spec = importlib.util.spec_from_file_location("gallery", ROOT / "docs" / "_ext" / "gallery.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules["gallery"] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+GALLERY = _load_gallery()
+
+
+def test_every_figure_on_a_page_is_drawn_or_committed() -> None:
+    """Each image a paper page shows is drawn by the gallery or committed (the browser
+    screenshots); nothing committed is also drawn, and nothing drawn goes unused."""
+    shown = {m for page in (ROOT / "docs" / "papers").glob("*.md")
+             for m in re.findall(r"\]\(figures/([^)\s]+)\)", page.read_text(encoding="utf-8"))}
+    committed = {p.name for p in (ROOT / "docs" / "papers" / "figures").glob("*")}
+    assert shown == set(GALLERY.FIGURES) | committed
+    assert not set(GALLERY.FIGURES) & committed
+
+
+def test_the_gallery_draws_what_is_missing_and_keeps_the_rest(tmp_path: Path) -> None:
+    """With the sources unchanged, only a missing figure is drawn (by the command its page
+    quotes); an unknown name is refused."""
+    for name in GALLERY.FIGURES:
+        (tmp_path / name).write_bytes(b"kept")
+    (tmp_path / "SOURCES").write_text(GALLERY.sources_hash())
+    assert GALLERY.draw(tmp_path) == []
+    (tmp_path / "003-assign.png").unlink()
+    assert GALLERY.draw(tmp_path) == ["003-assign.png"]
+    assert (tmp_path / "003-assign.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert (tmp_path / "004-search.png").read_bytes() == b"kept"
+    assert (tmp_path / "SOURCES").read_text() == GALLERY.sources_hash()
+    with pytest.raises(ValueError, match=r"no such figure: nope\.png"):
+        GALLERY.draw(tmp_path, ["nope.png"])
+
+
+def test_without_figures_the_drawn_ones_are_left_out(monkeypatch: pytest.MonkeyPatch) -> None:
+    """With the switch off, the drawn figures' image lines go and the screenshots stay."""
+    page = "a\n![x](figures/003-assign.png)\n![y](figures/001-demo-replay.png)\nb\n"
+    monkeypatch.setenv(GALLERY.SWITCH, "off")
+    assert GALLERY.on_page_markdown(page, None, None, None) == (
+        "a\n\n![y](figures/001-demo-replay.png)\nb\n")
+    monkeypatch.setenv(GALLERY.SWITCH, "on")
+    assert GALLERY.on_page_markdown(page, None, None, None) == page
+
+
 @pytest.fixture(scope="module")
 def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The site built by ``mkdocs build --strict`` (every warning is an error) into a tmp dir."""
@@ -99,7 +148,7 @@ def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
         pytest.skip(f"documentation tools not installed ({', '.join(missing)}): "
                     "pip install -e '.[docs]'")
     out = tmp_path_factory.mktemp("site")
-    env = {**os.environ, "NO_MKDOCS_2_WARNING": "1"}
+    env = {**os.environ, "NO_MKDOCS_2_WARNING": "1", GALLERY.SWITCH: "off"}
     done = subprocess.run(
         [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(out)],
         cwd=ROOT, capture_output=True, text=True, timeout=900, env=env, check=False)
