@@ -9,7 +9,7 @@ from importlib import resources
 
 from searchtrack.plan.optw import BACKENDS as OPTW_BACKENDS
 from searchtrack.plan.optw import read_optw, solve
-from searchtrack.sim.campaigns.experiments import Experiment, Metrics, Param, Params
+from searchtrack.sim.campaigns.experiments import Experiment, Metric, Metrics, Param, Params
 
 OPTW_INSTANCES = ("c101", "r101", "rc101", "pr01")
 """The OPTW instances bundled in ``searchtrack/data/optw``."""
@@ -36,14 +36,15 @@ def optw_run(params: Params, seed: int) -> Metrics:
 EXPERIMENTS = (
     Experiment("toy", (Param("sleep_s", float, 0.0), Param("fail", bool, False),
                        Param("value", float, 1.0)),
-               {"result": float, "seed_echo": int}, toy_run,
+               {"result": Metric(float), "seed_echo": Metric(int)}, toy_run,
                "sleeps, returns its value as result (or raises): for tests and benchmarks"),
     Experiment("optw_instance", (
         Param("instance", str, "c101", OPTW_INSTANCES),
         # ``solve`` defaults to ``auto`` for 10 s; a campaign times one backend for 1 s.
         Param("backend", str, "ils", tuple(OPTW_BACKENDS.names())),
         Param("time_limit_s", float, 1.0), Param.of(read_optw, "vehicles")),
-        {"objective": float, "bound": float, "solve_status": str, "solve_s": float}, optw_run,
+        {"objective": Metric(float), "bound": Metric(float), "solve_status": Metric(str),
+         "solve_s": Metric(float, non_negative=True)}, optw_run,
         "a bundled OPTW instance solved by one backend"),
 )
 """``toy`` and ``optw_instance``."""

@@ -1,9 +1,9 @@
 """The experiments a campaign can run, and the registry that finds them.
 
 An experiment is a pure function ``(params, seed) -> metrics`` with declared, typed parameters
-and metrics, and what a report shows beside its numbers: the paper's claim (one, or one per
-value of a parameter such as the thesis's mission mode), reference lines for its time series (a
-lower bound) and the time axis of those series.
+and metrics (a metric also says whether it can be negative), and what a report shows beside its
+numbers: the paper's claim (one, or one per value of a parameter such as the thesis's mission
+mode), reference lines for its time series (a lower bound) and the time axis of those series.
 
 Each domain declares its experiments in a module of its own, as a module-level tuple
 ``EXPERIMENTS`` of :class:`Experiment` (e.g. :mod:`searchtrack.sim.roads.experiment`,
@@ -33,6 +33,9 @@ from searchtrack.core.errors import InvalidInputError
 
 ParamValue = bool | int | float | str
 """A parameter value: what TOML gives and a DuckDB column holds."""
+
+MetricKind = type[float] | type[int] | type[str]
+"""The type of a metric's column."""
 
 MetricValue = float | int | str | None
 """A metric value (``None``: not defined for this run, e.g. no target to count)."""
@@ -114,6 +117,23 @@ class Param:
 
 
 @dataclass(frozen=True)
+class Metric:
+    """A metric of an experiment: the type of its values (``float``, ``int`` or ``str``) and
+    whether they are never negative (a time, a distance, a fraction, a count), which a report's
+    figure shows by drawing the confidence band from 0 up. Off by default: the band is then the
+    plain mean ± half-width."""
+
+    kind: MetricKind
+    non_negative: bool = False
+
+    def __post_init__(self) -> None:
+        if self.kind not in (float, int, str):
+            raise InvalidInputError("kind", self.kind, "must be float, int or str")
+        if self.non_negative and self.kind is str:
+            raise InvalidInputError("non_negative", self.non_negative, "only for a number")
+
+
+@dataclass(frozen=True)
 class ClaimsBy:
     """Claims that depend on the value of one parameter (the thesis's claims per mission mode):
     a report shows the claim of the value all its runs share, none when they mix values."""
@@ -141,7 +161,7 @@ class Experiment:
     params
         Its parameters, in column order.
     metrics
-        Metric name -> type (``float``, ``int`` or ``str``) of the row a run returns.
+        Metric name -> :class:`Metric` (type, never negative or not) of the row a run returns.
     run
         ``(params, seed) -> metrics``; ``params`` has every parameter, checked.
     description
@@ -157,7 +177,7 @@ class Experiment:
 
     name: str
     params: tuple[Param, ...]
-    metrics: Mapping[str, type[float] | type[int] | type[str]]
+    metrics: Mapping[str, Metric]
     run: Callable[[Params, int], Metrics]
     description: str = ""
     claim: str | ClaimsBy = ""
@@ -171,6 +191,9 @@ class Experiment:
             raise InvalidInputError("params", clash, "reserved or repeated column names")
         for p in self.params:
             p.check(p.default)
+        for name, metric in self.metrics.items():
+            if not isinstance(metric, Metric):
+                raise InvalidInputError(name, metric, "declare a metric as a Metric")
         if isinstance(self.claim, ClaimsBy):
             by = self.param(self.claim.param)
             for value in self.claim.claims:
@@ -213,6 +236,11 @@ class Experiment:
             return None
         value = values.pop()
         return next((text for key, text in self.claim.claims.items() if key == value), None)
+
+    def non_negative(self, name: str) -> bool:
+        """Whether the metric ``name`` is declared never negative (an undeclared name: no)."""
+        metric = self.metrics.get(name)
+        return metric is not None and metric.non_negative
 
     def reference_lines(self, params: Mapping[str, Any]) -> dict[str, float]:
         """The reference lines (label → value) of a group with ``params``."""

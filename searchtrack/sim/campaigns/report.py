@@ -87,16 +87,23 @@ def table_rows(summaries: Sequence[GroupSummary], metrics: Sequence[str]) -> lis
     return rows
 
 
-#: Metric names (their endings) that cannot be negative: times, distances, fractions, counts;
-#: their confidence bands are drawn from 0 up.
-NON_NEGATIVE = ("_s", "_m", "_ms", "_m2", "fraction", "_pct", "detected", "moc_mean",
-                "moc_after_detection", "pvt", "pva", "estimates_mean")
+def band(estimates: Sequence[Estimate], *,
+         non_negative: bool = False) -> tuple[list[float], list[float]]:
+    """The lower and upper edges of the 95 % CI band of ``estimates``: mean ∓ half-width (an
+    undefined half-width, from one sample, counts as 0), the lower edge not below 0 for a metric
+    declared never negative (:attr:`~searchtrack.sim.campaigns.experiments.Metric.non_negative`).
+    """
+    floor = 0.0 if non_negative else -math.inf
+    half = [e.half_width if math.isfinite(e.half_width) else 0.0 for e in estimates]
+    return ([max(floor, e.mean - h) for e, h in zip(estimates, half, strict=True)],
+            [e.mean + h for e, h in zip(estimates, half, strict=True)])
 
 
 def plot_metric(summaries: Sequence[GroupSummary], metric: str, path: Path, *,
-                x_key: str, unit: str = "", title: str = "") -> Path:
+                x_key: str, unit: str = "", title: str = "", non_negative: bool = False) -> Path:
     """``metric`` (mean with its 95 % CI band) against the parameter ``x_key``, one line per
-    value of the other parameters; written atomically as PNG."""
+    value of the other parameters; written atomically as PNG. The band of a metric that is
+    ``non_negative`` is drawn from 0 up (:func:`band`)."""
     plt = pyplot()
 
     lines: dict[str, list[tuple[Any, Estimate]]] = {}
@@ -112,12 +119,9 @@ def plot_metric(summaries: Sequence[GroupSummary], metric: str, path: Path, *,
         numeric = all(isinstance(x, (int, float)) and not isinstance(x, bool) for x, _ in points)
         points.sort(key=lambda p: p[0] if numeric else str(p[0]))
         xs = [x if numeric else str(x) for x, _ in points]
-        mean = [e.mean for _, e in points]
-        half = [e.half_width if math.isfinite(e.half_width) else 0.0 for _, e in points]
-        ax.plot(xs, mean, marker="o", label=label)
-        floor = 0.0 if metric.endswith(NON_NEGATIVE) else -math.inf
-        ax.fill_between(xs, [max(floor, m - h) for m, h in zip(mean, half, strict=True)],
-                        [m + h for m, h in zip(mean, half, strict=True)], alpha=0.2)
+        ax.plot(xs, [e.mean for _, e in points], marker="o", label=label)
+        ax.fill_between(xs, *band([e for _, e in points], non_negative=non_negative),
+                        alpha=0.2)
         if numeric and all(isinstance(x, int) for x in xs):
             from matplotlib.ticker import MaxNLocator
 
@@ -132,7 +136,8 @@ def plot_metric(summaries: Sequence[GroupSummary], metric: str, path: Path, *,
 
 @dataclass(frozen=True)
 class Report:
-    """A campaign's report: what varies, the metrics, the grouped estimates and the claim."""
+    """A campaign's report: what varies, the metrics (and those of them the experiment declares
+    never negative), the grouped estimates and the claim."""
 
     name: str
     experiment: str
@@ -140,6 +145,7 @@ class Report:
     metrics: tuple[str, ...]
     groups: tuple[GroupSummary, ...]
     claim: str | None
+    non_negative: tuple[str, ...] = ()
 
 
 def build_report(name: str, experiment: Experiment, metric_names: Sequence[str],
@@ -155,7 +161,8 @@ def build_report(name: str, experiment: Experiment, metric_names: Sequence[str],
                     if any(isinstance(r.get(m), (int, float)) and not isinstance(r.get(m), bool)
                            for r in rows))
     return Report(name, experiment.name, varying, numeric,
-                  tuple(summarise(rows, varying, numeric, missing)), experiment.claim_for(rows))
+                  tuple(summarise(rows, varying, numeric, missing)), experiment.claim_for(rows),
+                  tuple(m for m in numeric if experiment.non_negative(m)))
 
 
 def _key(value: Any) -> Any:
@@ -164,7 +171,8 @@ def _key(value: Any) -> Any:
 
 def write_figures(report: Report, folder: Path) -> list[Path]:
     """One PNG per metric against the first varying parameter (numeric ones first), one line
-    per value of the others; nothing when no parameter varies."""
+    per value of the others, the bands of the metrics declared never negative from 0 up;
+    nothing when no parameter varies."""
     if not report.group_keys or not report.groups:
         return []
     params = dict(report.groups[0].params)
@@ -173,5 +181,6 @@ def write_figures(report: Report, folder: Path) -> list[Path]:
     x_key = (numeric or list(report.group_keys))[0]
     return [plot_metric(report.groups, m, folder / f"{report.name}-{m}.png", x_key=x_key,
                         unit="s" if m.endswith("_s") else "",
-                        title=f"{report.name}: {m} (mean, 95 % CI)")
+                        title=f"{report.name}: {m} (mean, 95 % CI)",
+                        non_negative=m in report.non_negative)
             for m in report.metrics]

@@ -49,7 +49,7 @@ def columns(experiment: Experiment) -> dict[str, str]:
     cols = {"key": "VARCHAR PRIMARY KEY", "experiment": "VARCHAR"}
     cols.update({p.name: _SQL_TYPES[p.kind] for p in experiment.params})
     cols.update({"seed": "BIGINT", "status": "VARCHAR"})
-    cols.update({m: _SQL_TYPES[t] for m, t in experiment.metrics.items()})
+    cols.update({name: _SQL_TYPES[m.kind] for name, m in experiment.metrics.items()})
     cols.update({"runtime_s": "DOUBLE", "error": "VARCHAR", "host": "VARCHAR",
                  "version": "VARCHAR", "started_utc": "TIMESTAMP", "ended_utc": "TIMESTAMP"})
     return cols

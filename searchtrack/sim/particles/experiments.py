@@ -19,7 +19,7 @@ from searchtrack.estimate.metrics import ospa
 from searchtrack.estimate.phd import PHDConfig, PHDState, SensorScan
 from searchtrack.estimate.phd.filter import step
 from searchtrack.plan.search import CentreProbability, EmptyHorizonMI
-from searchtrack.sim.campaigns.experiments import Experiment, Metrics, Param, Params
+from searchtrack.sim.campaigns.experiments import Experiment, Metric, Metrics, Param, Params
 from searchtrack.sim.particles.scenario import STANDARD_AREA, standard_scenario
 from searchtrack.sim.particles.search import PLANNERS, SearchConfig, run_search_episode
 from searchtrack.sim.particles.tracking import (
@@ -126,7 +126,8 @@ EXPERIMENTS = (
         Param.of(standard_scenario, "n_targets"), Param.of(standard_scenario, "n_scans"),
         Param("burn_in", int, 20), Param.of(PHDConfig, "particles_per_target"),
         Param.of(standard_scenario, "clutter_rate")),
-        {"ospa_mean": float, "estimates_mean": float}, phd_scenario_run,
+        {"ospa_mean": Metric(float), "estimates_mean": Metric(float, non_negative=True)},
+        phd_scenario_run,
         "the standard SMC-PHD scenario: mean OSPA after burn-in",
         claim="SMC-PHD on the standard scenario: OSPA (p = 1, c = 100 m) well below the "
               "cut-off once the targets are born"),
@@ -142,9 +143,10 @@ EXPERIMENTS = (
         Param("adaptive_birth", bool, _LOOP.phd.adaptive_birth),
         Param("found_gate_sigmas", float, _LOOP.found.gate_sigmas, minimum=0.0),
         Param("fov", str, "squared" if _LOOP.sensor.squared else "printed", SEARCH_FOVS)),
-        {"steps_to_find_all": int, "steps_capped": int, "targets_found": int,
-         "found_by_step_250": int, "false_found": int, "rmse_m": float, "planner_ms": float,
-         "filter_ms": float}, search_run,
+        {**dict.fromkeys(("steps_to_find_all", "steps_capped", "targets_found",
+                          "found_by_step_250", "false_found"), Metric(int)),
+         **dict.fromkeys(("rmse_m", "planner_ms", "filter_ms"),
+                         Metric(float, non_negative=True))}, search_run,
         "paper 004's closed-loop 3-D search with the SMC-PHD filter: steps to find all 12",
         claim="paper 004: exploration + refinement finds every target sooner than the "
               "lawnmower; refinement alone does not find them all"),
@@ -153,7 +155,9 @@ EXPERIMENTS = (
         Param.of(TrackConfig, "motion", choices=TRACK_MOTIONS),
         Param.of(TrackConfig, "robots"), Param.of(TrackConfig, "horizon"),
         Param.of(TrackConfig, "steps")),
-        {**dict.fromkeys(TRACK_METRICS, float), "planner_ms": float, "filter_ms": float},
+        {**{name: Metric(float, non_negative=name in ("ospa_m", "altitude_m"))
+            for name in TRACK_METRICS},
+         **dict.fromkeys(("planner_ms", "filter_ms"), Metric(float, non_negative=True))},
         track_run, "paper 003's closed-loop multi-UAV PHD tracking: tail means of its series",
         claim="paper 003: greedy END tracks the most targets with the lowest entropy per "
               "target; MI the fewest; the lawnmower the highest entropy"),

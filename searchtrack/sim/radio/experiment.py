@@ -14,7 +14,7 @@ import numpy as np
 
 from searchtrack.models.radio import RadioScenario, RadioSignal, UavModel
 from searchtrack.plan.radio import RadioPlanSettings
-from searchtrack.sim.campaigns.experiments import Experiment, Param, declared_default
+from searchtrack.sim.campaigns.experiments import Experiment, Metric, Param, declared_default
 from searchtrack.sim.radio.config import (
     FILTERS,
     MEASUREMENTS,
@@ -54,10 +54,12 @@ scenario's settings are :class:`RadioMissionConfig`'s, :class:`RadioPlanSettings
 :class:`~searchtrack.models.radio.UavModel`'s and :class:`RadioScenario`'s (the campaign flies
 fewer particles than the paper)."""
 
-METRICS = {"mean_ospa_m": float, "mean_localisation_m": float, "mean_cardinality_m": float,
-           "unsafe_fraction": float, "cardinality_hit_fraction": float,
-           "objects_detected": int, "filter_ms": float, "planner_ms": float,
-           "ospa_series": str}
+METRICS = {**dict.fromkeys(("mean_ospa_m", "mean_localisation_m", "mean_cardinality_m",
+                            "unsafe_fraction", "cardinality_hit_fraction"),
+                           Metric(float, non_negative=True)),
+           "objects_detected": Metric(int, non_negative=True),
+           "filter_ms": Metric(float, non_negative=True),
+           "planner_ms": Metric(float, non_negative=True), "ospa_series": Metric(str)}
 """Metrics of one run; ``cardinality_hit_fraction`` and ``objects_detected`` are
 :class:`~searchtrack.sim.radio.mission.RadioMissionLog`'s (Fig. 5), ``ospa_series`` is the OSPA
 at every second (JSON)."""

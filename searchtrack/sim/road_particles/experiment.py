@@ -17,7 +17,14 @@ import numpy as np
 
 from searchtrack.models.road_particles import DirectedRoads
 from searchtrack.plan.road_search.weights import NORMALIZATIONS
-from searchtrack.sim.campaigns.experiments import Experiment, Metrics, Param, Params, TimeAxis
+from searchtrack.sim.campaigns.experiments import (
+    Experiment,
+    Metric,
+    Metrics,
+    Param,
+    Params,
+    TimeAxis,
+)
 from searchtrack.sim.road_particles.episode import (
     COORDINATIONS,
     PAPER_GRID,
@@ -101,9 +108,10 @@ EXPERIMENTS = (
         Param.of(RoadTrackingConfig, "normalization", choices=NORMALIZATIONS),
         Param.of(RoadTrackingConfig, "jump_rate_per_s", minimum=0.0),
         Param.of(RoadTrackingConfig, "horizon_s", minimum=0.0)),
-        {"mean_entropy": float, "early_entropy": float, "late_entropy": float,
-         "error_m": float, "all_detected_s": float, "planner_ms": float, "filter_ms": float,
-         "entropy_series": str},
+        {**dict.fromkeys(("mean_entropy", "early_entropy", "late_entropy"), Metric(float)),
+         **dict.fromkeys(("error_m", "all_detected_s", "planner_ms", "filter_ms"),
+                         Metric(float, non_negative=True)),
+         "entropy_series": Metric(str)},
         road_tracking_run, "paper 000's closed-loop road tracking (RBPF + planner): entropy",
         claim="paper 000, Fig. 11: the exhaustive RHC cuts the mean combined entropy to about "
               "1/3 of the random planner's, RL to about 1/2; the ideal planner approaches the "

@@ -24,7 +24,7 @@ from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.models.dubins import DubinsLimits
 from searchtrack.models.lrt_sensor import AltitudeModel, SensorModel
 from searchtrack.plan.guidance.view import STEERINGS
-from searchtrack.sim.campaigns.experiments import ClaimsBy, Experiment, Param
+from searchtrack.sim.campaigns.experiments import ClaimsBy, Experiment, Metric, Param
 from searchtrack.sim.roads.mission import Mission, World
 from searchtrack.sim.roads.record import MissionLog
 from searchtrack.sim.roads.scenario import (
@@ -170,11 +170,13 @@ def step_samples(logs: Sequence[MissionLog]) -> tuple[IntArray, FloatArray, Floa
     return counts.astype(np.int64), ms, phases
 
 
-MISSION_METRICS: dict[str, type[int] | type[float]] = {
-    "detected": int, "time_to_detect_all_s": float, "time_to_first_detection_s": float,
-    "moc_mean": float, "moc_after_detection": float, "pvt": float, "pva": float}
+MISSION_METRICS: dict[str, Metric] = {
+    "detected": Metric(int, non_negative=True),
+    **dict.fromkeys(("time_to_detect_all_s", "time_to_first_detection_s", "moc_mean",
+                     "moc_after_detection", "pvt", "pva"), Metric(float, non_negative=True))}
 """The campaign ``mission`` experiment's metrics: fields of the run's
-:class:`~searchtrack.sim.roads.metrics.MissionScore`, by name and type."""
+:class:`~searchtrack.sim.roads.metrics.MissionScore`, by name (a count, times and fractions:
+none negative)."""
 
 MISSION_MAPS: dict[str, MapSpec] = {**MAPS,
                                     "grid-small": MapSpec("grid", rows=6, cols=6, block_m=100.0)}

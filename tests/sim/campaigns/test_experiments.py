@@ -20,6 +20,7 @@ from searchtrack.sim.campaigns.experiments import (
     ClaimsBy,
     Experiment,
     ExperimentRegistry,
+    Metric,
     Param,
     declared_default,
     discover,
@@ -99,6 +100,21 @@ COLUMNS = {
                                 "filter_ms": float, "planner_ms": float, "ospa_series": str}),
 }
 
+#: The metrics of each experiment declared never negative (a report draws their bands from 0).
+NON_NEGATIVE = {
+    "toy": [],
+    "optw_instance": ["solve_s"],
+    "phd_tracking_scenario": ["estimates_mean"],
+    "phd_search_episode": ["rmse_m", "planner_ms", "filter_ms"],
+    "phd_tracking_episode": ["ospa_m", "altitude_m", "planner_ms", "filter_ms"],
+    "road_tracking_episode": ["error_m", "all_detected_s", "planner_ms", "filter_ms"],
+    "mission": ["detected", "time_to_detect_all_s", "time_to_first_detection_s", "moc_mean",
+                "moc_after_detection", "pvt", "pva"],
+    "radio_tracking_episode": ["mean_ospa_m", "mean_localisation_m", "mean_cardinality_m",
+                               "unsafe_fraction", "cardinality_hit_fraction",
+                               "objects_detected", "filter_ms", "planner_ms"],
+}
+
 #: Fixed choices (those not read from a backend registry).
 CHOICES = {
     ("mission", "map"): ("aguascalientes", "West-Oakland", "grid-dense", "grid-small"),
@@ -136,7 +152,8 @@ def test_every_experiment_keeps_its_columns_and_defaults() -> None:
         got = [(p.name, p.kind, p.default, p.minimum) for p in exp.params]
         assert got == params, name
         assert [type(p.default) for p in exp.params] == [kind for _, kind, _, _ in params], name
-        assert dict(exp.metrics) == metrics, name
+        assert [(m, d.kind) for m, d in exp.metrics.items()] == list(metrics.items()), name
+        assert [m for m, d in exp.metrics.items() if d.non_negative] == NON_NEGATIVE[name], name
     for (name, param), choices in CHOICES.items():
         assert get(name).param(param).choices == choices, (name, param)
 
@@ -155,10 +172,26 @@ def test_resolve_checks_names_and_types() -> None:
         get("mission").resolve({"map": "moon"})
 
 
+def test_metrics_are_declared_with_a_type_and_a_sign() -> None:
+    """A metric is a number or text; only a number may be declared never negative; an
+    experiment takes its metrics as :class:`Metric` and tells which are never negative."""
+    assert Metric(float) == Metric(float, non_negative=False)
+    with pytest.raises(InvalidInputError, match="kind"):
+        Metric(bool)  # type: ignore[arg-type]
+    with pytest.raises(InvalidInputError, match="non_negative"):
+        Metric(str, non_negative=True)
+    with pytest.raises(InvalidInputError, match="x="):
+        Experiment("bare", (), {"x": float}, lambda p, s: {"x": 0.0})  # type: ignore[dict-item]
+    exp = Experiment("signs", (), {"d_m": Metric(float, non_negative=True), "x": Metric(float)},
+                     lambda p, s: {"d_m": 0.0, "x": 0.0})
+    assert (exp.non_negative("d_m"), exp.non_negative("x"), exp.non_negative("t")) == (
+        True, False, False)
+
+
 def test_reserved_column_names_are_refused() -> None:
     """A parameter or metric may not take a column every row has (``seed``, ``status``...)."""
     with pytest.raises(InvalidInputError, match="seed"):
-        Experiment("bad", (Param("seed", int, 0),), {"x": float}, lambda p, s: {"x": 0.0})
+        Experiment("bad", (Param("seed", int, 0),), {"x": Metric(float)}, lambda p, s: {"x": 0.0})
 
 
 @dataclass(frozen=True)
@@ -192,7 +225,7 @@ def test_param_of_takes_the_default_and_its_type_from_the_source() -> None:
 
 def _two_modes(claims: dict[str, str]) -> Experiment:
     return Experiment("modes", (Param("mode", str, "a", ("a", "b")), Param("n", int, 1)),
-                      {"x": float}, lambda p, s: {"x": 0.0}, claim=ClaimsBy("mode", claims))
+                      {"x": Metric(float)}, lambda p, s: {"x": 0.0}, claim=ClaimsBy("mode", claims))
 
 
 def test_claims_by_a_parameter_are_the_shared_values() -> None:
@@ -205,11 +238,11 @@ def test_claims_by_a_parameter_are_the_shared_values() -> None:
     assert exp.claim_for([]) is None
     assert _two_modes({"a": "claim A"}).claim_for([{"mode": "b"}]) is None
     with pytest.raises(InvalidInputError, match="colour"):
-        Experiment("c", (Param("mode", str, "a"),), {"x": float}, lambda p, s: {"x": 0.0},
+        Experiment("c", (Param("mode", str, "a"),), {"x": Metric(float)}, lambda p, s: {"x": 0.0},
                    claim=ClaimsBy("colour", {"red": "claim"}))
     with pytest.raises(InvalidInputError, match="mode='c'"):
         _two_modes({"c": "claim C"})
-    plain = Experiment("p", (), {"x": float}, lambda p, s: {"x": 0.0}, claim="one claim")
+    plain = Experiment("p", (), {"x": Metric(float)}, lambda p, s: {"x": 0.0}, claim="one claim")
     assert plain.claims() == ("one claim",) and plain.claim_for([]) == "one claim"
     assert get("toy").claims() == () and get("toy").claim_for([{}]) is None
 
@@ -235,7 +268,7 @@ def test_the_domains_experiment_modules_are_found() -> None:
 _NEW_EXPERIMENT = '''
 """A domain's new experiment."""
 
-from searchtrack.sim.campaigns.experiments import Experiment, Param
+from searchtrack.sim.campaigns.experiments import Experiment, Metric, Param
 
 
 def doubled(params, seed):
@@ -243,7 +276,7 @@ def doubled(params, seed):
 
 
 EXPERIMENTS = (Experiment("doubling", (Param("x", float, 1.0), Param("shift", int, 0)),
-                          {"twice": float, "seed_plus": int}, doubled,
+                          {"twice": Metric(float), "seed_plus": Metric(int)}, doubled,
                           claim="the new paper: twice as much"),)
 '''
 

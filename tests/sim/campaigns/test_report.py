@@ -7,7 +7,16 @@ from pathlib import Path
 
 import pytest
 
-from searchtrack.sim.campaigns.report import plot_metric, summarise, table_rows
+from searchtrack.sim.campaigns.experiments import Experiment, Metric, Param
+from searchtrack.sim.campaigns.report import (
+    band,
+    build_report,
+    plot_metric,
+    summarise,
+    table_rows,
+    write_figures,
+)
+from searchtrack.sim.campaigns.stats import estimate
 
 ROWS = [
     {"uavs": 3, "map": "a", "seed": 0, "status": "ok", "t": 10.0},
@@ -46,11 +55,50 @@ def test_figure_is_written_as_png(tmp_path: Path) -> None:
     assert [p.name for p in tmp_path.iterdir()] == ["t.png"]
 
 
+def test_band_of_a_non_negative_metric_starts_at_zero() -> None:
+    """Mean ∓ half-width, a single sample's undefined half-width as 0; the lower edge is cut
+    at 0 only for a metric declared never negative."""
+    wide, single = estimate([0.0, 2.0]), estimate([3.0])
+    assert wide.mean - wide.half_width < 0.0
+    low, high = band([wide, single])
+    assert low == [wide.mean - wide.half_width, 3.0]
+    assert high == [wide.mean + wide.half_width, 3.0]
+    assert band([wide, single], non_negative=True) == ([0.0, 3.0], high)
+
+
+def _signed_experiment() -> Experiment:
+    return Experiment("signed", (Param("uavs", int, 1),),
+                      {"d_m": Metric(float, non_negative=True), "x": Metric(float)},
+                      lambda p, s: {"d_m": 0.0, "x": 0.0})
+
+
+def test_figures_clip_only_the_bands_declared_non_negative(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The report reads the sign of each metric from the experiment's declaration: the band of
+    the metric declared never negative stops at 0, that of the other goes below it."""
+    from matplotlib.axes import Axes
+
+    rows = [{"uavs": u, "seed": k, "status": "ok", "d_m": v, "x": v}
+            for u in (1, 2) for k, v in enumerate((0.0, 2.0))]
+    report = build_report("signed", _signed_experiment(), ["d_m", "x"], rows)
+    assert report.metrics == ("d_m", "x") and report.non_negative == ("d_m",)
+    lows: list[float] = []
+    drawn = Axes.fill_between
+
+    def record(self: Axes, x: object, y1: list[float], *args: object, **kw: object) -> object:
+        lows.append(min(y1))
+        return drawn(self, x, y1, *args, **kw)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(Axes, "fill_between", record)
+    written = write_figures(report, tmp_path)
+    assert [p.name for p in written] == ["signed-d_m.png", "signed-x.png"]
+    assert lows[0] == 0.0 and lows[1] < 0.0
+
+
 def test_report_groups_by_what_varies_and_finds_the_claim() -> None:
     """The groups are the parameters that take more than one value; the claim of a detect-mode
     mission campaign is the thesis's experiment 1 claim."""
     from searchtrack.sim.campaigns.experiments import ClaimsBy, get
-    from searchtrack.sim.campaigns.report import build_report
 
     mission = get("mission")
     rows = [{**r, "mode": "detect", "targets": 8} for r in ROWS]
@@ -67,7 +115,6 @@ def test_every_experiments_claim_reaches_the_report() -> None:
     (for a claim per value of a parameter, the one of the value the runs share; none when they
     mix values); the paper experiments all state one."""
     from searchtrack.sim.campaigns.experiments import EXPERIMENTS, ClaimsBy
-    from searchtrack.sim.campaigns.report import build_report
 
     stated = set()
     for exp in EXPERIMENTS.values():

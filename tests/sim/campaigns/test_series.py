@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from searchtrack.sim.campaigns import series
-from searchtrack.sim.campaigns.experiments import Experiment, Param, Reference, TimeAxis
+from searchtrack.sim.campaigns.experiments import Experiment, Metric, Param, Reference, TimeAxis
 from searchtrack.sim.campaigns.series import (
     parse,
     plot_series,
@@ -51,7 +51,7 @@ def test_groups_average_over_their_common_length_and_skip_failures() -> None:
 
 def _series_experiment(reference: Reference | None = None) -> Experiment:
     return Experiment("toy_series", (Param("planner", str, "a"), Param("map", str, "m")),
-                      {"mean_entropy": float, "entropy_series": str},
+                      {"mean_entropy": Metric(float), "entropy_series": Metric(str)},
                       lambda p, s: {"mean_entropy": 0.0, "entropy_series": "[]"},
                       references=reference, time_axis=TimeAxis(2.0, "time (s)"))
 
