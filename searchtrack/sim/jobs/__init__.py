@@ -3,7 +3,8 @@
 
 A family is a module of this package; its name is the module's name (``assign``, ``associate``,
 ``route``, ``search``, ``trajectory``). :func:`families` lists them, :func:`load` imports one and
-checks that it has the interface :mod:`searchtrack.cli.plan` calls. Adding a family is one module
+checks that it has the interface :mod:`searchtrack.cli.plan` calls (one member,
+``geo_projection``, is optional: :func:`geo_projection`). Adding a family is one module
 here (and its solver family under :mod:`searchtrack.plan`): the command line, its ``--help`` and
 backend choices follow from the module.
 """
@@ -12,6 +13,7 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
+from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType
 from typing import Any, Protocol, cast, runtime_checkable
@@ -25,6 +27,10 @@ from searchtrack.sim.export.plans import VehiclePaths
 @runtime_checkable
 class PlanJob(Protocol):
     """What a ``plan`` family module provides (a module satisfies this protocol).
+
+    A module whose problems carry a geographic frame (a map read from OpenStreetMap) also
+    defines ``geo_projection(problem) -> LocalProjection | None``, the projection of the
+    problem's planar frame; the others leave it out (:func:`geo_projection`).
 
     Attributes
     ----------
@@ -68,10 +74,14 @@ class PlanJob(Protocol):
         plan that moves no vehicle; called only when there is a plan)."""
         ...
 
-    def geo_projection(self, problem: Any) -> LocalProjection | None:
-        """The projection of the problem's planar frame when it has one (a map read from
-        OpenStreetMap), else ``None`` (``--export`` then needs ``--origin``)."""
-        ...
+
+def geo_projection(job: PlanJob, problem: Any) -> LocalProjection | None:
+    """The projection of ``problem``'s planar frame from the optional
+    ``geo_projection(problem)`` of the family module ``job``; ``None`` when the module defines
+    none or the problem has no geographic frame (``--export`` then needs ``--origin``)."""
+    project: Callable[[Any], LocalProjection | None] | None = getattr(job, "geo_projection",
+                                                                      None)
+    return None if project is None else project(problem)
 
 
 def families() -> list[str]:

@@ -38,7 +38,6 @@ from searchtrack.core.files import read_json
 from searchtrack.core.result import Result
 from searchtrack.estimate.particle_belief import WeightedParticles
 from searchtrack.models.footprint import GaussianFieldOfView
-from searchtrack.models.projection import LocalProjection
 from searchtrack.plan.assign import (
     BACKENDS as BACKENDS,
 )
@@ -265,8 +264,3 @@ def vehicle_paths(problem: AssignJob, result: Result[Assignment]) -> VehiclePath
     origins = prob.origins if prob.origins is not None else np.zeros((prob.robots, 3))
     return VehiclePaths(tuple(np.vstack([origins[r, :3], plan.poses[r, :, :3]])
                               for r in range(prob.robots)))
-
-
-def geo_projection(problem: AssignJob) -> LocalProjection | None:
-    """None: the problem is in a local frame (``--export`` needs ``--origin``)."""
-    return None

@@ -51,7 +51,6 @@ from searchtrack.estimate.node_tracker import (
     measurement_density,
     position_log_likelihood,
 )
-from searchtrack.models.projection import LocalProjection
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.sim.export.plans import VehiclePaths
 from searchtrack.sim.kernels import kernels_of
@@ -283,8 +282,3 @@ def figure(problem: AssociateJob, result: Result[AssociationPlan], path: Path) -
 def vehicle_paths(problem: AssociateJob, result: Result[AssociationPlan]) -> VehiclePaths:
     """None: an association moves no vehicle."""
     return VehiclePaths()
-
-
-def geo_projection(problem: AssociateJob) -> LocalProjection | None:
-    """None: the problem is in a local frame (``--export`` needs ``--origin``)."""
-    return None

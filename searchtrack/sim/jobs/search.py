@@ -48,7 +48,6 @@ import numpy as np
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.result import Result
-from searchtrack.models.projection import LocalProjection
 from searchtrack.plan.search import (
     BACKENDS as BACKENDS,
 )
@@ -269,8 +268,3 @@ def vehicle_paths(problem: SearchJob, result: Result[SearchPlan]) -> VehiclePath
     if result.plan is None:
         raise ValueError("vehicle_paths needs a result with a plan")
     return VehiclePaths((np.vstack([problem.problem.position, result.plan.sequence]),))
-
-
-def geo_projection(problem: SearchJob) -> LocalProjection | None:
-    """None: the problem is in a local frame (``--export`` needs ``--origin``)."""
-    return None

@@ -57,7 +57,6 @@ from searchtrack.core.intervals import interval_count
 from searchtrack.core.registry import check_seed
 from searchtrack.core.result import Result, Sense, Status
 from searchtrack.core.types import FloatArray
-from searchtrack.models.projection import LocalProjection
 from searchtrack.models.vehicles import VehicleModel, fixed_wing, uav7, unicycle
 from searchtrack.plan.trajectory import BACKENDS as BACKENDS
 from searchtrack.plan.trajectory import Obstacles, SampledPath, waypoint_path
@@ -375,8 +374,3 @@ def vehicle_paths(problem: TrajectoryProblem, result: Result[FlightLog]) -> Vehi
         raise ValueError("vehicle_paths needs a result with a plan")
     where = result.plan.states[:, list(problem.model.position_indices)]
     return VehiclePaths((where[:, :2],))
-
-
-def geo_projection(problem: TrajectoryProblem) -> LocalProjection | None:
-    """None: the problem is in a local frame (``--export`` needs ``--origin``)."""
-    return None

@@ -45,3 +45,16 @@ def test_a_module_without_the_interface_is_refused(monkeypatch: pytest.MonkeyPat
     monkeypatch.setattr(jobs, "families", lambda: ["half"])
     with pytest.raises(TypeError, match=r"lacks.*BACKENDS"):
         jobs.load("half")
+
+
+def test_geo_projection_is_optional() -> None:
+    """Only a family whose problems can carry a map frame defines ``geo_projection``; the
+    helper asks it, and gives ``None`` for a family without one."""
+    from searchtrack.models.projection import LocalProjection
+
+    assert [m for m in (assign, associate, route, search, trajectory)
+            if hasattr(m, "geo_projection")] == [route]
+    assert jobs.geo_projection(SEARCH, object()) is None
+    frame = LocalProjection(0.5, 0.1)
+    mapped = types.SimpleNamespace(geo_projection=lambda problem: problem)
+    assert jobs.geo_projection(mapped, frame) is frame  # type: ignore[arg-type]
