@@ -23,10 +23,11 @@ DEFAULT_ALTITUDE_M = 120.0
 
 def add_arguments(parser: argparse.ArgumentParser, *,
                   altitude_m: float | None = DEFAULT_ALTITUDE_M, unit: bool = False,
-                  speed: bool = False) -> None:
+                  speed: bool = False, own_altitude: str = "the scenario's") -> None:
     """Add ``--export``, ``--origin`` and ``--altitude`` (default ``altitude_m``; ``None``: the
-    problem's own); ``--speed`` when ``speed`` or ``unit``, and ``--unit-m`` when ``unit`` (an
-    OPTW instance, whose coordinates and times have no unit)."""
+    problem's own, which the help names as ``own_altitude``); ``--speed`` when ``speed`` or
+    ``unit``, and ``--unit-m`` when ``unit`` (an OPTW instance, whose coordinates and times have
+    no unit)."""
     parser.add_argument("--export", default=None, metavar="DIR",
                         help="also write a QGroundControl .plan and a MAVLink .waypoints file "
                              "per vehicle, plan.geojson and its offline map page plan.html "
@@ -37,7 +38,7 @@ def add_arguments(parser: argparse.ArgumentParser, *,
                              "latitude as --origin=-35,149)")
     parser.add_argument("--altitude", type=positive_float, default=altitude_m, metavar="M",
                         help="flight altitude above home for --export (m; default: "
-                             + ("the scenario's" if altitude_m is None else f"{altitude_m:g}")
+                             + (own_altitude if altitude_m is None else f"{altitude_m:g}")
                              + ")")
     if unit:
         parser.add_argument("--unit-m", type=positive_float, default=1.0, metavar="M",

@@ -52,8 +52,6 @@ _explore = float_in(0.0, 1.0, high_open=True)
 #: defaults, read from the classes so that no filter module is loaded).
 MISSION, PLAN = RadioMissionConfig, RadioPlanSettings
 
-#: Flight altitude of an exported radio mission unless ``--altitude`` says otherwise (m).
-EXPORT_ALTITUDE_M = 100.0
 
 
 def _particles(args: argparse.Namespace) -> int:
@@ -188,9 +186,17 @@ def mission(args: argparse.Namespace, console: Console) -> int:
     if exports is not None and log.steps:
         from searchtrack.sim.export.radio_files import radio_mission_files
 
-        frame = export.geo_frame(args, None, args.altitude)
+        frame = export.geo_frame(args, None, export_altitude(args, scenario))
         export.write_files(exports, radio_mission_files(log, frame), console)
     return 0
+
+
+def export_altitude(args: argparse.Namespace, scenario: RadioScenario) -> float:
+    """The altitude an exported radio mission flies at (m): ``--altitude``, else the scenario's
+    own, the height its UAV flies above the tags (``[signal] height_difference_m``), else (a
+    scenario at the tags' height) :data:`~searchtrack.cli.export.DEFAULT_ALTITUDE_M`."""
+    given: float | None = args.altitude
+    return given or scenario.signal.height_difference_m or export.DEFAULT_ALTITUDE_M
 
 
 def _common(p: argparse.ArgumentParser) -> None:
@@ -283,5 +289,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p_mis.add_argument("--out", required=True, metavar="DIR",
                        help="folder for mission.json, map.png and ospa.png")
     _common(p_mis)
-    export.add_arguments(p_mis, altitude_m=EXPORT_ALTITUDE_M)
+    export.add_arguments(p_mis, altitude_m=None,
+                         own_altitude="the scenario's height of the UAV above the tags, "
+                                      "[signal] height_difference_m")
     p_mis.set_defaults(run=mission)

@@ -78,6 +78,35 @@ def test_radio_mission_needs_an_origin_before_flying(tmp_path: Path,
         "plan.geojson", "plan.html", "uav0.plan", "uav0.waypoints"]
 
 
+def _flown_altitudes(folder: Path) -> set[float]:
+    """The altitudes of the exported UAV's flown items: those of ``uav0.plan`` with one, and
+    column 11 of ``uav0.waypoints`` in the mission frame (3, relative to home)."""
+    plan = json.loads((folder / "uav0.plan").read_text(encoding="utf-8"))
+    heights = {item["Altitude"] for item in plan["mission"]["items"] if item["Altitude"]}
+    rows = [line.split("\t") for line in
+            (folder / "uav0.waypoints").read_text(encoding="utf-8").splitlines()[1:]]
+    return heights | {float(row[10]) for row in rows if row[2] == "3"}
+
+
+def test_radio_mission_exports_at_the_scenarios_height(tmp_path: Path,
+                                                       capsys: pytest.CaptureFixture[str]) -> None:
+    """Without --altitude the radio UAV's path is exported at the height the scenario flies it
+    above the tags; --altitude overrides it, and the help says so."""
+    scenario = tmp_path / "s.toml"
+    scenario.write_text("duration_s = 3.0\n[signal]\nheight_difference_m = 37.0\n",
+                        encoding="utf-8")
+    base = ["radio", "mission", str(scenario), "--particles", "50", "--plan-particles", "20",
+            "--horizon", "1", "--origin=-35,149"]
+    assert main([*base, "--out", str(tmp_path / "m"), "--export", str(tmp_path / "own")]) == 0
+    assert _flown_altitudes(tmp_path / "own") == {37.0}
+    assert main([*base, "--out", str(tmp_path / "n"), "--export", str(tmp_path / "given"),
+                 "--altitude", "45"]) == 0
+    assert _flown_altitudes(tmp_path / "given") == {45.0}
+    capsys.readouterr()
+    assert _exit(["radio", "mission", "--help"]) == 0
+    assert "height_difference_m" in " ".join(capsys.readouterr().out.split())
+
+
 @pytest.mark.parametrize("family", ["assign", "route", "trajectory", "search"])
 def test_plan_families_export_their_paths(tmp_path: Path, family: str) -> None:
     """Each family that moves vehicles exports one mission per vehicle that pymavlink reads and
