@@ -28,9 +28,11 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.models.radio.calibration import CALIBRATIONS
 from searchtrack.models.radio.signal import MAX_NOISE_VAR_V2
 from searchtrack.plan.radio import RadioPlanSettings
+from searchtrack.plan.radio.problem import MAX_SPREAD_INFLATION
 from searchtrack.sim.kernels import RADIO_KERNELS
 from searchtrack.sim.radio.config import (
     FILTERS,
+    MAX_ROUGHENING_M,
     MEASUREMENTS,
     PLAN_BACKENDS,
     PLANNERS,
@@ -47,6 +49,10 @@ MAX_NOISE_SIGMA_V = math.sqrt(MAX_NOISE_VAR_V2)
 _noise_sigma = float_in(0.0, MAX_NOISE_SIGMA_V, low_open=True, unit=" V")
 #: ``--explore``: an existence in ``[0, 1)``.
 _explore = float_in(0.0, 1.0, high_open=True)
+#: ``--spread-inflation``: a multiple of the spread in ``[0, MAX_SPREAD_INFLATION]``.
+_spread_inflation = float_in(0.0, MAX_SPREAD_INFLATION)
+#: ``--roughening``: a floor in ``[0, MAX_ROUGHENING_M]`` metres.
+_roughening = float_in(0.0, MAX_ROUGHENING_M, unit=" m")
 
 #: The defaults of the options: a mission's and its planner's settings (the dataclasses' field
 #: defaults, read from the classes so that no filter module is loaded).
@@ -266,7 +272,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
                        f"{PLAN.r_min_m:g} m)")
     p_mis.add_argument("--p-void", type=float, default=PLAN.p_void_min, metavar="P",
                        help=f"least void probability P_vmin (default {PLAN.p_void_min:g})")
-    p_mis.add_argument("--spread-inflation", type=float, default=PLAN.spread_inflation,
+    p_mis.add_argument("--spread-inflation", type=_spread_inflation, default=PLAN.spread_inflation,
                        metavar="K", help="keep each object's void disc r_min + K times its "
                        f"estimate's spread away (default {PLAN.spread_inflation:g}: r_min alone)")
     p_mis.add_argument("--replan-on-breach", action="store_true",
@@ -278,7 +284,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
                        f"reward (default {PLAN.explore_existence:g})")
     p_mis.add_argument("--keep-out", action="store_true",
                        help="also keep r_min from every estimate in the flown trajectory")
-    p_mis.add_argument("--roughening", type=float, default=MISSION.roughening_m, metavar="M",
+    p_mis.add_argument("--roughening", type=_roughening, default=MISSION.roughening_m, metavar="M",
                        help="jitter the filter's particles by at least M metres after each "
                        "resampling, so a cloud that collapsed on one point can follow its "
                        f"object again (default {MISSION.roughening_m:g}: none, the paper's)")

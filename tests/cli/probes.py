@@ -279,9 +279,9 @@ PROBES: list[Probe] = [
      ("--planner",)),
     ("radio mission: --explore 1", _radio_mission("--explore", "1"), 2, ("--explore",)),
     ("radio mission: negative spread inflation", _radio_mission("--spread-inflation", "-1"), 2,
-     ("spread_inflation",)),
+     ("--spread-inflation",)),
     ("radio mission: negative roughening", _radio_mission("--roughening", "-2"), 2,
-     ("roughening_m",)),
+     ("--roughening",)),
     ("radio mission: unknown calibration", _radio_mission("--calibration", "literal"), 2,
      ("--calibration",)),
 ]

@@ -88,6 +88,49 @@ def test_unsafe_parameters_are_refused(tmp_path: Path, args: list[str], named: s
     assert not any(folder.glob("*"))
 
 
+@pytest.mark.parametrize(("args", "named"), [
+    (["--roughening", "-1"], "--roughening"),
+    (["--roughening", "nan"], "--roughening"),
+    (["--spread-inflation", "101"], "--spread-inflation"),
+    (["--spread-inflation", "-0.5"], "--spread-inflation"),
+])
+def test_out_of_range_options_are_refused_when_parsed(
+        tmp_path: Path, args: list[str], named: str,
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """The command line refuses a value its settings would: one line naming the option, exit
+    status 2, before the scenario is even read (it does not exist here)."""
+    folder = tmp_path / "out"
+    with pytest.raises(SystemExit) as done:
+        cli.main(["radio", "mission", str(tmp_path / "none.toml"), "--out", str(folder), *args])
+    err = capsys.readouterr().err
+    assert done.value.code == 2 and len(err.strip().splitlines()) == 1
+    assert f"argument {named}:" in err and not folder.exists()
+
+
+def test_option_ranges_are_the_settings_ranges() -> None:
+    """--spread-inflation and --roughening take exactly what RadioPlanSettings and
+    RadioMissionConfig take: both ends of the range, nothing beyond."""
+    import argparse
+
+    from searchtrack.cli.radio import _roughening, _spread_inflation
+    from searchtrack.core.errors import InvalidInputError
+    from searchtrack.plan.radio import RadioPlanSettings
+    from searchtrack.plan.radio.problem import MAX_SPREAD_INFLATION
+    from searchtrack.sim.radio.config import MAX_ROUGHENING_M, RadioMissionConfig
+
+    cases = ((_spread_inflation, MAX_SPREAD_INFLATION,
+              lambda v: RadioPlanSettings(spread_inflation=v)),
+             (_roughening, MAX_ROUGHENING_M, lambda v: RadioMissionConfig(roughening_m=v)))
+    for parse, top, settings in cases:
+        for ok in (0.0, top):
+            settings(parse(repr(ok)))
+        for bad in (-1e-9, top * (1 + 1e-9)):
+            with pytest.raises(argparse.ArgumentTypeError):
+                parse(repr(bad))
+            with pytest.raises(InvalidInputError):
+                settings(bad)
+
+
 def test_unknown_scenario_key_is_named(tmp_path: Path,
                                        capsys: pytest.CaptureFixture[str]) -> None:
     out = tmp_path / "run.npz"

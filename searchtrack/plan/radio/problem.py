@@ -38,6 +38,8 @@ EXISTENCE_THRESHOLD = 0.5
 MAX_HORIZON, MAX_PLAN_PARTICLES = 10, 100_000
 #: Most look-ahead points ``H · N_p/step_s · Λ · plan_particles`` (the paper: 60 000).
 MAX_LOOKAHEAD_POINTS = 2**23
+#: Largest ``spread_inflation``: how many spreads a void disc may reach beyond ``r_min``.
+MAX_SPREAD_INFLATION = 100.0
 
 
 @dataclass(frozen=True)
@@ -103,7 +105,8 @@ class RadioPlanSettings:
         if checks.count("plan_particles", self.plan_particles, 1) > MAX_PLAN_PARTICLES:
             raise InvalidInputError("plan_particles", self.plan_particles,
                                     f"must be an integer in [1, {MAX_PLAN_PARTICLES}]")
-        checks.real("spread_inflation", self.spread_inflation, low=0.0, high=100.0)
+        checks.real("spread_inflation", self.spread_inflation, low=0.0,
+                    high=MAX_SPREAD_INFLATION)
         checks.real("explore_existence", self.explore_existence, low=0.0, high=1.0,
                     high_open=True)
 

@@ -36,6 +36,10 @@ the straight sweep (flown as the ``straight`` planner)."""
 MEASUREMENTS = tuple(SIMULATORS)
 """How spectrograms are simulated (:data:`~searchtrack.sim.radio.run.SIMULATORS`)."""
 
+MAX_ROUGHENING_M = 1e4
+"""Largest roughening floor ``roughening_m`` (m), as the filter's own
+(:attr:`~searchtrack.estimate.radio.filter.FilterConfig.roughening_m`)."""
+
 
 @dataclass(frozen=True)
 class RadioMissionConfig:
@@ -101,7 +105,7 @@ class RadioMissionConfig:
             raise InvalidInputError("particles_per_label", self.particles_per_label,
                                     f"must be an integer in [1, {MAX_PARTICLES_PER_LABEL}]")
         checks.positive("plan_time_limit_s", self.plan_time_limit_s)
-        checks.real("roughening_m", self.roughening_m, low=0.0, high=1e4)
+        checks.real("roughening_m", self.roughening_m, low=0.0, high=MAX_ROUGHENING_M)
         checks.positive("ospa_c_m", self.ospa_c_m)
         checks.positive("ospa_p", self.ospa_p)
         for name in ("keep_out", "temper_correlated", "replan_on_breach"):
