@@ -178,13 +178,17 @@ def _client(workers: int | None, scheduler: str | None) -> Iterator[Any]:
     # The workers' statistical profiler samples every task's stack every 10 ms: on a busy
     # machine it costs runs a tenth of their speed, and a campaign does not read it.
     with dask.config.set({"distributed.worker.profile.enabled": False}), \
-            LocalCluster(n_workers=n, threads_per_worker=1, processes=True,  # type: ignore[no-untyped-call]
+            LocalCluster(n_workers=0, threads_per_worker=1, processes=True,  # type: ignore[no-untyped-call]
                       dashboard_address=":0", env=ONE_THREAD_ENV,
                       # the workers' warnings on a stop (tasks cancelled, comms closed) are
                       # noise on the terminal; their errors are still shown
                       silence_logs=logging.ERROR,
                       preload=["searchtrack.sim.campaigns.worker_setup"]) as cluster, \
             Client(cluster) as client:  # type: ignore[no-untyped-call]
+        # the workers start in the background, so that Ctrl-C while they start stops at once
+        cluster.scale(n)  # type: ignore[no-untyped-call]
+        while len(client.scheduler_info()["workers"]) < n and not stop_requested():
+            time.sleep(_POLL_S)
         yield client
 
 
@@ -317,6 +321,8 @@ def run_campaign(spec: CampaignSpec, db_path: str | Path, *, workers: int | None
         startup = 0.0
         if not todo:
             left, slots = 0, 0
+        elif stop_requested():   # Ctrl-C before the first run: no cluster to start and close
+            left, slots = len(todo), 0
         elif scheduler is None and workers == 0:
             if on_cluster is not None:
                 on_cluster(None)

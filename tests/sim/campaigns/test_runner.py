@@ -12,6 +12,7 @@ import pytest
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.interrupt import clear_stop, request_stop
+from searchtrack.sim.campaigns import runner
 from searchtrack.sim.campaigns.runner import Tally, run_campaign, run_one
 from searchtrack.sim.campaigns.spec import CampaignSpec
 from searchtrack.sim.campaigns.store import open_existing
@@ -87,6 +88,25 @@ def test_a_stop_request_keeps_what_was_done(tmp_path: Path) -> None:
     assert sum(_keys(db).values()) == 2
     assert run_campaign(spec, db, workers=0).ok == 4
     _assert_every_key_once(spec, db)
+
+
+def test_a_stop_before_the_first_run_starts_no_cluster(tmp_path: Path,
+                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    """Ctrl-C before the campaign starts (e.g. while the kernels load): the runs are planned,
+    none is run and no cluster is started (nothing to close)."""
+    def no_cluster(*_: object) -> None:
+        raise AssertionError("a cluster was started after the stop")
+
+    monkeypatch.setattr(runner, "_client", no_cluster)
+    spec, db = toy_spec(), tmp_path / "r.duckdb"
+    request_stop()
+    try:
+        summary = run_campaign(spec, db, workers=2)
+    finally:
+        clear_stop()
+    assert (summary.ok, summary.not_run, summary.interrupted) == (0, 6, True)
+    assert sum(_keys(db).values()) == 0
+    assert run_campaign(spec, db, workers=0).ok == 6
 
 
 def test_negative_workers_are_refused(tmp_path: Path) -> None:
