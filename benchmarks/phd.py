@@ -1,6 +1,7 @@
 """SMC-PHD on the standard scenario: searchtrack vs Stone Soup's SMC-PHD and GM-PHD.
 
     python benchmarks/phd.py [--seeds 3] [--skip-gm] [--particles-per-target 400]
+    python benchmarks/phd.py --scaling-only [--scaling 10000,100000,1000000]
 
 The standard scenario (:func:`searchtrack.sim.particles.scenario.standard_scenario`): 10 nearly-
 constant-velocity targets (q = 0.5) in 1000 m × 1000 m, 100 scans 1 s apart, p_d = 0.9,
@@ -20,6 +21,12 @@ mean OSPA (p = 1, c = 100 m) over scans 20–99, and the mean number of estimate
   (p_s 0.99), Mahalanobis ``DistanceHypothesiser`` (missed distance 3), mixture reducer (prune
   1e-8, merge 5), a birth component of weight 0.25 at the centre with standard deviations
   500 m / 5 m/s; estimates: components of weight > 0.5.
+
+The particle-scaling table runs searchtrack's filter (attribution + missed) on seed 0 with a fixed
+particle count N after every resampling (``particles_per_target = min_particles = max_particles =
+N``), once with the NumPy reference equations (``backend="numpy"``) and once with the compiled
+passes (``backend="numba"``, warmed up first): median ms per scan of the filter (predict + update +
+resample) and of each part, with the OSPA and count of that run.
 Timings depend on the machine's load: run it on an idle machine.
 """
 
@@ -61,16 +68,20 @@ class Run:
     estimates: list[FloatArray] = dataclasses.field(default_factory=list)
 
 
+    parts: list[tuple[float, float, float, float]] = dataclasses.field(default_factory=list)
+
+
 def run_searchtrack(sc: PHDScenario, config: PHDConfig, seed: int) -> Run:
-    """Our filter, timed step by step."""
+    """Our filter, timed step by step (``parts``: predict, update, extract, resample per scan)."""
     rng = np.random.default_rng(seed)
     state = PHDState.empty(4, 2)
     pose = np.zeros(3)
     out = Run()
     for z in sc.scans:
         t0 = time.perf_counter()
-        state = update(predict(state, sc.motion, config, sc.dt_s, rng),
-                       [SensorScan(sc.sensor, pose, z)], config)
+        state = predict(state, sc.motion, config, sc.dt_s, rng)
+        tp = time.perf_counter()
+        state = update(state, [SensorScan(sc.sensor, pose, z)], config)
         t1 = time.perf_counter()
         est = extract(state, config)
         t2 = time.perf_counter()
@@ -78,8 +89,31 @@ def run_searchtrack(sc: PHDScenario, config: PHDConfig, seed: int) -> Run:
         t3 = time.perf_counter()
         out.filter_s += (t1 - t0) + (t3 - t2)
         out.extract_s += t2 - t1
+        out.parts.append((tp - t0, t1 - tp, t2 - t1, t3 - t2))
         out.estimates.append(np.array(est.positions))
     return out
+
+
+def scaling(sc: PHDScenario, counts: list[int], backends: list[str]) -> None:
+    """The particle-scaling table: each backend at each particle count, back to back."""
+    print(f"\nparticle scaling, seed 0, {len(sc.scans)} scans, median ms per scan")
+    header = (f"{'backend':8s} {'N':>9s} {'filter':>8s} {'predict':>8s} {'update':>8s} "
+              f"{'resample':>8s} {'extract':>8s} {'OSPA m':>7s} {'count':>6s}")
+    print(header)
+    print("-" * len(header))
+    warm = standard_scenario(0, n_scans=3)
+    for backend in backends:
+        for n in counts:
+            cfg = PHDConfig(particles_per_target=n, min_particles=n, max_particles=n,
+                            region=sc.sensor.area, backend=backend)
+            run_searchtrack(warm, cfg, 0)
+            run = run_searchtrack(sc, cfg, 0)
+            parts = 1e3 * np.asarray(run.parts)
+            med = np.median(parts, axis=0)
+            filt = float(np.median(parts[:, 0] + parts[:, 1] + parts[:, 3]))
+            _, _, d, count = score(sc, run)
+            print(f"{backend:8s} {n:9d} {filt:8.2f} {med[0]:8.2f} {med[1]:8.2f} {med[3]:8.2f} "
+                  f"{med[2]:8.2f} {d:7.2f} {count:6.2f}", flush=True)
 
 
 def _stonesoup_models(sc: PHDScenario) -> tuple[Any, Any]:
@@ -222,13 +256,25 @@ def main() -> None:
     ap.add_argument("--skip-gm", action="store_true", help="skip the (slow) GM-PHD")
     ap.add_argument("--skip-stonesoup", action="store_true", help="only searchtrack's filter")
     ap.add_argument("--particles-per-target", type=int, default=400)
+    ap.add_argument("--scaling", default="10000,100000,1000000",
+                    help="particle counts of the scaling table (empty: no table)")
+    ap.add_argument("--scaling-backends", default="numpy,numba",
+                    help="backends of the scaling table, in order")
+    ap.add_argument("--scaling-only", action="store_true", help="only the scaling table")
     args = ap.parse_args()
+    counts = [int(n) for n in args.scaling.split(",") if n]
+    if args.scaling_only:
+        with threadpool_limits(1):
+            scaling(standard_scenario(0), counts, args.scaling_backends.split(","))
+        return
     scenarios = [standard_scenario(s) for s in range(args.seeds)]
     region = scenarios[0].sensor.area
     base = PHDConfig(particles_per_target=args.particles_per_target, region=region)
     filters: list[tuple[str, Callable[[PHDScenario, int], Run]]] = [
         ("searchtrack SMC-PHD (attribution + missed)", lambda sc, s: run_searchtrack(
             sc, base, s)),
+        ("  the same, NumPy reference equations", lambda sc, s: run_searchtrack(
+            sc, dataclasses.replace(base, backend="numpy"), s)),
         ("searchtrack SMC-PHD (attribution only)", lambda sc, s: run_searchtrack(
             sc, dataclasses.replace(base, report_missed=False), s)),
         ("searchtrack SMC-PHD (weighted k-means)", lambda sc, s: run_searchtrack(
@@ -252,6 +298,8 @@ def main() -> None:
             seeds = " ".join(f"{r[2]:.1f}" for r in rows)
             print(f"{name:44s} {m[0]:8.2f} {m[1]:8.2f} {m[0] + m[1]:7.2f} {m[2]:7.2f} "
                   f"{m[3]:6.2f}  {seeds}", flush=True)
+        if counts:
+            scaling(scenarios[0], counts, args.scaling_backends.split(","))
 
 
 if __name__ == "__main__":

@@ -14,6 +14,7 @@ from searchtrack.core.types import FloatArray
 from searchtrack.models.birth_grids import BirthSurvivalGrid
 
 EXTRACTIONS = ("attribution", "kmeans")
+BACKENDS = ("numba", "numpy")
 
 
 @runtime_checkable
@@ -148,6 +149,11 @@ class PHDConfig:
     region
         Optional ``(p, 2)`` surveillance region ``[[x0, x1], [y0, y1], ...]`` (m): particles
         predicted outside it are dropped. ``None``: no region.
+    backend
+        ``"numba"`` (default): compiled passes over the particles for the nearly-constant-velocity
+        motion, the Gaussian position sensor and the resampling, falling back to the NumPy
+        equations for other models; ``"numpy"``: the NumPy reference equations throughout. Both
+        give the same particles from the same generator, up to floating-point rounding.
     """
 
     survival_probability: float = 0.99
@@ -168,6 +174,7 @@ class PHDConfig:
     merge_radius_m: float = 0.0
     report_missed: bool = True
     region: FloatArray | None = None
+    backend: str = "numba"
 
     def __post_init__(self) -> None:
         c = checks
@@ -195,6 +202,8 @@ class PHDConfig:
         if self.min_particles > self.max_particles:
             raise InvalidInputError("min_particles", self.min_particles,
                                     f"must be ≤ max_particles = {self.max_particles}")
+        if self.backend not in BACKENDS:
+            raise InvalidInputError("backend", self.backend, f"must be one of {BACKENDS}")
         if self.extraction not in EXTRACTIONS:
             raise InvalidInputError("extraction", self.extraction, f"must be one of {EXTRACTIONS}")
         object.__setattr__(self, "merge_radius_m",

@@ -96,3 +96,11 @@ def test_birth_grid_sample_follows_the_cell_weights() -> None:
     grid = BirthGrid(np.array([[0.0, 2.0]]), np.array([1.0, 3.0]), 1.0, 4000)
     share = float(np.mean(grid.sample(np.random.default_rng(0))[:, 0] < 1.0))
     assert share == pytest.approx(0.25, abs=0.03)
+
+
+def test_backend_is_numba_or_numpy() -> None:
+    """The compiled passes are the default; the NumPy reference is selectable; others refused."""
+    assert PHDConfig().backend == "numba" and PHDConfig(backend="numpy").backend == "numpy"
+    with pytest.raises(InvalidInputError) as err:
+        PHDConfig(backend="cuda")
+    assert err.value.field == "backend"
