@@ -14,7 +14,13 @@ default settings (1000 particles per label, N_θ = 8).
 Part 2: every backend at the default settings: time, and the mean objective over the
 exhaustive one on the calls where both met the constraint (``auto`` reports no node count).
 
-Run: ``.venv/bin/python benchmarks/radio_planning.py [--reps 5]`` (serial: one BLAS thread).
+Part 0 (first): the exhaustive call at the default settings on the reference scoring
+(:class:`~searchtrack.plan.radio.reference.ReferenceScorer`: the NumPy propagation and the
+step-by-step update and reward) and on the fused one, back to back, seed by seed; ``same``
+counts the calls whose plans (headings) agree and ``|Δobj|`` is the largest objective difference.
+
+Run: ``.venv/bin/python benchmarks/radio_planning.py [--reps 5] [--compare-only]`` (serial:
+one BLAS thread).
 """
 
 from __future__ import annotations
@@ -23,6 +29,8 @@ import argparse
 import statistics
 import sys
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -34,7 +42,9 @@ from benchmarks.tables import table
 from searchtrack.estimate.radio.particles import LabelledParticles
 from searchtrack.models.radio import UavModel
 from searchtrack.models.radio.scenario import RadioScenario
-from searchtrack.plan.radio import RadioPlanProblem, RadioPlanSettings, solve
+from searchtrack.plan.radio import RadioPlanProblem, RadioPlanSettings, backends, solve
+from searchtrack.plan.radio.reference import ReferenceScorer
+from searchtrack.plan.radio.tree import Scorer
 
 POSE = np.array([600.0, 500.0, np.pi / 4])
 EXISTENCE = (0.95, 0.9, 0.6, 0.3)
@@ -76,6 +86,43 @@ def calls(p: RadioPlanProblem, backend: str, reps: int) -> tuple[list[float], li
     return ms, objective, feasible, nodes
 
 
+@contextmanager
+def scoring(scorer: type[Scorer]) -> Iterator[None]:
+    """The backends build ``scorer`` for their calls while the context lasts."""
+    kept = backends.Scorer
+    backends.Scorer = scorer  # type: ignore[misc]
+    try:
+        yield
+    finally:
+        backends.Scorer = kept  # type: ignore[misc]
+
+
+def part0(reps: int) -> None:
+    """Reference against fused scoring, exhaustive at the default settings."""
+    rows = []
+    for reward in ("renyi", "cs"):
+        p = problem(8, 1000, reward)
+        times: dict[str, list[float]] = {"reference": [], "fused": []}
+        same, gap = 0, 0.0
+        for seed in range(reps):
+            plans = []
+            for name, scorer in (("reference", ReferenceScorer), ("fused", Scorer)):
+                with scoring(scorer):
+                    start = time.perf_counter()
+                    res = solve(p, backend="exhaustive", time_limit_s=60.0, seed=seed)
+                    times[name].append(1e3 * (time.perf_counter() - start))
+                assert res.plan is not None, res.message
+                plans.append(res)
+            same += bool(np.array_equal(plans[0].plan.headings, plans[1].plan.headings))
+            gap = max(gap, abs((plans[0].objective or 0.0) - (plans[1].objective or 0.0)))
+        for name, ms in times.items():
+            rows.append([reward, name, f"{statistics.median(ms):.1f} ({max(ms):.1f})",
+                         f"{same}/{reps}", f"{gap:.1e}"])
+    print(f"\nexhaustive, N_θ = 8, 1000 particles/label, H = 3: reference and fused scoring "
+          f"(median (max) of {reps})")
+    table(["reward", "scoring", "ms", "same", "|Δobj|"], rows)
+
+
 def part1(reps: int) -> None:
     """Exhaustive planning time against particles per label and N_θ, both rewards."""
     rows = []
@@ -111,11 +158,17 @@ def part2(reps: int) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else "")
     parser.add_argument("--reps", type=int, default=5)
+    parser.add_argument("--compare-only", action="store_true",
+                        help="only part 0: reference against fused scoring at the defaults")
     args = parser.parse_args()
     with threadpool_limits(limits=1):
-        solve(problem(4, 50, "renyi"), backend="exhaustive")  # compile the kernels
-        part1(args.reps)
-        part2(args.reps)
+        for scorer in (ReferenceScorer, Scorer):  # compile the kernels
+            with scoring(scorer):
+                solve(problem(4, 50, "renyi"), backend="exhaustive")
+        part0(args.reps)
+        if not args.compare_only:
+            part1(args.reps)
+            part2(args.reps)
 
 
 if __name__ == "__main__":

@@ -6,9 +6,11 @@ predicted ideal measurement set (Nguyen et al., §III-D, eqs. 33, 39; footnote 3
   weights.
 * Predict: the cloud is propagated second by second over the look-ahead (``H · N_p`` seconds)
   with the full motion model — kinematics, mode jumps and the ``τ`` random walk
-  (:func:`~searchtrack.models.radio.motion.propagate`) — but without birth or death (footnote 3):
-  ``r`` stays that of the belief. One cloud serves every action sequence: the posterior ``π₂``
-  of a sequence is the same particles with other weights and existences (eq. 39).
+  (:func:`~searchtrack.models.radio.motion.propagate`, by the filter's fused step
+  :func:`~searchtrack.estimate.radio.propagation.propagate`, draw for draw the same) — but
+  without birth or death (footnote 3): ``r`` stays that of the belief. One cloud serves every
+  action sequence: the posterior ``π₂`` of a sequence is the same particles with other weights
+  and existences (eq. 39).
 * Ideal measurement set (PIMS, [15]): at the end of each planning interval, the labels with
   ``r > 0.5`` are estimated at their weighted mean position with the weighted mode of their pulse
   frame; the ideal measurement is the noise-free magnitude of those estimates
@@ -27,7 +29,7 @@ from scipy.spatial import cKDTree
 
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
 from searchtrack.estimate.labelled_particles import LabelledParticles, resample
-from searchtrack.models.radio import propagate
+from searchtrack.estimate.radio.propagation import propagate
 from searchtrack.plan.radio.divergences import disc_mass, label_radii
 from searchtrack.plan.radio.problem import EXISTENCE_THRESHOLD, RadioPlanProblem, keep_out_radii
 
@@ -130,8 +132,9 @@ def look_ahead(problem: RadioPlanProblem, rng: np.random.Generator) -> LookAhead
     frames = np.empty((st.horizon, n_labels, n), dtype=np.int64)
     est_xy = np.empty((st.horizon, n_labels, 2))
     est_frame = np.empty((st.horizon, n_labels), dtype=np.int64)
+    buffers = ((x, mode, tau), (np.empty_like(x), np.empty_like(mode), np.empty_like(tau)))
     for t in range(total):
-        x, mode, tau = propagate(sc.motion, x, mode, tau, rng)
+        x, mode, tau = propagate(sc.motion, x, mode, tau, rng, out=buffers[(t + 1) % 2])
         xy[t] = x[:, :, ::2]
         if (t + 1) % n_p == 0:
             j = (t + 1) // n_p - 1

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
-from searchtrack.models.radio import primitives
+from searchtrack.models.radio import RadioSignal, primitives
 from searchtrack.plan.radio.divergences import cauchy_schwarz, renyi
 from searchtrack.plan.radio.ideal import (
     IdealLikelihood,
@@ -125,8 +125,8 @@ class Scorer:
     def __init__(self, problem: RadioPlanProblem, seed: int) -> None:
         self.problem = problem
         self.settings = problem.settings
-        self.look: LookAhead = look_ahead(problem, np.random.default_rng(seed))
-        self.likelihood = IdealLikelihood.of(problem.scenario.signal)
+        self.look: LookAhead = self.predict(problem, np.random.default_rng(seed))
+        self.likelihood = self.table(problem.scenario.signal)
         m = problem.scenario.signal.frames
         self._counts = frame_counts(self.look.frames, m)
         self._overlap = frame_overlap(self.look.frames, self.look.estimate_frame, m)
@@ -134,6 +134,18 @@ class Scorer:
             self._log_w1 = np.log(self.look.w)
         self.r1 = reward_existence(self.look.r, self.settings)
         """``(Λ,)`` existences of the reward's prediction ``π₁``."""
+
+    @staticmethod
+    def predict(problem: RadioPlanProblem, rng: np.random.Generator) -> LookAhead:
+        """The look-ahead cloud of ``problem`` drawn from ``rng``
+        (:func:`~searchtrack.plan.radio.lookahead.look_ahead`)."""
+        return look_ahead(problem, rng)
+
+    @staticmethod
+    def table(signal: RadioSignal) -> IdealLikelihood:
+        """The likelihood table of ``signal`` (:meth:`IdealLikelihood.of
+        <searchtrack.plan.radio.ideal.IdealLikelihood.of>`)."""
+        return IdealLikelihood.of(signal)
 
     @property
     def horizon(self) -> int:
