@@ -3,7 +3,9 @@
 Thrun, Burgard & Fox 2005, Table 4.4: one uniform offset, ``N'`` evenly spaced pointers into the
 cumulative normalized weights. The new particle count is
 ``N' = clip(round(particles_per_target · λ), min_particles, max_particles)`` and every new weight
-is ``λ / N'``, so the total mass ``λ`` is kept exactly (paper 004, eq. A7).
+is ``λ / N'``, so the total mass ``λ`` is kept exactly (paper 004, eq. A7). The ``"numba"``
+backend finds the same ancestors by one merge of the sorted pointers and copies each chosen
+particle once (:func:`searchtrack.estimate.phd.compiled.systematic`).
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from searchtrack.core.types import IntArray
+from searchtrack.estimate.phd import compiled
 from searchtrack.estimate.phd.config import PHDConfig
 from searchtrack.estimate.phd.state import PHDState
 
@@ -33,5 +36,9 @@ def resample(state: PHDState, config: PHDConfig, rng: np.random.Generator) -> PH
         return state.select(np.zeros(state.n_particles, dtype=bool))
     n = round(config.particles_per_target * mass)
     n = min(max(n, config.min_particles), config.max_particles)
+    if config.backend == "numba":
+        x, labels, tags = compiled.systematic(state.weights, n, float(rng.random()),
+                                              state.states, state.labels, state.tags)
+        return PHDState(x, np.full(n, mass / n), labels, tags, state.position_dim, state.record)
     idx = systematic_indices(state.weights, n, rng)
     return state.select(idx, np.full(n, mass / n))

@@ -52,6 +52,7 @@ import numpy as np
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate.phd import compiled, gated
 from searchtrack.estimate.phd.config import PHDConfig
 from searchtrack.estimate.phd.state import NO_TAG, PHDState, UpdateRecord
 from searchtrack.models.particle_models import DetectionSensor
@@ -194,25 +195,67 @@ def _missed(state: PHDState, weights: FloatArray, acc: _Terms,
     return means, existence, member
 
 
+def _missed_from_sums(slot_sums: FloatArray, state_dim: int, threshold: float,
+                      ) -> tuple[FloatArray, FloatArray, IntArray]:
+    """Missed groups' mean states and existence, and per slot (tag + 1) the missed-group index
+    of its particles (-1), from the per-slot sums ``[prior, attributed, rest, rest · x]``."""
+    none = np.full(slot_sums.shape[0], -1, dtype=np.int64)
+    prior, found, miss = slot_sums[1:, 0], slot_sums[1:, 1], slot_sums[1:, 2]
+    cand = np.flatnonzero((prior > 0.0) & (found < 0.5) & (miss > 0.0))
+    if cand.size == 0:
+        return np.empty((0, state_dim)), np.empty(0), none
+    r = np.minimum(prior[cand], 1.0)
+    q = miss[cand] / prior[cand]
+    existence = r * q / (1.0 - r + r * q)
+    means = slot_sums[1:, 3:][cand] / miss[cand][:, None]
+    member = none.copy()
+    member[cand + 1] = np.where(existence > threshold, np.arange(cand.size), -1)
+    return means, existence, member
+
+
+def _update_compiled(state: PHDState, scans: Sequence[SensorScan], config: PHDConfig,
+                     ) -> tuple[FloatArray, _Terms, FloatArray, FloatArray, FloatArray,
+                                IntArray]:
+    """The corrections by the gated passes of :mod:`searchtrack.estimate.phd.compiled`: the new
+    weights, the terms, the missed groups and the tags before the one-estimate quota."""
+    cor = compiled.gated_corrections(state.states, state.weights, state.tags, scans)
+    acc = _Terms(cor.attributed, cor.best_share, cor.owner, cor.means, cor.rhos, cor.seeds,
+                 cor.groups, sum(r.shape[0] for r in cor.rhos))
+    missed_states, existence, member = _missed_from_sums(cor.slot_sums, state.state_dim,
+                                                         config.attribution_threshold)
+    return cor.weights, acc, missed_states, existence, cor.slot_sums[1:, 0], member
+
+
 def update(state: PHDState, scans: Sequence[SensorScan], config: PHDConfig) -> PHDState:
     """The posterior PHD after the scans of every sensor (applied in order), with its record."""
     n, d, p = state.n_particles, state.state_dim, state.position_dim
-    acc = _Terms(np.zeros(n), np.zeros(n), np.full(n, NO_TAG, dtype=np.int64), [], [], [], [])
-    weights = np.asarray(state.weights, dtype=np.float64)
-    for scan in scans:
-        weights = _correct(state.states, weights, state.tags, p, scan, acc)
-    missed_states, existence, member = _missed(state, weights, acc, config.attribution_threshold)
+    fast = config.backend == "numba" and compiled.gated_supported(state.states, scans)
+    if fast:
+        weights, acc, missed_states, existence, slot_mass, member = _update_compiled(
+            state, scans, config)
+    else:
+        acc = _Terms(np.zeros(n), np.zeros(n), np.full(n, NO_TAG, dtype=np.int64), [], [], [],
+                     [])
+        weights = np.asarray(state.weights, dtype=np.float64)
+        for scan in scans:
+            weights = _correct(state.states, weights, state.tags, p, scan, acc)
+        missed_states, existence, member = _missed(state, weights, acc,
+                                                   config.attribution_threshold)
+        slot_mass = np.asarray(np.bincount(state.tags + 1, weights=state.weights)[1:] if n else
+                               np.empty(0), dtype=np.float64)
     rho = np.concatenate(acc.rhos) if acc.rhos else np.empty(0)
-    slot_mass = np.asarray(np.bincount(state.tags + 1, weights=state.weights)[1:] if n else
-                           np.empty(0), dtype=np.float64)
     keeper = _one_per_target(rho, np.concatenate(acc.groups) if acc.groups else
                              np.empty(0, dtype=np.int64), slot_mass)
     kept_rho = np.where(keeper == np.arange(rho.shape[0]), rho, 0.0)
-    owner = np.where(acc.owner >= 0, keeper[np.maximum(acc.owner, 0)], NO_TAG) \
-        if rho.shape[0] else acc.owner
-    tags = np.where(acc.best_share > 0.5 * weights, owner, NO_TAG)
-    coast = (tags == NO_TAG) & (member >= 0)
-    tags[coast] = acc.offset + member[coast]
+    if fast:
+        tags = gated.final_tags(acc.best_share, weights, acc.owner, keeper, member, state.tags,
+                                acc.offset)
+    else:
+        owner = np.where(acc.owner >= 0, keeper[np.maximum(acc.owner, 0)], NO_TAG) \
+            if rho.shape[0] else acc.owner
+        tags = np.where(acc.best_share > 0.5 * weights, owner, NO_TAG)
+        coast = (tags == NO_TAG) & (member >= 0)
+        tags[coast] = acc.offset + member[coast]
     unexplained = np.clip(1.0 - rho, 0.0, None)
     if config.adaptive_birth:
         seed_mass = config.birth_mass * unexplained
@@ -222,4 +265,5 @@ def update(state: PHDState, scans: Sequence[SensorScan], config: PHDConfig) -> P
     record = UpdateRecord(
         np.vstack(acc.means) if acc.means else np.empty((0, d)), kept_rho, missed_states,
         existence, np.vstack(acc.seeds) if acc.seeds else np.empty((0, p)), seed_mass)
-    return PHDState(state.states, weights, state.labels, tags.astype(np.int64), p, record)
+    return PHDState(state.states, weights, state.labels, tags.astype(np.int64, copy=False), p,
+                    record)
