@@ -133,7 +133,7 @@ KERNEL_SETS: dict[str, KernelSet] = {s.name: s for s in (
               _warm_road_filter),
     KernelSet(RADIO_KERNELS, "radio TBD likelihood and propagation",
               ("searchtrack.estimate.radio.likelihood", "searchtrack.estimate.radio.propagation",
-               "searchtrack.estimate.labelled_particles", "searchtrack.plan.radio.kernels"),
+               "searchtrack.estimate.labelled_particles", "searchtrack.plan.radio.fused"),
               _warm_radio),
 )}
 """Every kernel set of the library, by name."""

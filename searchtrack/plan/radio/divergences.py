@@ -45,12 +45,22 @@ def renyi_terms(r1: ArrayLike, w1: ArrayLike, r2: ArrayLike, w2: ArrayLike,
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         if alpha == 1.0:
             inner = np.sum(np.where(q2 > 0, q2 * np.log(q2 / q1), 0.0), axis=-1)
-            absent = np.where(p2 < 1, (1 - p2) * np.log((1 - p2) / (1 - p1)), 0.0)
-            present = np.where(p2 > 0, p2 * (np.log(p2 / p1) + inner), 0.0)
+        else:
+            inner = np.sum(np.where(q2 > 0, q2**alpha * q1 ** (1 - alpha), 0.0), axis=-1)
+    return renyi_label_terms(p1, p2, inner, alpha)
+
+
+def renyi_label_terms(r1: FloatArray, r2: FloatArray, inner: FloatArray,
+                      alpha: float) -> FloatArray:
+    """:func:`renyi_terms` from the particle sums ``inner`` ``(..., Λ)``:
+    ``Σ_i ω₂^α ω₁^{1−α}``, or ``Σ_i ω₂ log(ω₂/ω₁)`` at ``α = 1``."""
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        if alpha == 1.0:
+            absent = np.where(r2 < 1, (1 - r2) * np.log((1 - r2) / (1 - r1)), 0.0)
+            present = np.where(r2 > 0, r2 * (np.log(r2 / r1) + inner), 0.0)
             return np.asarray(absent + present, dtype=np.float64)
-        c = np.sum(np.where(q2 > 0, q2**alpha * q1 ** (1 - alpha), 0.0), axis=-1)
-        absent = np.where(p2 < 1, (1 - p2) ** alpha * (1 - p1) ** (1 - alpha), 0.0)
-        present = np.where(p2 > 0, p2**alpha * p1 ** (1 - alpha) * c, 0.0)
+        absent = np.where(r2 < 1, (1 - r2) ** alpha * (1 - r1) ** (1 - alpha), 0.0)
+        present = np.where(r2 > 0, r2**alpha * r1 ** (1 - alpha) * inner, 0.0)
         return np.asarray(np.log(absent + present) / (alpha - 1), dtype=np.float64)
 
 
@@ -87,8 +97,22 @@ def cs_products(ra: ArrayLike, wa: ArrayLike, rb: ArrayLike, wb: ArrayLike,
     ``(1−r_a)(1−r_b) + K r_a r_b Σ_k ω_a ω_b``."""
     checks.positive("cs_k", k)
     pa, qa, pb, qb = _arrays(ra, wa, rb, wb)
-    return np.asarray((1 - pa) * (1 - pb) + k * pa * pb * np.sum(qa * qb, axis=-1),
-                      dtype=np.float64)
+    return cs_factors(pa, pb, np.sum(qa * qb, axis=-1), k)
+
+
+def cs_factors(ra: FloatArray, rb: FloatArray, inner: FloatArray, k: float) -> FloatArray:
+    """:func:`cs_products` from the particle sums ``inner = Σ_k ω_a ω_b`` ``(..., Λ)``."""
+    return np.asarray((1 - ra) * (1 - rb) + k * ra * rb * inner, dtype=np.float64)
+
+
+def cauchy_schwarz_of_sums(r1: FloatArray, r2: FloatArray, cross: FloatArray, own2: FloatArray,
+                           own1: FloatArray, k: float) -> FloatArray:
+    """:func:`cauchy_schwarz` from the particle sums ``Σ ω₂ω₁``, ``Σ ω₂²``, ``Σ ω₁²``
+    ``(..., Λ)``."""
+    with np.errstate(divide="ignore"):
+        terms = (-np.log(cs_factors(r2, r1, cross, k)) + 0.5 * np.log(cs_factors(r2, r2, own2, k))
+                 + 0.5 * np.log(cs_factors(r1, r1, own1, k)))
+    return np.asarray(np.sum(terms, axis=-1), dtype=np.float64)
 
 
 def cauchy_schwarz(r1: ArrayLike, w1: ArrayLike, r2: ArrayLike, w2: ArrayLike,

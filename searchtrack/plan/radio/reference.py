@@ -89,8 +89,10 @@ class ReferenceScorer(Scorer):
         """The likelihood table of ``signal``, tabulated anew."""
         return IdealLikelihood.of(signal)
 
-    def expand(self, nodes: Nodes, actions: Actions | None = None) -> Nodes:
-        """Every child of every node, in node order then action order."""
+    def expand(self, nodes: Nodes, actions: Actions | None = None, *,
+               posterior: bool = True) -> Nodes:
+        """Every child of every node, in node order then action order (always with their
+        posterior weights)."""
         act = self.primitives if actions is None else actions
         heads, paths, counts = [], [], []
         for b in range(nodes.size):

@@ -30,13 +30,13 @@ import numpy as np
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
 from searchtrack.models.radio import RadioSignal, primitives
 from searchtrack.plan.radio.divergences import cauchy_schwarz, renyi
+from searchtrack.plan.radio.fused import score_children
 from searchtrack.plan.radio.ideal import (
     IdealLikelihood,
     amplitudes,
     frame_counts,
     frame_overlap,
 )
-from searchtrack.plan.radio.kernels import ideal_log_likelihoods
 from searchtrack.plan.radio.lookahead import LookAhead, look_ahead
 from searchtrack.plan.radio.problem import RadioPlan, RadioPlanProblem, reward_existence
 
@@ -176,8 +176,10 @@ class Scorer:
             return cauchy_schwarz(self.r1, self.look.w, r2, w2, st.cs_k)
         return renyi(self.r1, self.look.w, r2, w2, st.alpha)
 
-    def expand(self, nodes: Nodes, actions: Actions | None = None) -> Nodes:
-        """Every child of every node, in node order then action order."""
+    def expand(self, nodes: Nodes, actions: Actions | None = None, *,
+               posterior: bool = True) -> Nodes:
+        """Every child of every node, in node order then action order; ``posterior=False``
+        leaves the children's weights out (``log_w`` ``(C, Λ, 0)``: leaves, never expanded)."""
         act = self.primitives if actions is None else actions
         heads, paths, counts = [], [], []
         for b in range(nodes.size):
@@ -195,15 +197,16 @@ class Scorer:
         end = path[:, -1, :]
         signal = self.problem.scenario.signal
         gamma_hat = amplitudes(signal, look.estimate_xy[j], end) * look.estimated  # (C, Λ)
-        log_g = ideal_log_likelihoods(signal, self.likelihood, look.xy[j * n_p + n_p - 1], end,
-                                      gamma_hat, self._counts[j], self._overlap[j])
-        log_w, r = _update(nodes.log_w[parent], nodes.r[parent], log_g)
-        reward = self.divergence(r, np.exp(log_w))
+        order = st.cs_k if st.reward == "cs" else st.alpha
+        scores = score_children(signal, self.likelihood, look.xy[j * n_p + n_p - 1], end,
+                                gamma_hat, self._counts[j], self._overlap[j], nodes.log_w,
+                                nodes.r, parent, self.r1, look.w, st.reward, order,
+                                keep=posterior)
         return Nodes(end, np.concatenate([nodes.headings[parent], head[:, None]], axis=1),
                      np.concatenate([nodes.path[parent], path], axis=1),
                      np.concatenate([nodes.void[parent], void], axis=1),
-                     np.concatenate([nodes.rewards[parent], reward[:, None]], axis=1),
-                     log_w, r, nodes.value[parent] + st.discount**j * reward)
+                     np.concatenate([nodes.rewards[parent], scores.reward[:, None]], axis=1),
+                     scores.log_w, scores.r, nodes.value[parent] + st.discount**j * scores.reward)
 
     def expand_all(self, nodes: Nodes, actions: Actions | None = None) -> Nodes:
         """:meth:`expand` in parts of bounded memory, the children joined in order."""
@@ -221,16 +224,3 @@ class Scorer:
         return RadioPlan(nodes.headings[i], nodes.path[i], nodes.rewards[i], nodes.void[i],
                          bool(self.feasible(nodes)[i]))
 
-
-def _update(log_w: FloatArray, r: FloatArray, log_g: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Eqs. 29–30 in log space for ``(B, Λ, N)`` normalised log weights and ``(B, Λ)``
-    existences: the posterior log weights and existences."""
-    post = log_w + log_g
-    peak = post.max(axis=2, keepdims=True)
-    log_eta = peak[..., 0] + np.log(np.exp(post - peak).sum(axis=2))
-    post -= log_eta[..., None]
-    with np.errstate(divide="ignore"):
-        a = np.log(r) + log_eta
-        b = np.log1p(-r)
-        r_new = np.exp(a - np.logaddexp(a, b))
-    return post, np.where(r > 0.0, r_new, 0.0)
