@@ -120,7 +120,7 @@ def pot_rows(net: RoadNetwork, trackers: np.ndarray, dets: np.ndarray, costs: np
         return ["-", "-", "POT not installed"]
     pairs = np.argwhere(np.isfinite(costs))[:count]
     if not pairs.size:
-        return ["-", "-", "no finite pair"]
+        return ["-", "-", "no pair timed"]
     t_pot = t_lib = err = 0.0
     for i, j in pairs:
         a, b = truncate_signature(trackers[i]), truncate_signature(dets[j])

@@ -2,14 +2,21 @@
 
 Signatures are truncated (:mod:`.signatures`).
 
-Ground distance: road shortest-path distances in metres, exact (:class:`RoadMetric`).
+Ground distance: road shortest-path distances in metres, exact (:class:`RoadMetric`'s junction
+table, or Dijkstra on the road graph).
 
 The matrix is a solver family (:data:`EMD_MATRIX_BACKENDS`, :func:`solve_emd_matrix`); the
 backend chooses the exact solver of each pair:
 
-* ``"transport"`` (and ``"auto"``, the faster at these sizes): distances between the two truncated
-  supports only, then the transportation LP (4.3)–(4.7) by the network simplex of
-  :func:`~searchtrack.estimate.transport.emd`;
+* ``"transport"`` (and ``"auto"``, the faster at these sizes): road distances between the two
+  truncated supports only (from :class:`RoadMetric`'s junction table when it has one, else by
+  one Dijkstra per support node of the smaller side on the road graph, stopped at twice a
+  finite gate or once every partner node is settled:
+  :mod:`~searchtrack.estimate.transport.road_blocks`), then the transportation LP (4.3)–(4.7)
+  by the network simplex of :func:`~searchtrack.estimate.transport.emd`. Entries beyond the
+  limit enter as the limit (a lower bound), so the EMD solved is a lower bound: ``+inf`` when it
+  reaches the gate, exact when its plan uses no such entry, else solved again on exact
+  distances;
 * ``"graph"``: :func:`~searchtrack.estimate.transport.emd_on_graph`, a min-cost flow on the whole
   road graph with the truncated signatures (no distances, but ~10 ms per pair on 8602 nodes).
 
@@ -48,14 +55,16 @@ from searchtrack.estimate.signatures import (
     truncate,
 )
 from searchtrack.estimate.transport import emd, emd_on_graph
+from searchtrack.estimate.transport.road_blocks import PairBlocks
 from searchtrack.estimate.transport.simplex import KERNEL_SET, warm_up
-from searchtrack.models.road_metric import RoadMetric, SourceDistances
+from searchtrack.models.road_metric import RoadMetric
 from searchtrack.models.roads import RoadNetwork
 
 log = logging.getLogger("searchtrack.estimate.emd_matrix")
 
 
 _MASS_RTOL = 1e-9  # per-component masses must agree to this for a finite EMD
+_LIMIT_FACTOR = 2.0  # Dijkstra stops at this multiple of a finite gate
 
 
 @dataclass(frozen=True, eq=False)
@@ -201,7 +210,7 @@ def _solve(problem: EMDMatrixProblem, method: str, time_limit_s: float) -> Resul
     unsolved = np.zeros(out.shape, dtype=bool)
     pairs = np.argwhere(centroid_bound(metric, sig_t, sig_q) < gate_m * (1.0 + SLACK))
     pair_solver = (None if pairs.size == 0 else _GraphPairs(metric) if method == "graph"
-                   else _TransportPairs(metric, sig_t, sig_q, pairs))
+                   else _TransportPairs(metric, sig_t, sig_q, pairs, gate_m))
     inexact = 0
     for i, j in pairs:
         if deadline.expired():
@@ -227,7 +236,8 @@ def _solve(problem: EMDMatrixProblem, method: str, time_limit_s: float) -> Resul
     return Result(Status.OPTIMAL if proven else Status.FEASIBLE, total,
                   total if proven else None, deadline.elapsed(), method,
                   EMDMatrix(out, unsolved), sense=Sense.MINIMIZE, message=note,
-                  stats={"pairs": float(len(pairs)), "unsolved": float(late)})
+                  stats={"pairs": float(len(pairs)), "unsolved": float(late),
+                         "refined": float(getattr(pair_solver, "refined", 0))})
 
 
 def checked_emd_matrix(metric: RoadMetric, trackers: FloatArray, measured: FloatArray,
@@ -279,50 +289,42 @@ class _GraphPairs:
 class _TransportPairs:
     """Solve a pair as a transportation problem between the two supports.
 
-    The *source side* is the side (trackers or measurements) whose candidate supports hold
-    fewer nodes, usually the measurements. One :class:`SourceDistances` covers all of its
-    candidate support nodes; then, per source signature, one distance block to the union of the
-    supports it is paired with, which each pair slices.
+    Distances come from :class:`~searchtrack.estimate.transport.road_blocks.PairBlocks`, with
+    Dijkstra stopped at ``_LIMIT_FACTOR × gate`` when the gate is finite. A block with entries
+    beyond that limit is first solved with them capped at the limit (lower bounds), which gives
+    a lower bound on the EMD: ``+inf`` if it reaches the gate, the exact EMD if its plan uses no
+    capped entry; otherwise the pair is solved again on its exact block.
     """
 
     def __init__(self, metric: RoadMetric, sig_t: list[Signature], sig_q: list[Signature],
-                 pairs: IntArray) -> None:
+                 pairs: IntArray, gate: float) -> None:
         self.metric = metric
-        t_nodes = np.unique(np.concatenate([sig_t[i].nodes for i in np.unique(pairs[:, 0])]))
-        q_nodes = np.unique(np.concatenate([sig_q[j].nodes for j in np.unique(pairs[:, 1])]))
-        self.from_measurements = bool(q_nodes.size <= t_nodes.size)
-        self.sources = q_nodes if self.from_measurements else t_nodes
-        self.distances: SourceDistances = metric.from_nodes(self.sources)
-        src_col, dst_col = (1, 0) if self.from_measurements else (0, 1)
-        src_sigs, dst_sigs = (sig_q, sig_t) if self.from_measurements else (sig_t, sig_q)
-        self.src_sigs, self.dst_sigs = src_sigs, dst_sigs
-        self.partners = {int(k): pairs[pairs[:, src_col] == k, dst_col]
-                         for k in np.unique(pairs[:, src_col])}
-        self.blocks: dict[int, tuple[IntArray, FloatArray]] = {}
-
-    def _source_block(self, k: int) -> tuple[IntArray, FloatArray]:
-        """Target nodes (all partners of source signature ``k``) and the distances to them."""
-        if k not in self.blocks:
-            targets = np.unique(np.concatenate([self.dst_sigs[m].nodes
-                                                for m in self.partners[k]]))
-            among = np.searchsorted(self.sources, self.src_sigs[k].nodes)
-            self.blocks[k] = targets, self.distances.to(targets, among)
-        return self.blocks[k]
-
-    def block(self, i: int, j: int) -> FloatArray:
-        """``(|S_i|, |S_j|)`` road distances between tracker ``i``'s and measurement ``j``'s
-        supports."""
-        k, m = (j, i) if self.from_measurements else (i, j)
-        targets, dist = self._source_block(k)
-        cols = np.searchsorted(targets, self.dst_sigs[m].nodes)
-        return dist[:, cols].T if self.from_measurements else dist[:, cols]
+        self.blocks = PairBlocks(metric, sig_t, sig_q, pairs, _LIMIT_FACTOR * gate)
+        self.refined = 0
 
     def __call__(self, i: int, j: int, p: Signature, q: Signature, gate: float,
                  deadline: Deadline) -> tuple[float, bool | None]:
-        cost = self.block(i, j)
+        cost = self.blocks.block(i, j)
+        what = f"emd (tracker {i}, measurement {j})"
+        capped = self.blocks.capped(cost)
+        if capped is not None:
+            low, over = capped
+            if nearest_support_bound(low, p.weights, q.weights) >= gate * (1.0 + SLACK):
+                return math.inf, True
+            result = emd(p.weights, q.weights, low, time_limit_s=max(deadline.remaining(), 1e-3))
+            value, exact = _value(result, what)
+            if exact is None:
+                return math.inf, None
+            plan = result.plan
+            assert plan is not None
+            if not over[plan.rows, plan.cols].any():
+                return value, exact
+            if exact and value >= gate * (1.0 + SLACK):
+                return math.inf, True
+            self.refined += 1
+            cost = self.blocks.exact(i, j)
         if nearest_support_bound(cost, p.weights, q.weights) >= gate * (1.0 + SLACK):
             return math.inf, True
-        what = f"emd (tracker {i}, measurement {j})"
         if np.isfinite(cost).all():
             return _value(emd(p.weights, q.weights, cost,
                               time_limit_s=max(deadline.remaining(), 1e-3)), what)

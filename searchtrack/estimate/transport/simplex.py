@@ -33,6 +33,7 @@ import numpy as np
 
 from searchtrack.core.deadline import Deadline
 from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate.transport import dijkstra_kernels
 from searchtrack.estimate.transport import simplex_kernels as kernels
 
 log = logging.getLogger("searchtrack.estimate.transport")
@@ -50,7 +51,8 @@ _WARM = [False]
 
 
 def warm_up() -> None:
-    """Compile (or load from numba's cache) the simplex kernels, once per process.
+    """Compile (or load from numba's cache) the simplex kernels, and the bounded Dijkstra of
+    :mod:`~searchtrack.estimate.transport.road_blocks`, once per process.
 
     Callers run it before starting their clock, so a time limit measures solving, not
     just-in-time compilation (seconds on a cold cache).
@@ -64,6 +66,10 @@ def warm_up() -> None:
     head = np.array([1, 2, 2, 0], dtype=np.int64)
     min_cost_flow(supply, cost, Deadline(math.inf), tail=tail, head=head)
     min_cost_flow(np.array([0.5, 0.5, -1.0]), np.array([1.0, 2.0]), Deadline(math.inf), ncols=1)
+    out = np.full((1, 1), math.inf)  # the bounded Dijkstra of the EMD matrix's road blocks
+    two = np.array([1, 0], dtype=np.int64)  # nodes 0 — 1, one edge of 1 m
+    dijkstra_kernels.bounded_rows(np.array([0, 1, 2], dtype=np.int64), two, np.ones(2),
+                                  two[1:], two - 1, 1, 5.0, out)
     _WARM[0] = True
     log.info("network simplex kernels ready in %.2f s", time.perf_counter() - started)
 

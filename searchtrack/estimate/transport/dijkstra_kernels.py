@@ -1,0 +1,94 @@
+"""Numba kernel of :mod:`searchtrack.estimate.transport.road_blocks`: bounded Dijkstra to targets.
+
+One Dijkstra per source on a CSR graph (``indptr``, ``indices``, ``lengths``), with a binary heap
+and lazy deletion. A search stops at the distance ``limit`` (nodes farther away are never
+settled) or as soon as every target is settled, so a source near its targets explores only its
+neighbourhood. Per-node scratch arrays are stamped with the source's index instead of being
+cleared, so a source costs only what it explores, not the size of the graph.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from searchtrack.core.types import FloatArray, IntArray
+
+
+@njit(cache=True, inline="always")
+def _push(heap_d: FloatArray, heap_v: IntArray, size: int, d: float, v: int) -> int:
+    i = size
+    while i > 0:
+        parent = (i - 1) >> 1
+        if heap_d[parent] <= d:
+            break
+        heap_d[i], heap_v[i] = heap_d[parent], heap_v[parent]
+        i = parent
+    heap_d[i], heap_v[i] = d, v
+    return size + 1
+
+
+@njit(cache=True, inline="always")
+def _pop(heap_d: FloatArray, heap_v: IntArray, size: int) -> int:
+    """Remove the root (the caller read it first); the new size."""
+    size -= 1
+    d, v = heap_d[size], heap_v[size]
+    i = 0
+    while True:
+        child = 2 * i + 1
+        if child >= size:
+            break
+        if child + 1 < size and heap_d[child + 1] < heap_d[child]:
+            child += 1
+        if heap_d[child] >= d:
+            break
+        heap_d[i], heap_v[i] = heap_d[child], heap_v[child]
+        i = child
+    heap_d[i], heap_v[i] = d, v
+    return size
+
+
+@njit(cache=True)
+def bounded_rows(indptr: IntArray, indices: IntArray, lengths: FloatArray, sources: IntArray,
+                 target_col: IntArray, n_targets: int, limit: float, out: FloatArray) -> int:
+    """Write ``out[s, target_col[v]] = d(sources[s], v)`` for every target ``v`` within ``limit``.
+
+    ``target_col`` maps a node to its column in ``out`` (−1: not a target; the ``n_targets``
+    columns are distinct). Entries of targets beyond ``limit`` (or in another component) are
+    left as they are: the caller fills ``out`` with ``inf`` first. Returns the number of nodes
+    settled over all sources.
+    """
+    n = indptr.size - 1
+    dist = np.empty(n)
+    seen = np.full(n, -1, dtype=np.int64)
+    settled = np.full(n, -1, dtype=np.int64)
+    heap_d = np.empty(indices.size + 1)
+    heap_v = np.empty(indices.size + 1, dtype=np.int64)
+    work = 0
+    for s in range(sources.size):
+        src = sources[s]
+        dist[src] = 0.0
+        seen[src] = s
+        size = _push(heap_d, heap_v, 0, 0.0, src)
+        found = 0
+        while size > 0:
+            d, v = heap_d[0], heap_v[0]
+            size = _pop(heap_d, heap_v, size)
+            if settled[v] == s:
+                continue
+            settled[v] = s
+            work += 1
+            col = target_col[v]
+            if col >= 0:
+                out[s, col] = d
+                found += 1
+                if found == n_targets:
+                    break
+            for k in range(indptr[v], indptr[v + 1]):
+                w = indices[k]
+                nd = d + lengths[k]
+                if nd <= limit and (seen[w] != s or nd < dist[w]):
+                    dist[w] = nd
+                    seen[w] = s
+                    size = _push(heap_d, heap_v, size, nd, w)
+    return work
