@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from scipy.special import i0e, i1e
@@ -161,3 +162,13 @@ class IdealLikelihood:
             t = gamma_hat[:, lab, None] * gamma[:, lab, :]
             out[:, lab, :] += overlap[lab] * self.h(lab, t)
         return np.asarray(out, dtype=np.float64)
+
+
+@lru_cache(maxsize=16)
+def likelihood_table(signal: RadioSignal) -> IdealLikelihood:
+    """:meth:`IdealLikelihood.of` ``signal`` (default size), tabulated once per signal and
+    shared (its arrays read-only)."""
+    table = IdealLikelihood.of(signal)
+    for arr in (table.energy, table.quadratic, table.log_t, table.log_h, table.slope):
+        arr.setflags(write=False)
+    return table

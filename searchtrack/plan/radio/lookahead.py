@@ -23,14 +23,15 @@ first (one per label), then each second's propagation.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
-from scipy.spatial import cKDTree
+from numba import njit
 
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
 from searchtrack.estimate.labelled_particles import LabelledParticles, resample
 from searchtrack.estimate.radio.propagation import propagate
-from searchtrack.plan.radio.divergences import disc_mass, label_radii
+from searchtrack.plan.radio.divergences import label_radii
 from searchtrack.plan.radio.problem import EXISTENCE_THRESHOLD, RadioPlanProblem, keep_out_radii
 
 
@@ -58,9 +59,6 @@ class LookAhead:
     radii
         ``(Λ,)`` radius of each label's void region (eq. 44):
         :func:`~searchtrack.plan.radio.problem.keep_out_radii` of the drawn cloud.
-    trees
-        ``T`` k-d trees of the cloud's positions ``(Λ·N, 2)``, one per second (empty when the
-        void region is empty, ``r_min = 0``).
     """
 
     xy: FloatArray
@@ -71,7 +69,6 @@ class LookAhead:
     estimate_xy: FloatArray
     estimate_frame: IntArray
     radii: FloatArray
-    trees: tuple[cKDTree, ...] = ()
 
     @property
     def n_labels(self) -> int:
@@ -83,27 +80,26 @@ class LookAhead:
         """``N``, particles per label."""
         return int(self.xy.shape[2])
 
+    @cached_property
+    def _columns(self) -> tuple[FloatArray, FloatArray]:
+        """``(T, Λ, N)`` ground ``x`` and ``y`` of the cloud, each contiguous."""
+        return (np.ascontiguousarray(self.xy[..., 0]), np.ascontiguousarray(self.xy[..., 1]))
+
     def disc_mass(self, second: int, centres: FloatArray,
                   radius_m: float | FloatArray) -> FloatArray:
         """``(K, Λ)`` weight of each label's particles strictly within ``radius_m`` (ground
         distance; one radius, or ``(Λ,)`` one per label) of each of ``K`` centres ``(K, 2)``,
-        at look-ahead second ``second`` (0-based: the cloud after ``second + 1`` seconds); by
-        the k-d trees when built, else densely."""
+        at look-ahead second ``second`` (0-based: the cloud after ``second + 1`` seconds); a
+        label whose particles' bounding box lies beyond the radius is skipped."""
         k = centres.shape[0]
-        n_labels, n = self.n_labels, self.n_particles
-        radii = label_radii(radius_m, n_labels)
+        radii = label_radii(radius_m, self.n_labels)
+        out = np.zeros((k, self.n_labels))
         if radii.max() <= 0.0 or k == 0:
-            return np.zeros((k, n_labels))
-        if not self.trees:
-            return disc_mass(self.w, self.xy[second], centres, radii)
-        pairs = cKDTree(centres).sparse_distance_matrix(
-            self.trees[second], float(radii.max()), output_type="ndarray")
-        label = pairs["j"] // n
-        keep = pairs["v"] < radii[label]
-        pairs, label = pairs[keep], label[keep]
-        mass = np.bincount(pairs["i"] * n_labels + label,
-                           weights=self.w.ravel()[pairs["j"]], minlength=k * n_labels)
-        return np.asarray(mass.reshape(k, n_labels), dtype=np.float64)
+            return out
+        x, y = self._columns
+        _disc_mass(x[second], y[second], self.w,
+                   np.ascontiguousarray(centres, dtype=np.float64), radii, out)
+        return out
 
     def void(self, second: int, centres: FloatArray,
              radius_m: float | FloatArray | None = None) -> FloatArray:
@@ -114,6 +110,32 @@ class LookAhead:
             radius_m = self.radii
         mass = self.disc_mass(second, centres, radius_m)
         return np.asarray(np.prod(1.0 - self.r * mass, axis=1), dtype=np.float64)
+
+
+@njit(cache=True, error_model="numpy")
+def _disc_mass(x: FloatArray, y: FloatArray, w: FloatArray, centres: FloatArray,
+               radii: FloatArray, out: FloatArray) -> None:
+    """``out[k, λ] = Σ_i w[λ, i] [ (x − c_x)² + (y − c_y)² < ρ_λ² ]`` for particles at ``x``,
+    ``y`` ``(Λ, N)``, skipping the labels whose bounding box is farther than ``ρ_λ``."""
+    n_labels, n = x.shape
+    for lab in range(n_labels):
+        rr = radii[lab] * radii[lab]
+        if rr <= 0.0 or n == 0:
+            continue
+        xr, yr, wr = x[lab], y[lab], w[lab]
+        lo_x, hi_x, lo_y, hi_y = xr.min(), xr.max(), yr.min(), yr.max()
+        for k in range(centres.shape[0]):
+            cx, cy = centres[k, 0], centres[k, 1]
+            gx = max(lo_x - cx, 0.0, cx - hi_x)
+            gy = max(lo_y - cy, 0.0, cy - hi_y)
+            if gx * gx + gy * gy >= rr:
+                continue
+            s = 0.0
+            for i in range(n):
+                dx = xr[i] - cx
+                dy = yr[i] - cy
+                s += wr[i] if dx * dx + dy * dy < rr else 0.0
+            out[k, lab] = s
 
 
 def look_ahead(problem: RadioPlanProblem, rng: np.random.Generator) -> LookAhead:
@@ -145,6 +167,4 @@ def look_ahead(problem: RadioPlanProblem, rng: np.random.Generator) -> LookAhead
     arrays = (xy, frames, r, w, r > EXISTENCE_THRESHOLD, est_xy, est_frame, radii)
     for arr in arrays:
         arr.setflags(write=False)
-    trees = tuple(cKDTree(xy[t].reshape(-1, 2), balanced_tree=False, compact_nodes=False)
-                  for t in range(total)) if radii.max() > 0 else ()
-    return LookAhead(*arrays, trees=trees)
+    return LookAhead(*arrays)

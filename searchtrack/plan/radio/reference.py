@@ -3,7 +3,8 @@
 
 :func:`reference_look_ahead` draws and predicts the cloud by the documented recipe of
 :mod:`~searchtrack.plan.radio.lookahead` with the motion model's NumPy propagation
-(:func:`searchtrack.models.radio.motion.propagate`), second by second.
+(:func:`searchtrack.models.radio.motion.propagate`), second by second, and counts the particle
+mass of each void disc (eq. 44) with a k-d tree of the cloud per second (:class:`TreeLookAhead`).
 :class:`ReferenceScorer` expands a batch of nodes step by step: the ideal-measurement
 log-likelihoods of every child (:func:`~searchtrack.plan.radio.kernels.ideal_log_likelihoods`),
 the update of eqs. 29–30 in log space, ``w_i ← w_i g_i / η``, ``r ← r η / (1 − r + r η)``,
@@ -15,12 +16,15 @@ what the tests compare the fused path with; a backend runs on it when handed it 
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from scipy.spatial import cKDTree
 
 from searchtrack.core.types import FloatArray
 from searchtrack.estimate.labelled_particles import LabelledParticles, resample
 from searchtrack.models.radio import RadioSignal, propagate
+from searchtrack.plan.radio.divergences import disc_mass, label_radii
 from searchtrack.plan.radio.ideal import IdealLikelihood, amplitudes
 from searchtrack.plan.radio.kernels import ideal_log_likelihoods
 from searchtrack.plan.radio.lookahead import LookAhead
@@ -58,7 +62,35 @@ def reference_look_ahead(problem: RadioPlanProblem, rng: np.random.Generator) ->
         arr.setflags(write=False)
     trees = tuple(cKDTree(xy[t].reshape(-1, 2), balanced_tree=False, compact_nodes=False)
                   for t in range(total)) if radii.max() > 0 else ()
-    return LookAhead(*arrays, trees=trees)
+    return TreeLookAhead(*arrays, trees=trees)
+
+
+@dataclass(frozen=True, eq=False)
+class TreeLookAhead(LookAhead):
+    """:class:`~searchtrack.plan.radio.lookahead.LookAhead` whose disc masses are counted with
+    one k-d tree of the cloud per second (``trees``, none when ``r_min = 0``)."""
+
+    trees: tuple[cKDTree, ...] = ()
+
+    def disc_mass(self, second: int, centres: FloatArray,
+                  radius_m: float | FloatArray) -> FloatArray:
+        """As :meth:`LookAhead.disc_mass <searchtrack.plan.radio.lookahead.LookAhead.
+        disc_mass>`, by the k-d trees when built, else densely."""
+        k = centres.shape[0]
+        n_labels, n = self.n_labels, self.n_particles
+        radii = label_radii(radius_m, n_labels)
+        if radii.max() <= 0.0 or k == 0:
+            return np.zeros((k, n_labels))
+        if not self.trees:
+            return disc_mass(self.w, self.xy[second], centres, radii)
+        pairs = cKDTree(centres).sparse_distance_matrix(
+            self.trees[second], float(radii.max()), output_type="ndarray")
+        label = pairs["j"] // n
+        keep = pairs["v"] < radii[label]
+        pairs, label = pairs[keep], label[keep]
+        mass = np.bincount(pairs["i"] * n_labels + label,
+                           weights=self.w.ravel()[pairs["j"]], minlength=k * n_labels)
+        return np.asarray(mass.reshape(k, n_labels), dtype=np.float64)
 
 
 def update(log_w: FloatArray, r: FloatArray, log_g: FloatArray) -> tuple[FloatArray, FloatArray]:

@@ -108,7 +108,7 @@ def exhaustive_search(scorer: Scorer, deadline: Deadline, incumbent: Best | None
             if deadline.expired():
                 found.complete = False
                 return
-            kids = scorer.expand(part)
+            kids = scorer.expand(part, posterior=part.level + 1 < scorer.horizon)
             found.nodes += kids.size
             kids = _promising(scorer, kids, found.best)
             if kids.level == scorer.horizon:
@@ -134,7 +134,7 @@ def beam_search(scorer: Scorer, deadline: Deadline, width: int,
             found.complete = False
             width = 1  # out of time: finish the best prefix greedily
             nodes = nodes.take(ranking(scorer, nodes)[:1])
-        kids = scorer.expand_all(nodes, actions)
+        kids = scorer.expand_all(nodes, actions, posterior=nodes.level + 1 < scorer.horizon)
         found.nodes += kids.size
         if kids.level < scorer.horizon and kids.size > width:
             kids = kids.take(np.sort(ranking(scorer, kids)[:width]))

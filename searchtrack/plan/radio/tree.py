@@ -36,6 +36,7 @@ from searchtrack.plan.radio.ideal import (
     amplitudes,
     frame_counts,
     frame_overlap,
+    likelihood_table,
 )
 from searchtrack.plan.radio.lookahead import LookAhead, look_ahead
 from searchtrack.plan.radio.problem import RadioPlan, RadioPlanProblem, reward_existence
@@ -64,7 +65,8 @@ class Nodes:
     rewards
         ``(B, j)`` undiscounted rewards at each interval end.
     log_w
-        ``(B, Λ, N)`` log weights of the posterior ``π₂``.
+        ``(B, Λ, N)`` log weights of the posterior ``π₂`` (``(B, Λ, 0)`` for leaves scored
+        without them).
     r
         ``(B, Λ)`` existence probabilities of ``π₂``.
     value
@@ -143,9 +145,9 @@ class Scorer:
 
     @staticmethod
     def table(signal: RadioSignal) -> IdealLikelihood:
-        """The likelihood table of ``signal`` (:meth:`IdealLikelihood.of
-        <searchtrack.plan.radio.ideal.IdealLikelihood.of>`)."""
-        return IdealLikelihood.of(signal)
+        """The likelihood table of ``signal``, shared by the solves of that signal
+        (:func:`~searchtrack.plan.radio.ideal.likelihood_table`)."""
+        return likelihood_table(signal)
 
     @property
     def horizon(self) -> int:
@@ -208,9 +210,11 @@ class Scorer:
                      np.concatenate([nodes.rewards[parent], scores.reward[:, None]], axis=1),
                      scores.log_w, scores.r, nodes.value[parent] + st.discount**j * scores.reward)
 
-    def expand_all(self, nodes: Nodes, actions: Actions | None = None) -> Nodes:
+    def expand_all(self, nodes: Nodes, actions: Actions | None = None, *,
+                   posterior: bool = True) -> Nodes:
         """:meth:`expand` in parts of bounded memory, the children joined in order."""
-        parts = [self.expand(part, actions) for part in nodes.chunks(self.per_child)]
+        parts = [self.expand(part, actions, posterior=posterior)
+                 for part in nodes.chunks(self.per_child)]
         return Nodes(*(np.concatenate(arrays) for arrays in zip(
             *((p.pose, p.headings, p.path, p.void, p.rewards, p.log_w, p.r, p.value)
               for p in parts), strict=True)))

@@ -15,6 +15,7 @@ from searchtrack.plan.radio.ideal import (
     amplitudes,
     frame_counts,
     frame_overlap,
+    likelihood_table,
 )
 
 SIGNAL = RadioSignal()
@@ -89,3 +90,15 @@ def test_log_likelihood_equals_the_filter_likelihood(seed: int) -> None:
         direct = log_likelihood_ratio_reference(SIGNAL, z, lab, gamma[0, lab], frames[lab])
         assert np.allclose(mine[lab], direct, rtol=1e-6, atol=1e-9)
         assert np.any(np.abs(direct) > 1.0)  # a meaningful comparison
+
+
+def test_the_shared_table_is_tabulated_once_per_signal() -> None:
+    """likelihood_table gives one read-only table per signal, equal to a fresh one."""
+    signal = RadioSignal(path_loss_exponent=2.9)
+    table = likelihood_table(signal)
+    assert likelihood_table(RadioSignal(path_loss_exponent=2.9)) is table
+    assert likelihood_table(RadioSignal()) is not table
+    fresh = IdealLikelihood.of(signal)
+    for name in ("energy", "quadratic", "log_t", "log_h", "slope"):
+        assert np.array_equal(getattr(table, name), getattr(fresh, name))
+        assert not getattr(table, name).flags.writeable

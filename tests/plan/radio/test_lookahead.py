@@ -24,7 +24,6 @@ def test_shapes_and_prediction_without_birth_or_death() -> None:
     assert np.array_equal(la.r, p.belief.r)
     assert np.allclose(la.w, 1.0 / 40)
     assert la.estimated.tolist() == [True, True, False, True]
-    assert len(la.trees) == 15
 
 
 def test_draws_follow_the_documented_recipe() -> None:
@@ -57,7 +56,8 @@ def test_deterministic_per_seed() -> None:
 
 @pytest.mark.parametrize("radius", [0.0, 30.0, 80.0, 400.0])
 def test_void_equals_the_plain_array_form(radius: float) -> None:
-    """Disc mass and void probability from the k-d trees equal the dense computation."""
+    """Disc mass and void probability (labels skipped by their bounding boxes) equal the dense
+    computation."""
     p = problem(plan_particles=50)
     la = look_ahead(p, np.random.default_rng(3))
     centres = np.random.default_rng(4).uniform(200.0, 1100.0, (25, 2))
@@ -68,12 +68,12 @@ def test_void_equals_the_plain_array_form(radius: float) -> None:
                            void_probability(la.r, la.w, la.xy[t], centres, radius), atol=1e-12)
 
 
-def test_no_trees_without_a_void_region() -> None:
-    """r_min = 0: no trees are built and the empty disc has void probability 1; another radius
-    is then computed densely, not silently taken as empty."""
+def test_no_void_region() -> None:
+    """r_min = 0: the empty disc has void probability 1; another radius is still counted, not
+    silently taken as empty."""
     p = problem(r_min_m=0.0)
     la = look_ahead(p, np.random.default_rng(0))
-    assert la.trees == ()
+    assert la.radii.tolist() == [0.0] * 4
     assert np.array_equal(la.void(3, np.array([[850.0, 650.0]]), 0.0), [1.0])
     assert np.allclose(la.void(3, np.array([[850.0, 650.0]]), 80.0),
                        void_probability(la.r, la.w, la.xy[3], np.array([[850.0, 650.0]]), 80.0))
