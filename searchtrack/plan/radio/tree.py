@@ -27,8 +27,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from searchtrack.core.angles import wrap_angle
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
-from searchtrack.models.radio import RadioSignal, primitives
+from searchtrack.models.radio import RadioSignal, UavModel, primitives
+from searchtrack.models.radio.uav import OUTSIDE_TIE_M
 from searchtrack.plan.radio.divergences import cauchy_schwarz, renyi
 from searchtrack.plan.radio.fused import score_children
 from searchtrack.plan.radio.ideal import (
@@ -178,20 +180,28 @@ class Scorer:
             return cauchy_schwarz(self.r1, self.look.w, r2, w2, st.cs_k)
         return renyi(self.r1, self.look.w, r2, w2, st.alpha)
 
+    def children(self, poses: FloatArray,
+                 actions: Actions | None = None) -> tuple[IntArray, FloatArray, FloatArray]:
+        """``(parent (C,), headings (C,), paths (C, N_p, 3))`` of the actions from each of
+        ``B`` poses ``(B, 3)``, pose by pose; the primitives of every pose are flown together
+        (:func:`batch_primitives`)."""
+        if actions is None:
+            sc = self.problem.scenario
+            return batch_primitives(sc.uav, poses, sc.area_m)
+        heads, paths, counts = [], [], []
+        for b in range(poses.shape[0]):
+            h, p = actions(poses[b])
+            heads.append(h)
+            paths.append(p)
+            counts.append(h.size)
+        return (np.repeat(np.arange(poses.shape[0]), counts), np.concatenate(heads),
+                np.concatenate(paths, axis=0))
+
     def expand(self, nodes: Nodes, actions: Actions | None = None, *,
                posterior: bool = True) -> Nodes:
         """Every child of every node, in node order then action order; ``posterior=False``
         leaves the children's weights out (``log_w`` ``(C, Λ, 0)``: leaves, never expanded)."""
-        act = self.primitives if actions is None else actions
-        heads, paths, counts = [], [], []
-        for b in range(nodes.size):
-            h, p = act(nodes.pose[b])
-            heads.append(h)
-            paths.append(p)
-            counts.append(h.size)
-        parent = np.repeat(np.arange(nodes.size), counts)
-        head = np.concatenate(heads)
-        path = np.concatenate(paths, axis=0)                     # (C, N_p, 3)
+        parent, head, path = self.children(nodes.pose, actions)  # path (C, N_p, 3)
         j = nodes.level
         n_p = path.shape[1]
         look, st = self.look, self.settings
@@ -228,3 +238,36 @@ class Scorer:
         return RadioPlan(nodes.headings[i], nodes.path[i], nodes.rewards[i], nodes.void[i],
                          bool(self.feasible(nodes)[i]))
 
+
+
+def batch_primitives(model: UavModel, poses: FloatArray,
+                     area_m: tuple[float, float]) -> tuple[IntArray, FloatArray, FloatArray]:
+    """:func:`~searchtrack.models.radio.uav.primitives` of ``B`` poses ``(B, 3)`` at once, the
+    same element-wise arithmetic on ``(B, N_θ)`` arrays: ``(parent (C,), headings (C,),
+    paths (C, n, 3))`` of the kept primitives, pose by pose, in primitive order."""
+    n_headings, n = model.n_headings, model.steps_per_plan
+    deltas = -np.pi + 2.0 * np.pi * np.arange(n_headings) / n_headings
+    targets = wrap_angle(poses[:, 2:3] + deltas)                          # (B, A)
+    x = np.repeat(poses[:, 0:1], n_headings, axis=1)
+    y = np.repeat(poses[:, 1:2], n_headings, axis=1)
+    heading = np.repeat(poses[:, 2:3], n_headings, axis=1)
+    max_turn = model.max_turn_rate * model.step_s
+    length = model.speed_mps * model.step_s
+    paths = np.empty((*targets.shape, n, 3))
+    for i in range(n):
+        turn = np.clip(wrap_angle(targets - heading), -max_turn, max_turn)
+        chord = heading + turn / 2.0
+        x = x + length * np.cos(chord)
+        y = y + length * np.sin(chord)
+        heading = wrap_angle(heading + turn)
+        paths[:, :, i, 0], paths[:, :, i, 1], paths[:, :, i, 2] = x, y, heading
+    width, height = float(area_m[0]), float(area_m[1])
+    px, py = paths[..., 0], paths[..., 1]
+    inside = np.all((px >= 0.0) & (px <= width) & (py >= 0.0) & (py <= height), axis=2)
+    for b in np.flatnonzero(~inside.any(axis=1)):
+        end_x, end_y = px[b, :, -1], py[b, :, -1]
+        outside = np.hypot(np.maximum(0.0, np.maximum(-end_x, end_x - width)),
+                           np.maximum(0.0, np.maximum(-end_y, end_y - height)))
+        inside[b] = outside <= outside.min() + OUTSIDE_TIE_M
+    parent = np.repeat(np.arange(poses.shape[0]), inside.sum(axis=1))
+    return parent, targets[inside], paths[inside]

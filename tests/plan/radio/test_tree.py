@@ -113,3 +113,24 @@ def test_custom_actions_feasibility_and_plan() -> None:
     assert np.array_equal(plan.path, paths[1]) and plan.rewards[0] == kids.rewards[0, 0]
     taken = kids.take(np.array([0, 0]))
     assert isinstance(taken, Nodes) and taken.size == 2
+
+
+@pytest.mark.parametrize("n_headings", [3, 4, 8])
+def test_batch_primitives_are_the_models_pose_by_pose(n_headings: int) -> None:
+    """Poses inside the area, near its edges and outside it: the batch gives the primitives
+    of each pose bit for bit, pose by pose, in primitive order."""
+    p = problem(n_headings=n_headings)
+    uav, area = p.scenario.uav, p.scenario.area_m
+    rng = np.random.default_rng(n_headings)
+    poses = np.c_[rng.uniform(-200.0, 1700.0, (300, 2)), rng.uniform(-np.pi, np.pi, 300)]
+    poses[:40, 0] = rng.choice([1.0, 20.0, 1480.0, 1499.0], 40)
+    parent, heads, paths = tree_module.batch_primitives(uav, poses, area)
+    at = 0
+    for b in range(poses.shape[0]):
+        want_h, want_p = primitives(uav, poses[b], area)
+        k = want_h.size
+        assert np.array_equal(parent[at:at + k], np.full(k, b))
+        assert np.array_equal(heads[at:at + k], want_h)
+        assert np.array_equal(paths[at:at + k], want_p)
+        at += k
+    assert at == parent.size
