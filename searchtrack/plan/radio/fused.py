@@ -18,6 +18,8 @@ of the look-ahead cloud at the interval's end:
 The arithmetic runs in Numba passes over ``(children, Λ, N)`` blocks of bounded size, the
 logarithms and exponentials in between as NumPy's vectorised ufuncs on whole blocks; a child's
 parent is read by index, so a prefix's posterior is shared by all its children without copies.
+The maxima and sums over particles may be accumulated in vector lanes (reassociated): equal to
+the sequential ones up to rounding, and the same on every run.
 :class:`~searchtrack.plan.radio.reference.ReferenceScorer` is the step-by-step reference.
 """
 
@@ -25,6 +27,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from numba import njit
@@ -63,13 +66,12 @@ def _geometry(x: FloatArray, y: FloatArray, poses: FloatArray, back: float, heig
 @njit(cache=True, error_model="numpy")
 def _exponents(lq: FloatArray, lgain: FloatArray, log_gamma_hat: FloatArray,
                overlap: IntArray, log_scale: float, quarter_kappa: float, log_t0: float,
-               inv_step: float, log_h: FloatArray, slope: FloatArray,
-               log_quadratic: FloatArray) -> None:
+               inv_step: float, coef: FloatArray, log_quadratic: FloatArray) -> None:
     """From ``log q`` and ``log G_a`` (in ``lq``, ``lgain``): ``2 log γ`` into ``lq`` and
-    ``log h_λ(γ̂ γ)`` (``−inf`` where the term is absent) into ``lgain``."""
+    ``log h_λ(γ̂ γ)`` (``−inf`` where the term is absent) into ``lgain``; ``coef`` ``(Λ, G−1,
+    4)`` the cubic of each table interval (:func:`hermite_coefficients`)."""
     n_children, n_labels, n = lq.shape
-    size = log_h.shape[1]
-    step = 1.0 / inv_step
+    size = coef.shape[1] + 1
     top = size - 1.0
     for c in range(n_children):
         for lab in range(n_labels):
@@ -80,21 +82,36 @@ def _exponents(lq: FloatArray, lgain: FloatArray, log_gamma_hat: FloatArray,
             if lgh == -math.inf:
                 gr[:] = -math.inf
                 continue
-            hr, sr, quad = log_h[lab], slope[lab], log_quadratic[lab]
+            cf, quad = coef[lab], log_quadratic[lab]
             for i in range(n):
                 lt = lgh + 0.5 * qr[i]
                 u = min((lt - log_t0) * inv_step, top)
                 k = min(int(max(u, 0.0)), size - 2)
                 f = u - k
-                f2 = f * f
-                f3 = f2 * f
-                e = ((2 * f3 - 3 * f2 + 1) * hr[k] + (f3 - 2 * f2 + f) * step * sr[k]
-                     + (3 * f2 - 2 * f3) * hr[k + 1] + (f3 - f2) * step * sr[k + 1])
+                e = cf[k, 0] + f * (cf[k, 1] + f * (cf[k, 2] + f * cf[k, 3]))
                 e = quad + 2.0 * lt if lt < log_t0 else e
                 gr[i] = e if orow[i] > 0 else -math.inf
 
 
-@njit(cache=True, error_model="numpy")
+@lru_cache(maxsize=16)
+def hermite_coefficients(table: IdealLikelihood) -> FloatArray:
+    """``(Λ, G−1, 4)`` the cubic Hermite interpolant of ``log h_λ`` on each interval of the
+    table in powers of the interval's fraction ``f``: ``a0 + f(a1 + f(a2 + f a3))`` with
+    ``a0 = y_k``, ``a1 = δ s_k``, ``a2 = 3(y_{k+1} − y_k) − δ(2 s_k + s_{k+1})``,
+    ``a3 = 2(y_k − y_{k+1}) + δ(s_k + s_{k+1})`` (``y = log h``, ``s`` its slope, ``δ`` the
+    step in ``log t``): the Hermite basis form of :meth:`IdealLikelihood.h
+    <searchtrack.plan.radio.ideal.IdealLikelihood.h>` regrouped."""
+    log_t0 = float(table.log_t[0])
+    step = 1.0 / ((table.log_t.size - 1) / float(table.log_t[-1] - log_t0))
+    y0, y1 = table.log_h[:, :-1], table.log_h[:, 1:]
+    s0, s1 = step * table.slope[:, :-1], step * table.slope[:, 1:]
+    coef = np.ascontiguousarray(np.stack(
+        [y0, s0, 3.0 * (y1 - y0) - 2.0 * s0 - s1, 2.0 * (y0 - y1) + s0 + s1], axis=2))
+    coef.setflags(write=False)
+    return coef
+
+
+@njit(cache=True, error_model="numpy", fastmath={"reassoc", "nsz"})
 def _posterior(gamma2: FloatArray, h: FloatArray, counts: IntArray, overlap: IntArray,
                energy: FloatArray, log_w: FloatArray, parent: IntArray, log_w1: FloatArray,
                alpha: float, post: FloatArray, peak: FloatArray) -> None:
@@ -122,7 +139,7 @@ def _posterior(gamma2: FloatArray, h: FloatArray, counts: IntArray, overlap: Int
                 gr[i] = alpha * v + (1.0 - alpha) * w1r[i]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath={"reassoc", "nsz"})
 def _sums(post: FloatArray, expo: FloatArray, powered: FloatArray, log_w1: FloatArray,
           w1: FloatArray, kind: int, keep: bool, log_w: FloatArray, mass: FloatArray,
           inner: FloatArray, own: FloatArray) -> None:
@@ -191,6 +208,7 @@ def score_children(signal: RadioSignal, table: IdealLikelihood, xy: FloatArray,
         log_quadratic = np.log(table.quadratic)
     log_t0 = float(table.log_t[0])
     inv_step = (table.log_t.size - 1) / float(table.log_t[-1] - log_t0)
+    coef = hermite_coefficients(table)
     out_w = np.empty((n_children, n_labels, n if keep else 0))
     mass, inner, own = (np.empty((n_children, n_labels)) for _ in range(3))
     peak = np.empty((n_children, n_labels))
@@ -208,8 +226,7 @@ def score_children(signal: RadioSignal, table: IdealLikelihood, xy: FloatArray,
         np.log(q, out=q)
         np.log(g, out=g)
         _exponents(q, g, log_gamma_hat[lo:hi], overlap, log_scale,
-                   signal.path_loss_exponent / 4.0, log_t0, inv_step, table.log_h,
-                   table.slope, log_quadratic)
+                   signal.path_loss_exponent / 4.0, log_t0, inv_step, coef, log_quadratic)
         np.exp(q, out=q)
         np.exp(g, out=g)
         _posterior(q, g, counts, overlap, table.energy, log_w, parent[lo:hi], log_w1, alpha,

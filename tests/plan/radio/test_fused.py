@@ -54,3 +54,21 @@ def test_scores_equal_the_reference(seed: int, reward: str, order: float,
                           parent, r1, w1, reward, order, keep=False)
     assert leaf.log_w.shape == (children, labels, 0)
     assert np.array_equal(leaf.reward, got.reward) and np.array_equal(leaf.r, got.r)
+
+
+def test_hermite_coefficients_give_the_tables_interpolant() -> None:
+    """The cubic of each interval in powers of f equals the table's Hermite form (h), at the
+    nodes, inside the intervals and at the top; one read-only array per table."""
+    table = IdealLikelihood.of(RadioSignal())
+    coef = fused.hermite_coefficients(table)
+    assert coef is fused.hermite_coefficients(table) and not coef.flags.writeable
+    rng = np.random.default_rng(0)
+    u = np.r_[rng.uniform(0.0, table.log_t.size - 1.0, 500), 0.0, 7.0, table.log_t.size - 1.0]
+    k = np.minimum(u.astype(np.int64), table.log_t.size - 2)
+    f = u - k
+    step = (table.log_t[-1] - table.log_t[0]) / (table.log_t.size - 1)
+    t = np.exp(table.log_t[0] + u * step)
+    for lab in range(coef.shape[0]):
+        c = coef[lab, k]
+        got = c[:, 0] + f * (c[:, 1] + f * (c[:, 2] + f * c[:, 3]))
+        np.testing.assert_allclose(np.exp(got), table.h(lab, t), rtol=1e-11)
