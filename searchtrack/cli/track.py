@@ -11,13 +11,16 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from searchtrack.cli.common import add_group, description, int_at_least, seed_arg
+from searchtrack.cli.kernels import ready_kernels
 from searchtrack.cli.output import output_file
+from searchtrack.sim.kernels import PHD_KERNELS
 from searchtrack.sim.particles.track_job import run_track_file
 
 
 def track_command(args: argparse.Namespace, console: Console) -> int:
     """Handler of ``searchtrack track``."""
     out = output_file("--out", args.out)
+    ready_kernels(console, [PHD_KERNELS])
     with Progress(TextColumn("SMC-PHD"), BarColumn(),
                   TextColumn("{task.completed}/{task.total} scans"), TimeElapsedColumn(),
                   console=console, transient=True) as bar:

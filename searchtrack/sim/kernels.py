@@ -92,6 +92,21 @@ def _warm_radio() -> None:
         run_radio_mission(scenario, config, seed=0)
 
 
+def _warm_phd() -> None:
+    """Three scans of the standard SMC-PHD scenario (prediction, the gated update, resampling
+    and extraction)."""
+    from searchtrack.estimate.phd import PHDConfig, PHDState, SensorScan, step
+    from searchtrack.sim.particles.scenario import standard_scenario
+
+    scenario = standard_scenario(0, n_targets=2, n_scans=3)
+    rng = np.random.default_rng(0)
+    state = PHDState.empty(scenario.motion.state_dim, scenario.motion.position_dim)
+    config = PHDConfig(region=scenario.sensor.area)
+    for z in scenario.scans:
+        state, _ = step(state, [SensorScan(scenario.sensor, np.zeros(3), z)], scenario.motion,
+                        config, scenario.dt_s, rng)
+
+
 @dataclass(frozen=True)
 class KernelSet:
     """A group of numba kernels compiled together.
@@ -114,8 +129,8 @@ class KernelSet:
     warm: Callable[[], None]
 
 
-ROAD_FILTER_KERNELS, RADIO_KERNELS = "road-filter", "radio"
-"""The sets of the road particle filter and of the radio filters."""
+ROAD_FILTER_KERNELS, RADIO_KERNELS, PHD_KERNELS = "road-filter", "radio", "phd"
+"""The sets of the road particle filter, of the radio filters and of the SMC-PHD filter."""
 
 KERNEL_SETS: dict[str, KernelSet] = {s.name: s for s in (
     KernelSet(ILS_KERNELS, "OPTW iterated local search",
@@ -132,6 +147,8 @@ KERNEL_SETS: dict[str, KernelSet] = {s.name: s for s in (
               ("searchtrack.estimate.road_filter_kernels",
                "searchtrack.estimate.road_resample_kernels", "searchtrack.estimate.road_births"),
               _warm_road_filter),
+    KernelSet(PHD_KERNELS, "SMC-PHD prediction, gated update and resampling",
+              ("searchtrack.estimate.phd.kernels", "searchtrack.estimate.phd.gated"), _warm_phd),
     KernelSet(RADIO_KERNELS, "radio TBD likelihood and propagation",
               ("searchtrack.estimate.radio.likelihood", "searchtrack.estimate.radio.propagation",
                "searchtrack.estimate.labelled_particles", "searchtrack.plan.radio.fused"),
@@ -139,10 +156,10 @@ KERNEL_SETS: dict[str, KernelSet] = {s.name: s for s in (
 )}
 """Every kernel set of the library, by name."""
 
-FILTER_KERNELS = (ROAD_FILTER_KERNELS, RADIO_KERNELS)
+FILTER_KERNELS = (ROAD_FILTER_KERNELS, PHD_KERNELS, RADIO_KERNELS)
 """The sets the estimators compile, which no solver registry lists: the road particle filter
-(and the RBPF built on it) and the radio TBD-LMB / detection-then-track filters (whose
-look-ahead kernels the radio planning backends share)."""
+(and the RBPF built on it), the SMC-PHD filter, and the radio TBD-LMB / detection-then-track
+filters (whose look-ahead kernels the radio planning backends share)."""
 
 
 def kernels_of(*registries: Registry[Any, Any]) -> tuple[str, ...]:
