@@ -7,18 +7,22 @@
 
 solve: median / 95th-percentile warm-started solve along a closed-loop run (Dubins, i.e. the
 unicycle at a constant 10 m/s, with 5 obstacles; fixed wing and 7-state UAV with 3), per CasADi
-option variant, and the OSQP LTV-MPC, against the real-time targets (NMPC ≤ 10 ms, OSQP ≤ 2 ms
-median). A linear solver Ipopt cannot load (ma27 without HSL) is reported as unavailable.
+option variant, the real-time iteration (``ltv_mpc``, OSQP) and do-mpc on the same NLP
+(``trajectory_dompc.py``), against the real-time targets: NMPC ≤ 10 ms median; the real-time
+iteration ≤ 1 ms median, ≤ 2 ms p95 and ≤ 0.25× do-mpc's median. A linear solver Ipopt cannot
+load (ma27 without HSL) is reported as unavailable.
 courses: collisions, RMS tracking error, input effort, min clearance and fallback counts per
 controller, with wind (1, −0.5) m/s and process noise; ``auto`` gets 50 ms per step. routes: the
 same for a Dubins UAV (80 mph, 70 °/s) on an OPTW route and a potential-field mission track past
 buildings, and for the 7-state UAV on 004's 3-D search waypoints (E7: 3 spheres, d_l = 6 m, wind
-3 m/s). The run ends by checking that NMPC never collided (exit status 1 otherwise).
+3 m/s). The run ends by checking that auto, NMPC and the real-time iteration never collided
+(exit status 1 otherwise).
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 import time
@@ -26,6 +30,7 @@ from collections.abc import Callable
 from functools import partial
 
 import numpy as np
+import trajectory_dompc
 from tables import table
 
 from searchtrack.core.errors import InvalidInputError
@@ -125,7 +130,9 @@ def _cells(run: tuple[np.ndarray, np.ndarray, np.ndarray, str], target_ms: float
             f"<= {target_ms:g}", verdict]
 
 
-NMPC_TARGET_MS, QP_TARGET_MS = 10.0, 2.0  # real-time targets: median solve time (ms)
+NMPC_TARGET_MS = 10.0  # real-time target of the full NMPC: median solve time (ms)
+# the real-time iteration: median and 95th percentile (ms), and its median over do-mpc's
+RTI_TARGET_MS, RTI_P95_MS, RTI_PEER_RATIO = 1.0, 2.0, 0.25
 
 NMPC_VARIANTS: list[tuple[str, NmpcOptions]] = [
     ("ipopt exact, tol 1e-4, mu_init 1e-2 (default)", NmpcOptions()),
@@ -182,9 +189,19 @@ def bench_solve(steps: int) -> None:
             cells = ["-", "-", "-", "-", "-", "-",
                      "error: " + str(err).strip().splitlines()[-1][:40]]
         rows.append([f"Dubins NMPC: {name}", *cells])
-    rows.append(["Dubins LTV-MPC (OSQP, 1 QP/step)", *_cells(timed_run(
-        model, start, ref, obs, lambda p: solve_ltv_mpc(p, time_limit_s=0.5), steps),
-        QP_TARGET_MS)])
+    rti = timed_run(model, start, ref, obs, lambda p: solve_ltv_mpc(p, time_limit_s=0.5), steps)
+    rows.append(["Dubins real-time iteration (ltv_mpc: OSQP, 1 QP/step)",
+                 *_cells(rti, RTI_TARGET_MS)])
+    missing = trajectory_dompc.available()
+    peer = "Dubins do-mpc 5 (Ipopt, the same NLP without rate limits)"
+    peer_ms = math.nan
+    if missing is not None:
+        rows.append([peer, "-", "-", "-", "-", "-", "-", "unavailable: " + missing])
+    else:
+        tracker = trajectory_dompc.DoMpcTracker(model, ref, obs)
+        run = timed_run(model, start, ref, obs, tracker, steps)
+        peer_ms = float(np.median(run[0]))
+        rows.append([peer, *_cells(run, None)])
     flat = unicycle()
     for label, solve_one in (("NMPC (default)", partial(solve_nmpc, time_limit_s=0.5)),
                              ("LTV-MPC (OSQP)", partial(solve_ltv_mpc, time_limit_s=0.5))):
@@ -204,6 +221,13 @@ def bench_solve(steps: int) -> None:
           "(Dubins/unicycle: 5 obstacles; 3-D models: 3); real-time targets")
     table(["controller / options", "median ms", "p95 ms", "median CPU ms", "median iters",
            "fails", "target ms", "verdict"], rows)
+    median, p95 = float(np.median(rti[0])), float(np.percentile(rti[0], 95))
+    ratio = median / peer_ms
+    print(f"\nCHECK real-time iteration (auto's first stage), Dubins: median {median:.2f} ms "
+          f"(<= {RTI_TARGET_MS:g}), p95 {p95:.2f} ms (<= {RTI_P95_MS:g}), {ratio:.2f} x do-mpc "
+          f"(<= {RTI_PEER_RATIO:g}), {rti[3]} fails: " + (
+              "PASS" if median <= RTI_TARGET_MS and p95 <= RTI_P95_MS and rti[3] == "0"
+              and (math.isnan(ratio) or ratio <= RTI_PEER_RATIO) else "FAIL"))
 
 
 def lawnmower() -> tuple[Reference, Obstacles]:
@@ -234,6 +258,7 @@ def random_course(seed: int) -> tuple[Reference, Obstacles]:
 FLIGHT_HEADER = ["course", "controller", "collisions", "RMS m", "effort", "min clear m",
                  "fallbacks", "answered nmpc/qp/cf", "no plan", "median ms", "wall s"]
 BACKENDS = ("auto", "nmpc", "ltv_mpc", "closed_form")
+CHECKED = ("auto", "nmpc", "ltv_mpc")   # the optimising controllers: never to collide
 
 
 def flight_row(label: str, backend: str, log: FlightLog, wall_s: float) -> list[str]:
@@ -246,7 +271,7 @@ def flight_row(label: str, backend: str, log: FlightLog, wall_s: float) -> list[
 
 def bench_courses(seeds: int, jit: bool) -> int:
     """Closed-loop comparison of the controllers on the two courses (and a 3-D one for uav7);
-    returns the number of NMPC flights that collided."""
+    returns the number of auto, NMPC and real-time-iteration flights that collided."""
     rows = []
     flat = unicycle()
     start = np.array([0.0, -3.0, 0.0])
@@ -265,7 +290,7 @@ def bench_courses(seeds: int, jit: bool) -> int:
                                nmpc_options=options)
             started = time.perf_counter()
             log = fly(model, x0, ref, obs, cfg, rng=np.random.default_rng(0))
-            crashed += int(backend == "nmpc" and log.collisions > 0)
+            crashed += int(backend in CHECKED and log.collisions > 0)
             rows.append(flight_row(label, backend, log, time.perf_counter() - started))
     print("\nClosed loop, unicycle 5–15 m/s, |ω| ≤ 1 rad/s (uav7: 8–25 m/s), wind (1, −0.5) m/s, "
           f"noise, margin 1 m, 50 ms/step, NMPC jit={jit}")
@@ -280,7 +305,7 @@ def cross_track(log: FlightLog, path: np.ndarray) -> str:
 
 def bench_routes(e7_steps: int, mission_s: float) -> int:
     """Road routes (OPTW, potential field) with the Dubins UAV and E7 with the 7-state UAV;
-    returns the number of NMPC flights that collided."""
+    returns the number of auto, NMPC and real-time-iteration flights that collided."""
     net = grid_network(6, 6, 100.0, 10.0)
     scores = np.random.default_rng(0).random(net.n_nodes) ** 4
     route = plan_optw_route(net, scores, 0, speed_mps=35.76, horizon_s=40.0, max_nodes=25)
@@ -300,7 +325,7 @@ def bench_routes(e7_steps: int, mission_s: float) -> int:
             log = fly_optw_route(net, route, obstacles=buildings, along_roads=along,
                                  config=FlightConfig(backend=backend, time_limit_s=0.05),
                                  rng=np.random.default_rng(0))
-            crashed += int(backend == "nmpc" and log.collisions > 0)
+            crashed += int(backend in CHECKED and log.collisions > 0)
             rows.append([*flight_row(label, backend, log, time.perf_counter() - started),
                          cross_track(log, legs)])
     for backend in BACKENDS:
@@ -308,7 +333,7 @@ def bench_routes(e7_steps: int, mission_s: float) -> int:
         log = fly_xy_path(track, limits=scenario.limits, obstacles=buildings,
                           config=FlightConfig(backend=backend, time_limit_s=0.05),
                           rng=np.random.default_rng(0))
-        crashed += int(backend == "nmpc" and log.collisions > 0)
+        crashed += int(backend in CHECKED and log.collisions > 0)
         rows.append([*flight_row(f"potential field {mission_s:g} s", backend, log,
                                  time.perf_counter() - started),
                      cross_track(log, track)])
@@ -316,7 +341,7 @@ def bench_routes(e7_steps: int, mission_s: float) -> int:
     for backend in BACKENDS:
         started = time.perf_counter()
         run = fly_e7(0, setup=setup, config=FlightConfig(backend=backend, time_limit_s=0.05))
-        crashed += int(backend == "nmpc" and run.flight.collisions > 0)
+        crashed += int(backend in CHECKED and run.flight.collisions > 0)
         rows.append([*flight_row(f"E7 uav7 {e7_steps} steps", backend, run.flight,
                                  time.perf_counter() - started),
                      cross_track(run.flight, run.reference.positions_m)])
@@ -382,7 +407,8 @@ def main(argv: list[str] | None = None) -> int:
         crashed += bench_routes(args.e7_steps, args.mission_s)
         flown = True
     if flown:
-        print(f"\nCHECK zero collisions for NMPC on every course and route: "
+        print(f"\nCHECK zero collisions for auto, NMPC and the real-time iteration on every "
+              "course and route: "
               f"{'PASS' if crashed == 0 else f'FAIL ({crashed} flights collided)'}")
     return 1 if crashed else 0
 

@@ -11,7 +11,9 @@ from the obstacle centre to ``p̄_k`` (the linearised, conservative obstacle con
 the safety margin predicts a collision and is not returned. ``P`` is constant;
 the OSQP object is set up once per problem shape and only ``q``, ``l``, ``u`` and the values of
 ``A`` (fixed sparsity) are updated between solves. A cold start re-linearises about the QP
-solution a few times (sequential QP); a warm start takes one QP.
+solution a few times (sequential QP); a warm start takes one QP (the real-time iteration), and
+OSQP starts it from the previous QP's primal solution moved one stage on
+(:func:`shifted_primal`); a warm plan that would enter an obstacle gets further rounds.
 """
 
 from __future__ import annotations
@@ -40,7 +42,12 @@ from searchtrack.plan.trajectory.symbolic import step_jacobians
 
 log = logging.getLogger("searchtrack.plan.trajectory.ltv_mpc")
 
-_COLD_ITERATIONS = 3
+#: Linearise–solve rounds: on a cold start; at most with a warm plan.
+COLD_ROUNDS, MAX_WARM_ROUNDS = 3, 3
+#: OSQP's settings for every LTV-MPC QP.
+OSQP_SETTINGS: dict[str, Any] = {"verbose": False, "eps_abs": 1e-4, "eps_rel": 1e-4,
+                                 "max_iter": 4000, "polishing": False, "warm_starting": True,
+                                 "adaptive_rho": True}
 SLACK_WEIGHT = 1e4  # exact-penalty weight on the obstacle slacks (cost units per metre)
 
 
@@ -167,6 +174,28 @@ class _Workspace:
     solver: Any
     weights: TrackingWeights
     dt_s: float
+    solution: tuple[FloatArray, FloatArray] | None = None   # the last (x, y) OSQP returned
+
+
+def _shift_stages(v: FloatArray, start: int, stages: int, width: int) -> None:
+    """Shift ``stages`` blocks of ``width`` entries of ``v`` from ``start`` one stage earlier,
+    in place; the last block is kept (repeated)."""
+    if stages > 1 and width:
+        end = start + stages * width
+        v[start:end - width] = v[start + width:end].copy()
+
+
+def shifted_primal(lay: _Layout, x: FloatArray) -> FloatArray:
+    """The previous QP's primal solution ``x`` moved one stage on (the receding horizon's
+    shift: states, inputs and obstacle slacks), the last stage repeated: OSQP's primal warm
+    start for the next instant. (Its dual is left as it was: shifted duals start some QPs of
+    the 7-state UAV so far off that ADMM does not converge.)"""
+    m, n, k_obs = lay.model, lay.horizon, lay.n_obstacles
+    x = x.copy()
+    _shift_stages(x, 0, n + 1, m.nx)
+    _shift_stages(x, m.nx * (n + 1), n, m.nu)
+    _shift_stages(x, m.nx * (n + 1) + m.nu * n, n, k_obs)
+    return x
 
 
 _CACHE: dict[tuple[Any, ...], _Workspace] = {}
@@ -227,9 +256,7 @@ def _workspace(problem: TrackingProblem, q: FloatArray, vals: FloatArray,
     p = _hessian(problem)
     a = _csc(lay, vals, nz=p.shape[0])
     solver = osqp.OSQP()
-    solver.setup(P=sp.triu(p, format="csc"), q=q, A=a, l=lower, u=upper, verbose=False,
-                 eps_abs=1e-4, eps_rel=1e-4, max_iter=4000, polishing=False,
-                 warm_starting=True, adaptive_rho=True)
+    solver.setup(P=sp.triu(p, format="csc"), q=q, A=a, l=lower, u=upper, **OSQP_SETTINGS)
     ws = _Workspace(lay, solver, problem.weights, problem.dt_s)
     _CACHE[key] = ws
     return ws
@@ -250,26 +277,36 @@ _STATUS = {"solved": Status.OPTIMAL, "solved inaccurate": Status.FEASIBLE,
 
 def solve_ltv_mpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
                   iterations: int | None = None) -> Result[ControlPlan]:
-    """Solve the LTV-MPC QP within ``time_limit_s``; ``iterations`` linearise–solve rounds
-    (default 1 with a warm plan, 3 without). The first call of a shape also sets up OSQP."""
+    """Solve the LTV-MPC QP within ``time_limit_s``; ``iterations`` linearise–solve rounds.
+
+    By default a cold start takes :data:`COLD_ROUNDS` rounds; with a warm plan (the real-time
+    iteration) one round, and further ones (up to :data:`MAX_WARM_ROUNDS`, re-linearised about
+    the last plan) only while the plan would be refused for entering an obstacle. The first call
+    of a shape also sets up OSQP."""
     deadline = Deadline(check_time_limit(time_limit_s))
+    adaptive = iterations is None and problem.warm is not None
     rounds = iterations if iterations is not None else (
-        1 if problem.warm is not None else _COLD_ITERATIONS)
+        MAX_WARM_ROUNDS if adaptive else COLD_ROUNDS)
     m, n = problem.model, problem.horizon
     xbar, ubar = initial_guess(problem)
     q = _linear_cost(problem)
-    native, objective, z, slack = "unsolved", 0.0, None, 0.0
+    native, objective, z, slack, qp_iterations = "unsolved", 0.0, None, 0.0, 0
     solved_native, done = native, 0
     nxs, nus = m.nx * (n + 1), m.nu * n
+    a, b, c = _linearise(problem, xbar, ubar)
     for _ in range(max(1, rounds)):
-        a, b, c = _linearise(problem, xbar, ubar)
         normals, rhs = _obstacle_rows(problem, xbar)
         lower, upper = _bounds(problem, _layout_of(problem), c, rhs)
         vals = _values(_layout_of(problem), a, b, normals)
         ws = _workspace(problem, q, vals, lower, upper)
         ws.solver.update(q=q, l=lower, u=upper, Ax=vals[ws.layout.perm])
         ws.solver.update_settings(time_limit=max(1e-4, deadline.remaining()))
+        if ws.solution is not None and problem.warm is not None and done == 0:
+            ws.solver.warm_start(x=shifted_primal(ws.layout, ws.solution[0]), y=ws.solution[1])
         res = ws.solver.solve(raise_error=False)
+        qp_iterations += int(res.info.iter)
+        if res.x is not None and np.all(np.isfinite(res.x)):
+            ws.solution = (np.asarray(res.x, dtype=float), np.asarray(res.y, dtype=float))
         native = str(res.info.status).lower()
         if _STATUS.get(native, Status.ERROR) not in (Status.OPTIMAL, Status.FEASIBLE):
             break  # a later round that fails keeps the earlier round's plan
@@ -280,8 +317,10 @@ def solve_ltv_mpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
         xbar[0] = problem.state  # pinned; OSQP meets it to its tolerance only
         ubar = project_inputs(problem, z[nxs:nxs + nus].reshape(n, m.nu))
         slack = float(np.max(z[nxs + nus:], initial=0.0))
-        if deadline.expired():
+        if done >= rounds or deadline.expired() or (
+                adaptive and slack <= problem.safety_margin_m):
             break
+        a, b, c = _linearise(problem, xbar, ubar)
     runtime = deadline.elapsed()
     if z is None:
         status = _STATUS.get(native, Status.ERROR)
@@ -289,7 +328,8 @@ def solve_ltv_mpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
                       runtime, "ltv_mpc", None, Sense.MINIMIZE, f"ltv_mpc (osqp): {native}")
     # the QP's optimum is the linearised problem's, not the nonlinear tracking problem's
     status = Status.FEASIBLE
-    info = {"qp_rounds": float(done), "max_slack_m": slack}
+    info = {"qp_rounds": float(done), "qp_iterations": float(qp_iterations),
+            "max_slack_m": slack}
     if slack > problem.safety_margin_m:
         return Result(Status.NO_SOLUTION, None, None, runtime, "ltv_mpc", None, Sense.MINIMIZE,
                       f"ltv_mpc (osqp): {native} but the plan enters an obstacle by "

@@ -1,9 +1,14 @@
-"""Trajectory controllers by name; ``auto`` tries NMPC, then the QP, then the closed form.
+"""Trajectory controllers by name; ``auto`` tries the real-time iteration, then NMPC, then the
+closed form.
 
-``auto`` gives NMPC :data:`NMPC_SHARE` of the time limit (Ipopt's wall-time limit); if NMPC
-fails or overruns it, the LTV-MPC QP gets the rest, and if that fails too the closed-form law
-answers (it always does). The result names the controller that answered in ``backend`` and the
-fallbacks that fired in ``message`` and ``stats["fallbacks"]``.
+The real-time iteration (``ltv_mpc``, after Diehl et al.'s RTI scheme) answers each control
+step with one QP of the problem linearised about the shifted previous plan (a few
+linearise–solve rounds on a cold start), warm-started from the previous QP's shifted primal and
+dual solution. ``auto`` gives it :data:`RTI_SHARE` of the time limit; if it fails (OSQP gives no
+solution, or its plan would enter an obstacle by more than the safety margin) the full NMPC
+(CasADi + Ipopt) gets the rest, and if that fails too the closed-form law answers (it always
+does). The result names the controller that answered in ``backend`` and the fallbacks that fired
+in ``message`` and ``stats["fallbacks"]``.
 """
 
 from __future__ import annotations
@@ -16,7 +21,7 @@ from searchtrack.plan.trajectory.nmpc import prepare, solve_nmpc
 from searchtrack.plan.trajectory.problem import ControlPlan, TrackingProblem
 from searchtrack.plan.trajectory.validate import answer_problems
 
-NMPC_SHARE = 0.6
+RTI_SHARE = 0.4
 _MIN_QP_S = 2e-3
 
 
@@ -33,7 +38,7 @@ def _closed(problem: TrackingProblem, *, time_limit_s: float, seed: int) -> Resu
 
 
 def _auto(problem: TrackingProblem, *, time_limit_s: float, seed: int) -> Result[ControlPlan]:
-    prepare(problem, max(1e-3, NMPC_SHARE * time_limit_s))  # a new shape's build: off the clock
+    prepare(problem, max(1e-3, (1.0 - RTI_SHARE) * time_limit_s))  # a new shape: off the clock
     return fallback_chain(problem, _STAGES, time_limit_s=time_limit_s, seed=seed)
 
 
@@ -43,18 +48,19 @@ def _closed_form_models(problem: TrackingProblem) -> str | None:
 
 
 _STAGES: tuple[Stage[TrackingProblem, ControlPlan], ...] = (
-    Stage("nmpc", _nmpc, share=NMPC_SHARE),
-    Stage("ltv_mpc", _ltv, min_s=_MIN_QP_S),
+    Stage("ltv_mpc", _ltv, share=RTI_SHARE, min_s=_MIN_QP_S),
+    Stage("nmpc", _nmpc),
     Stage("closed_form", _closed, supports=_closed_form_models),
 )
 
 BACKENDS: Registry[TrackingProblem, ControlPlan] = Registry("trajectory",
                                                             validator=answer_problems)
 BACKENDS.register(Backend("auto", _auto, False,
-                          "NMPC, falling back to the LTV-MPC QP, then to the closed form "
-                          "(for models that have one)"))
+                          "the real-time iteration (one QP per step), falling back to NMPC, "
+                          "then to the closed form (for models that have one)"))
 BACKENDS.register(Backend("nmpc", _nmpc, False, "multiple-shooting NMPC, CasADi + Ipopt"))
-BACKENDS.register(Backend("ltv_mpc", _ltv, False, "linear time-varying MPC QP with OSQP"))
+BACKENDS.register(Backend("ltv_mpc", _ltv, False, "real-time iteration: the linear time-varying "
+                          "MPC QP about the shifted plan, OSQP"))
 BACKENDS.register(Backend("closed_form", _closed, False,
                           "backstepping (004 eq. 13–15) / pure-pursuit law",
                           supports=_closed_form_models))

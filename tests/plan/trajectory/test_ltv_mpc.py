@@ -101,3 +101,62 @@ def test_bad_time_limit_names_the_field(limit: float) -> None:
     """A non-positive or NaN time limit raises InvalidInputError naming time_limit_s."""
     with pytest.raises(InvalidInputError, match="time_limit_s"):
         solve_ltv_mpc(small_problem(), time_limit_s=limit)
+
+
+def test_the_shifted_primal_moves_every_stage_block_one_stage_on() -> None:
+    """States, inputs and obstacle slacks move one stage earlier, the last stage repeated."""
+    from searchtrack.plan.trajectory.ltv_mpc import _layout, shifted_primal
+
+    model, n, k = small_problem().model, 4, 2
+    lay = _layout(model, n, k)
+    nx, nu = model.nx, model.nu
+    n_var = nx * (n + 1) + nu * n + n * k
+    x = np.arange(n_var, dtype=float)
+    sx = shifted_primal(lay, x)
+    states, s_states = x[:nx * (n + 1)].reshape(n + 1, nx), sx[:nx * (n + 1)].reshape(n + 1, nx)
+    assert np.array_equal(s_states[:-1], states[1:]) and np.array_equal(s_states[-1], states[-1])
+    u0 = nx * (n + 1)
+    inputs, s_inputs = x[u0:u0 + nu * n].reshape(n, nu), sx[u0:u0 + nu * n].reshape(n, nu)
+    assert np.array_equal(s_inputs[:-1], inputs[1:]) and np.array_equal(s_inputs[-1], inputs[-1])
+    slacks, s_slacks = x[u0 + nu * n:].reshape(n, k), sx[u0 + nu * n:].reshape(n, k)
+    assert np.array_equal(s_slacks[:-1], slacks[1:]) and np.array_equal(s_slacks[-1], slacks[-1])
+    assert np.array_equal(x, np.arange(n_var, dtype=float))   # the input is not changed
+
+
+def test_a_warm_plan_that_would_enter_an_obstacle_gets_more_rounds() -> None:
+    """A warm plan through the cylinder: one QP about it predicts a collision, so the warm
+    start re-linearises and answers a plan that keeps the margin, instead of none."""
+    from searchtrack.plan.trajectory.problem import initial_guess
+
+    problem = small_problem()
+    states, inputs = initial_guess(problem)   # the nominal input rolled out: straight through
+    through = ControlPlan(inputs=inputs, states=states, dt_s=problem.dt_s, controller="x")
+    assert solve_ltv_mpc(replace(problem, warm=through), time_limit_s=5.0,
+                         iterations=1).plan is None
+    result = solve_ltv_mpc(replace(problem, warm=through), time_limit_s=5.0)
+    assert result.plan is not None and 1.0 < result.stats["qp_rounds"] <= 3.0
+    assert clearance(problem, result.plan) >= problem.safety_margin_m - 1e-3
+
+
+def test_the_warm_start_saves_iterations_not_the_answer(course: TrackingProblem) -> None:
+    """Along a receding-horizon run, each QP started from the shifted previous solution ends
+    where a cold OSQP start of the same QP ends (to OSQP's tolerance: no worse objective, the
+    same first input), in fewer iterations over the run."""
+    from searchtrack.plan.trajectory import ltv_mpc
+
+    problem, iterations = course, np.zeros(2)
+    for step in range(8):
+        warm = solve_ltv_mpc(problem, time_limit_s=5.0)
+        ltv_mpc._CACHE.clear()   # the same QP from a cold OSQP start (its solution is what
+        cold = solve_ltv_mpc(problem, time_limit_s=5.0)   # the next step starts from)
+        assert warm.plan is not None and cold.plan is not None
+        assert warm.objective is not None and cold.objective is not None
+        assert warm.objective <= cold.objective + 1e-3 * abs(cold.objective)
+        first = np.abs(warm.plan.first_input - cold.plan.first_input) / problem.input_range()
+        assert first.max() <= 0.05
+        if step:
+            iterations += (warm.stats["qp_iterations"], cold.stats["qp_iterations"])
+        x = problem.model.step(problem.state, warm.plan.first_input, problem.dt_s)
+        problem = replace(problem, state=x, time_s=problem.time_s + problem.dt_s,
+                          previous_input=warm.plan.first_input, warm=warm.plan)
+    assert iterations[0] < iterations[1]
