@@ -1,5 +1,7 @@
-"""Numba kernel of the planner's hot loop: amplitudes and ideal-measurement log-likelihoods of
-every particle seen from every child pose (Nguyen et al., eqs. 4 and 22).
+"""Numba kernel of the reference scoring: amplitudes and ideal-measurement log-likelihoods of
+every particle seen from every child pose (Nguyen et al., eqs. 4 and 22), the step that
+:class:`~searchtrack.plan.radio.reference.ReferenceScorer` follows with the update and the
+reward (:mod:`~searchtrack.plan.radio.fused` computes all three in fused passes).
 
 It fuses, per pose, label and particle, what :func:`~searchtrack.plan.radio.ideal.amplitudes`
 (through :meth:`RadioSignal.amplitude <searchtrack.models.radio.signal.RadioSignal.amplitude>`)

@@ -1,8 +1,8 @@
 """The look-ahead tree of action sequences, scored in batches (Nguyen et al., eqs. 29–33, 44).
 
 A node at level ``j`` is a prefix of ``j`` primitives. Expanding a batch of nodes flies every
-primitive from each node's last pose (:func:`~searchtrack.models.radio.uav.primitives`) and,
-for each child:
+primitive from each node's last pose (:func:`~searchtrack.models.radio.uav.primitives`, all
+nodes at once: :func:`batch_primitives`) and, for each child:
 
 * the void probability of the predicted cloud at each of its ``N_p`` poses (eq. 44; the
   prediction ``π₁`` keeps ``r`` and equal weights);
@@ -17,7 +17,9 @@ existing with probability ``r̃`` (``explore_existence``), so the ideal measurem
 its absence near the UAV (its particles' ``g_i = e^{−n_i γ_i² E_λ}``) is information worth
 flying for; the void constraint reads the belief's ``r``.
 
-Work is vectorised over the children and the particles: ``(children, Λ, N)`` arrays.
+Work is vectorised over the children and the particles: the update and the reward in fused
+passes over ``(children, Λ, N)`` blocks (:func:`~searchtrack.plan.radio.fused.score_children`),
+each child reading its parent's posterior by index.
 """
 
 from __future__ import annotations

@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 from searchtrack.core.deadline import Deadline
+from searchtrack.core.result import Status
 from searchtrack.estimate.labelled_particles import LabelledParticles
-from searchtrack.plan.radio import RadioPlanProblem, RadioPlanSettings
+from searchtrack.plan.radio import RadioPlanProblem, RadioPlanSettings, backends, solve
 from searchtrack.plan.radio.lookahead import look_ahead
 from searchtrack.plan.radio.reference import ReferenceScorer, reference_look_ahead
 from searchtrack.plan.radio.search import beam_search, exhaustive_search
@@ -25,9 +26,10 @@ REWARDS: tuple[dict[str, object], ...] = (
 )
 
 
-def random_problem(seed: int) -> RadioPlanProblem:
+def random_problem(seed: int, *, extreme: bool = True) -> RadioPlanProblem:
     """A small random problem: tags scattered around a random pose at random spreads,
-    existences, weights and pulse offsets; random particle counts, horizon and reward."""
+    existences, weights and pulse offsets; random particle counts, horizon and reward;
+    ``extreme``: one label's existence 0, ½ or 1."""
     rng = np.random.default_rng(seed)
     labels, n = 4, int(rng.integers(5, 60))
     pose = np.array([*rng.uniform(200.0, 1000.0, 2), rng.uniform(-np.pi, np.pi)])
@@ -42,7 +44,9 @@ def random_problem(seed: int) -> RadioPlanProblem:
                  + rng.uniform(0.0, 0.05) * rng.standard_normal((labels, n)), 1.0)
     w = rng.uniform(0.1, 1.0, (labels, n))
     r = rng.uniform(0.0, 1.0, labels)
-    r[rng.integers(0, labels)] = float(rng.choice([0.0, 1.0, 0.5]))
+    special = rng.integers(0, labels), float(rng.choice([0.0, 1.0, 0.5]))
+    if extreme:
+        r[special[0]] = special[1]
     belief = LabelledParticles(x, mode, tau, w / w.sum(axis=1, keepdims=True), r)
     settings = RadioPlanSettings(
         plan_particles=int(rng.integers(3, 40)), horizon=int(rng.integers(1, 4)),
@@ -97,3 +101,27 @@ def test_searches_answer_as_the_reference(seed: int) -> None:
         assert np.array_equal(got.plan.headings, want.plan.headings)
         assert got.key[0] == want.key[0]
         assert got.key[1:] == pytest.approx(want.key[1:], rel=1e-9, abs=1e-12)
+
+
+@pytest.mark.parametrize("seed", range(60, 72))
+@pytest.mark.parametrize("backend", ["exhaustive", "beam", "auto"])
+def test_backends_answer_as_on_the_reference(seed: int, backend: str,
+                                             monkeypatch: pytest.MonkeyPatch) -> None:
+    """Through solve (the validator checking every answer): the same status, plan and
+    objective on the fused scoring as on the reference (another plan only where the two tie to
+    rounding), and the same again on a second call."""
+    p = random_problem(seed, extreme=False)
+    fused = [solve(p, backend=backend, time_limit_s=60.0, seed=seed) for _ in range(2)]
+    monkeypatch.setattr(backends, "Scorer", ReferenceScorer)
+    ref = solve(p, backend=backend, time_limit_s=60.0, seed=seed)
+    for got in fused:
+        assert got.status is ref.status and got.status is not Status.ERROR, got.message
+        assert got.plan is not None and ref.plan is not None
+        assert got.plan.feasible == ref.plan.feasible
+        if ref.objective is None:
+            assert got.objective is None
+            assert np.array_equal(got.plan.headings, ref.plan.headings)
+        else:
+            assert got.objective == pytest.approx(ref.objective, rel=1e-9, abs=1e-12)
+    assert np.array_equal(fused[0].plan.rewards, fused[1].plan.rewards)
+    assert np.array_equal(fused[0].plan.void, fused[1].plan.void)
