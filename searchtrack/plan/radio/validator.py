@@ -166,15 +166,41 @@ def _divergence(problem: RadioPlanProblem, p1: LabelledParticles, p2: LabelledPa
         for s in sets:
             w2, w1 = _set_weight(p2.r, s), _set_weight(p1.r, s)
             if w2 > 0:
-                kl += w2 * math.log(w2 / w1)
+                kl += w2 * math.log(w2 / w1) if w1 > 0 else math.inf
                 for i in s:
-                    q2, q1 = p2.w[i], p1.w[i]
-                    kl += w2 * float(np.sum(np.where(q2 > 0, q2 * np.log(q2 / q1), 0.0)))
+                    kl += w2 * _kl_sum(p2.w[i], p1.w[i])
         return kl
-    c = [float(np.sum(p2.w[i] ** a * p1.w[i] ** (1 - a))) for i in range(p1.n_labels)]
-    total = sum(_set_weight(p2.r, s) ** a * _set_weight(p1.r, s) ** (1 - a)
+    c = [_power_sum(p2.w[i], p1.w[i], a) for i in range(p1.n_labels)]
+    total = sum(_power_term(_set_weight(p2.r, s), _set_weight(p1.r, s), a)
                 * math.prod(c[i] for i in s) for s in sets)
     return math.log(total) / (a - 1)
+
+
+def _power_term(q2: float, q1: float, a: float) -> float:
+    """``q2^α q1^(1−α)``: 0 where ``q2 = 0`` (for every α > 0), unbounded where only ``q1`` is
+    0 and α > 1."""
+    if q2 <= 0.0:
+        return 0.0
+    if q1 <= 0.0:
+        return 0.0 if a < 1.0 else math.inf
+    return float(q2 ** a * q1 ** (1.0 - a))
+
+
+def _power_sum(q2: FloatArray, q1: FloatArray, a: float) -> float:
+    """``Σ q2^α q1^(1−α)`` over the particles, with :func:`_power_term`'s conventions."""
+    seen = q2 > 0
+    if a > 1.0 and np.any(q1[seen] <= 0):
+        return math.inf
+    both = seen & (q1 > 0)
+    return float(np.sum(q2[both] ** a * q1[both] ** (1.0 - a)))
+
+
+def _kl_sum(q2: FloatArray, q1: FloatArray) -> float:
+    """``Σ q2 log(q2 / q1)`` over the particles with ``q2 > 0`` (unbounded if ``q1`` is 0 there)."""
+    seen = q2 > 0
+    if np.any(q1[seen] <= 0):
+        return math.inf
+    return float(np.sum(q2[seen] * np.log(q2[seen] / q1[seen])))
 
 
 def _ideal(problem: RadioPlanProblem, cloud: LabelledParticles, pose: FloatArray) -> FloatArray:

@@ -146,3 +146,19 @@ def test_rewards_without_the_exploration_term_are_caught() -> None:
                        rtol=1e-6)
     assert not np.allclose(check_plan(paper, res.plan, seed=7).rewards, res.plan.rewards,
                            rtol=1e-6)
+
+
+@pytest.mark.parametrize("alpha", [0.5, 1.0, 2.0])
+def test_certain_and_impossible_labels_check_at_every_alpha(alpha: float) -> None:
+    """Existences of exactly 1 and 0 (label sets of weight 0) are checked at every Rényi α,
+    including α > 1, where a weight of 0 would be raised to a negative power."""
+    from .helpers import belief
+
+    b = belief([[700.0, 600.0], [500.0, 900.0], [300.0, 400.0], [1000.0, 1100.0]],
+               [1.0, 0.0, 0.6, 1.0])
+    p = problem(b, reward="renyi", alpha=alpha)
+    result = solve(p, backend="exhaustive", time_limit_s=30.0)
+    assert result.plan is not None and result.status is Status.OPTIMAL
+    check = check_plan(p, result.plan)
+    assert check.valid and check.reasons == ()
+    assert math.isfinite(check.objective) and check.objective == pytest.approx(result.objective)
