@@ -3,10 +3,19 @@
     python benchmarks/association_city.py                      # before (HEAD~n) and after
     python benchmarks/association_city.py --before REV         # baseline from git revision REV
     python benchmarks/association_city.py --no-before --gates 300
+    python benchmarks/association_city.py --graph grid      # a city grid, 10 m chains
 
-Graph: the jittered 10 m lattice of ``benchmarks/emd.py`` (10 % of the streets removed, the
-largest component kept) with about ``--nodes`` nodes, as a :class:`RoadNetwork`. Every lattice
-node is a junction, so :class:`RoadMetric` gains nothing from chains here.
+Graph (``--graph``, about ``--nodes`` nodes, as a :class:`RoadNetwork`):
+
+* ``lattice``: the jittered 10 m lattice of ``benchmarks/emd.py`` (10 % of the streets
+  removed, the largest component kept). Every lattice node is a junction, so
+  :class:`RoadMetric` gains nothing from chains here;
+* ``grid``: a square city grid of 100 m blocks resampled every 10 m (``grid_network``): degree-2
+  chains of 9 nodes between junctions, more junctions than :class:`RoadMetric` tabulates;
+* ``osm``: the bundled Aguascalientes map resampled to the spacing that gives ``--nodes`` nodes
+  (8602 nodes at the thesis' 10 m, so ~0.86 m for 10⁵): real chains and junctions, few enough
+  junctions for :class:`RoadMetric`'s table. The scene is in hops, so supports are shorter in
+  metres than on the 10 m graphs.
 
 Scene (one UAV scan of Algorithm 1): ``--trackers`` point masses at random nodes diffused by
 ``--steps`` steps of the graph heat equation (explicit steps of ``α Δt = 0.134`` hop², as the
@@ -45,8 +54,10 @@ from threadpoolctl import threadpool_limits
 from searchtrack.estimate.node_tracker import measurement_density, position_log_likelihood
 from searchtrack.estimate.signatures import truncate_signature
 from searchtrack.estimate.transport import emd
-from searchtrack.models import RoadNetwork
+from searchtrack.models import RoadNetwork, read_osm
 from searchtrack.models.road_metric import RoadMetric
+from searchtrack.models.road_synthetic import grid_network
+from searchtrack.sim.roads.scenario import bundled_map
 
 current = importlib.import_module("searchtrack.estimate.emd_matrix")
 ROOT = Path(__file__).resolve().parent.parent
@@ -67,6 +78,23 @@ def lattice(n: int, rng: np.random.Generator) -> RoadNetwork:
     ell = np.linalg.norm(xy[pairs[:, 0]] - xy[pairs[:, 1]], axis=1)
     return RoadNetwork(xy, pairs, ell, source=f"jittered 10 m lattice, {side}x{side}"
                        ).largest_component()
+
+
+def city_grid(n: int) -> RoadNetwork:
+    """A square grid of 100 m blocks, 10 m spacing, with about ``n`` nodes (19 per junction)."""
+    side = max(2, round(math.sqrt(n / 19.0)))
+    return grid_network(side, side, 100.0, 10.0)
+
+
+def osm_map(n: int) -> RoadNetwork:
+    """The bundled Aguascalientes map resampled to about ``n`` nodes."""
+    path = bundled_map("aguascalientes")
+    return read_osm(path, 10.0 * read_osm(path, 10.0).n_nodes / n)
+
+
+def graph(kind: str, n: int, rng: np.random.Generator) -> RoadNetwork:
+    """The road network of ``--graph``."""
+    return lattice(n, rng) if kind == "lattice" else city_grid(n) if kind == "grid" else osm_map(n)
 
 
 def scene(net: RoadNetwork, args: argparse.Namespace,
@@ -140,6 +168,7 @@ def pot_rows(net: RoadNetwork, trackers: np.ndarray, dets: np.ndarray, costs: np
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--graph", choices=["lattice", "grid", "osm"], default="lattice")
     parser.add_argument("--nodes", type=int, default=100_000)
     parser.add_argument("--trackers", type=int, default=100)
     parser.add_argument("--detections", type=int, default=100)
@@ -153,12 +182,14 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
     rng = np.random.default_rng(args.seed)
-    net = lattice(args.nodes, rng)
+    net = graph(args.graph, args.nodes, rng)
     trackers, dets = scene(net, args, rng)
     metric = RoadMetric(net)
     sizes = [truncate_signature(r).size for r in trackers], [truncate_signature(r).size
                                                             for r in dets]
-    print(f"{net!r}\n{metric.junctions.size} junctions; |S| tracker {np.mean(sizes[0]):.0f}, "
+    table_note = "tabulated" if metric.junction_distances is not None else "not tabulated"
+    print(f"{net!r}\n{metric.junctions.size} junctions ({table_note}); "
+          f"|S| tracker {np.mean(sizes[0]):.0f}, "
           f"detection {np.mean(sizes[1]):.0f} nodes (mean)\n")
     before = None if args.no_before else baseline(args.before)
     rows = [["gate (m)", "finite pairs", "before (s)", "after (s)", "speed-up", "max |Δ| (m)",

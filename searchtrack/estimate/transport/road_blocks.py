@@ -2,11 +2,19 @@
 
 The transportation LP (4.3)–(4.7) of a tracker ``i`` and a measurement ``j`` needs the road
 distances between their two truncated supports. :class:`PairBlocks` computes them for every pair
-of a scan that a gate bound left standing, with one Dijkstra per node of the *source side* (the
-side whose paired supports hold fewer nodes), run on the road graph itself and stopped
+of a scan that a gate bound left standing, from the *source side* (the side whose paired
+supports hold fewer nodes). A road network resampled every few metres is mostly chains of
+degree-2 nodes between junctions, and every path leaves a chain through one of its two end
+junctions (:class:`~searchtrack.models.road_metric.RoadMetric`), so the searches run on the
+small junction graph: one Dijkstra per distinct end junction of a source signature's support
+(:func:`chain_distances`), stopped
 
 * at ``limit`` (m): targets farther away read ``inf``, meaning "farther than ``limit``";
-* as soon as every target node of the source's partners is settled.
+* as soon as every end junction of the source's partners' supports is settled.
+
+A node's distance is then the least of its four end-to-end sums (and, on a shared chain, the
+distance along it). An end junction beyond ``limit`` is not settled, but every sum through it
+exceeds ``limit`` too, so a distance within ``limit`` is exact and one beyond it reads ``inf``.
 
 A source signature's partners share its Dijkstra runs: one ``(|S_source|, |targets|)`` block
 per source signature, which each pair slices. When the network's
@@ -33,6 +41,8 @@ from searchtrack.models.roads import RoadNetwork
 
 _CSR: weakref.WeakKeyDictionary[RoadNetwork, tuple[IntArray, IntArray, FloatArray]] = (
     weakref.WeakKeyDictionary())
+_JUNCTION_CSR: weakref.WeakKeyDictionary[RoadMetric, tuple[IntArray, IntArray, FloatArray]] = (
+    weakref.WeakKeyDictionary())
 
 
 def graph_arrays(network: RoadNetwork) -> tuple[IntArray, IntArray, FloatArray]:
@@ -45,6 +55,52 @@ def graph_arrays(network: RoadNetwork) -> tuple[IntArray, IntArray, FloatArray]:
                   np.ascontiguousarray(adj.data, dtype=np.float64))
         _CSR[network] = arrays
     return arrays
+
+
+def junction_arrays(metric: RoadMetric) -> tuple[IntArray, IntArray, FloatArray]:
+    """``(indptr, indices, lengths)`` of the metric's junction graph, both directions (made once
+    per metric)."""
+    arrays = _JUNCTION_CSR.get(metric)
+    if arrays is None:
+        graph = metric.junction_graph
+        both = (graph + graph.T).tocsr()
+        both.sort_indices()
+        arrays = (both.indptr.astype(np.int64), both.indices.astype(np.int64),
+                  np.ascontiguousarray(both.data, dtype=np.float64))
+        _JUNCTION_CSR[metric] = arrays
+    return arrays
+
+
+def chain_distances(metric: RoadMetric, sources: IntArray, targets: IntArray,
+                    limit: float = math.inf) -> FloatArray:
+    """``(len(sources), len(targets))`` road distances (m) through the chains' end junctions
+    (module docstring); ``inf`` beyond ``limit`` or across components."""
+    src_a, src_b = metric.end_a[sources], metric.end_b[sources]
+    dst_a, dst_b = metric.end_a[targets], metric.end_b[targets]
+    ends = np.unique(np.concatenate([src_a, src_b]))
+    reached = np.unique(np.concatenate([dst_a, dst_b]))
+    indptr, indices, lengths = junction_arrays(metric)
+    col = np.full(metric.junctions.size, -1, dtype=np.int64)
+    col[reached] = np.arange(reached.size, dtype=np.int64)
+    rows = np.full((ends.size, reached.size), math.inf)
+    if ends.size and reached.size:
+        kernels.bounded_rows(indptr, indices, lengths, ends, col, int(reached.size),
+                             float(limit), rows)
+    ra, rb = np.searchsorted(ends, src_a), np.searchsorted(ends, src_b)
+    ta, tb = col[dst_a], col[dst_b]
+    sa, sb = metric.off_a[sources][:, None], metric.off_b[sources][:, None]
+    tao, tbo = metric.off_a[targets][None, :], metric.off_b[targets][None, :]
+    out: FloatArray = np.asarray(sa + rows[np.ix_(ra, ta)] + tao, dtype=np.float64)
+    np.minimum(out, sa + rows[np.ix_(ra, tb)] + tbo, out=out)
+    np.minimum(out, sb + rows[np.ix_(rb, ta)] + tao, out=out)
+    np.minimum(out, sb + rows[np.ix_(rb, tb)] + tbo, out=out)
+    cs, ct = metric.chain[sources][:, None], metric.chain[targets][None, :]
+    same = (cs == ct) & (cs >= 0)
+    if same.any():
+        np.minimum(out, np.where(same, np.abs(sa - tao), math.inf), out=out)
+    if math.isfinite(limit):
+        out[out > limit] = math.inf
+    return out
 
 
 def road_distances(network: RoadNetwork, sources: IntArray, targets: IntArray,
@@ -129,4 +185,4 @@ class PairBlocks:
     def _distances(self, sources: IntArray, targets: IntArray, limit: float) -> FloatArray:
         if self.indexed:
             return self.metric.distances(sources, targets)
-        return road_distances(self.network, sources, targets, limit)
+        return chain_distances(self.metric, sources, targets, limit)

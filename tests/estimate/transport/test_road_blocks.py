@@ -5,9 +5,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from searchtrack.estimate.signatures import truncate_signature
-from searchtrack.estimate.transport.road_blocks import PairBlocks, road_distances
+from searchtrack.estimate.transport.road_blocks import (
+    PairBlocks,
+    chain_distances,
+    road_distances,
+)
 from searchtrack.models import RoadNetwork, random_network
 from searchtrack.models.road_metric import RoadMetric
 
@@ -76,3 +81,52 @@ def test_a_junction_table_gives_the_same_blocks_uncapped() -> None:
     for i, j in pairs:
         np.testing.assert_allclose(table.block(int(i), int(j)), graph.block(int(i), int(j)),
                                    rtol=1e-12)
+
+
+def _lattice(seed: int) -> RoadNetwork:
+    """A small jittered lattice with streets removed: every node a junction, no chains."""
+    rng = np.random.default_rng(seed)
+    side = 7
+    idx = np.arange(side * side).reshape(side, side)
+    xy = np.stack(np.meshgrid(np.arange(side), np.arange(side), indexing="ij"), -1)
+    xy = xy.reshape(-1, 2) * 10.0 + rng.normal(0.0, 1.5, (side * side, 2))
+    pairs = np.vstack([np.c_[idx[:, :-1].ravel(), idx[:, 1:].ravel()],
+                       np.c_[idx[:-1, :].ravel(), idx[1:, :].ravel()]])
+    pairs = pairs[rng.random(len(pairs)) >= 0.15]
+    ell = np.linalg.norm(xy[pairs[:, 0]] - xy[pairs[:, 1]], axis=1)
+    return RoadNetwork(xy, pairs, ell)
+
+
+@pytest.mark.parametrize("seed", range(24))
+def test_chain_distances_are_scipy_distances_within_the_limit(seed: int) -> None:
+    """Through the chains' end junctions: SciPy's road distances where within the limit, inf
+    beyond it (either at it, up to round-off) and across components, on random road maps
+    (chains) and lattices (none)."""
+    rng = np.random.default_rng([seed, 29])
+    net = (random_network(int(rng.integers(3, 12)), float(rng.uniform(100.0, 600.0)),
+                          seed=seed) if seed % 3 else _lattice(seed))
+    metric = RoadMetric(net, dense_junction_limit=0)
+    dist = net.shortest_paths(np.arange(net.n_nodes))
+    sources = rng.choice(net.n_nodes, int(rng.integers(1, min(net.n_nodes, 15) + 1)),
+                         replace=False)
+    targets = rng.choice(net.n_nodes, int(rng.integers(1, min(net.n_nodes, 25) + 1)),
+                         replace=False)
+    want = dist[np.ix_(sources, targets)]
+    for limit in (math.inf, float(np.quantile(want, 0.5)), float(np.quantile(want, 0.1))):
+        got = chain_distances(metric, sources, targets, limit)
+        near, far = want <= limit * (1.0 - 1e-12), want > limit * (1.0 + 1e-12)
+        np.testing.assert_allclose(got[near], want[near], rtol=1e-12, atol=1e-9)
+        assert np.isinf(got[far]).all()
+        edge = ~near & ~far  # at the limit up to round-off: either
+        assert (np.isinf(got[edge]) | np.isclose(got[edge], want[edge], rtol=1e-12)).all()
+
+
+def test_chain_distances_across_components_and_along_a_chain() -> None:
+    """Two nodes of one chain are as far apart as along it; another component is at inf."""
+    coords = np.array([[0.0, 0.0], [10.0, 0.0], [20.0, 0.0], [30.0, 0.0], [0.0, 50.0],
+                       [10.0, 50.0]])
+    net = RoadNetwork(coords, np.array([[0, 1], [1, 2], [2, 3], [4, 5]]),
+                      np.array([10.0, 10.0, 10.0, 10.0]))
+    got = chain_distances(RoadMetric(net, dense_junction_limit=0), np.array([1, 4]),
+                          np.array([2, 3, 5]))
+    np.testing.assert_array_equal(got, [[10.0, 20.0, math.inf], [math.inf, math.inf, 10.0]])
