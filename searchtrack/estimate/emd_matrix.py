@@ -10,10 +10,12 @@ backend chooses the exact solver of each pair:
 
 * ``"transport"`` (and ``"auto"``, the faster at these sizes): road distances between the two
   truncated supports only (from :class:`RoadMetric`'s junction table when it has one, else by
-  one Dijkstra per support node of the smaller side on the road graph, stopped at twice a
-  finite gate or once every partner node is settled:
+  one Dijkstra per end junction of the smaller side's supports on the junction graph, stopped
+  at twice a finite gate or once every partner's end junction is settled:
   :mod:`~searchtrack.estimate.transport.road_blocks`), then the transportation LP (4.3)–(4.7)
-  by the network simplex of :func:`~searchtrack.estimate.transport.emd`. Entries beyond the
+  by the network simplex (:func:`~searchtrack.estimate.transport.pair_emd.pair_emd`, the
+  network simplex of :func:`~searchtrack.estimate.transport.emd` without its per-call
+  validation, which it falls back to). Entries beyond the
   limit enter as the limit (a lower bound), so the EMD solved is a lower bound: ``+inf`` when it
   reaches the gate, exact when its plan uses no such entry, else solved again on exact
   distances;
@@ -55,6 +57,7 @@ from searchtrack.estimate.signatures import (
     truncate,
 )
 from searchtrack.estimate.transport import emd, emd_on_graph
+from searchtrack.estimate.transport.pair_emd import PairEMD, pair_emd
 from searchtrack.estimate.transport.road_blocks import PairBlocks
 from searchtrack.estimate.transport.simplex import KERNEL_SET, warm_up
 from searchtrack.models.road_metric import RoadMetric
@@ -270,6 +273,16 @@ def _value(result: Result[Any], what: str) -> tuple[float, bool | None]:
     return math.inf, None
 
 
+def _pair_value(solved: PairEMD, what: str) -> tuple[float, bool | None]:
+    """:func:`_value` of a :func:`~searchtrack.estimate.transport.pair_emd.pair_emd` outcome."""
+    if solved.result is not None:
+        return _value(solved.result, what)
+    if solved.status is Status.INFEASIBLE:
+        return math.inf, True
+    assert solved.value is not None
+    return solved.value, True
+
+
 @dataclass(frozen=True, eq=False)
 class _GraphPairs:
     """Solve a pair as a min-cost flow on the whole road graph."""
@@ -311,13 +324,11 @@ class _TransportPairs:
             low, over = capped
             if nearest_support_bound(low, p.weights, q.weights) >= gate * (1.0 + SLACK):
                 return math.inf, True
-            result = emd(p.weights, q.weights, low, time_limit_s=max(deadline.remaining(), 1e-3))
-            value, exact = _value(result, what)
+            solved = pair_emd(p.weights, q.weights, low, deadline)
+            value, exact = _pair_value(solved, what)
             if exact is None:
                 return math.inf, None
-            plan = result.plan
-            assert plan is not None
-            if not over[plan.rows, plan.cols].any():
+            if not over[solved.rows, solved.cols].any():
                 return value, exact
             if exact and value >= gate * (1.0 + SLACK):
                 return math.inf, True
@@ -326,8 +337,7 @@ class _TransportPairs:
         if nearest_support_bound(cost, p.weights, q.weights) >= gate * (1.0 + SLACK):
             return math.inf, True
         if np.isfinite(cost).all():
-            return _value(emd(p.weights, q.weights, cost,
-                              time_limit_s=max(deadline.remaining(), 1e-3)), what)
+            return _pair_value(pair_emd(p.weights, q.weights, cost, deadline), what)
         return self._by_component(cost, p, q, deadline, what)
 
     def _by_component(self, cost: FloatArray, p: Signature, q: Signature, deadline: Deadline,
