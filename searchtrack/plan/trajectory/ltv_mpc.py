@@ -12,8 +12,10 @@ the safety margin predicts a collision and is not returned. ``P`` is constant;
 the OSQP object is set up once per problem shape and only ``q``, ``l``, ``u`` and the values of
 ``A`` (fixed sparsity) are updated between solves. A cold start re-linearises about the QP
 solution a few times (sequential QP); a warm start takes one QP (the real-time iteration), and
-OSQP starts it from the previous QP's primal solution moved one stage on
-(:func:`shifted_primal`); a warm plan that would enter an obstacle gets further rounds.
+OSQP starts it from the warm plan's own QP solution and step size ρ (kept as the plan's
+``multipliers``), the primal moved one stage on (:func:`shifted_primal`), so that an answer
+depends on the problem alone, not on earlier calls; a warm plan that would enter an obstacle
+gets further rounds.
 """
 
 from __future__ import annotations
@@ -44,10 +46,13 @@ log = logging.getLogger("searchtrack.plan.trajectory.ltv_mpc")
 
 #: Linearise–solve rounds: on a cold start; at most with a warm plan.
 COLD_ROUNDS, MAX_WARM_ROUNDS = 3, 3
+_OSQP_RHO = 0.1   # OSQP's default initial ρ, restored before every solve
 #: OSQP's settings for every LTV-MPC QP.
+#: ρ is adapted every 75 iterations, not at OSQP's default interval, which it derives from the
+#: measured set-up time: the iterates would then depend on the machine's load.
 OSQP_SETTINGS: dict[str, Any] = {"verbose": False, "eps_abs": 1e-4, "eps_rel": 1e-4,
                                  "max_iter": 4000, "polishing": False, "warm_starting": True,
-                                 "adaptive_rho": True}
+                                 "adaptive_rho": True, "adaptive_rho_interval": 75}
 SLACK_WEIGHT = 1e4  # exact-penalty weight on the obstacle slacks (cost units per metre)
 
 
@@ -174,7 +179,6 @@ class _Workspace:
     solver: Any
     weights: TrackingWeights
     dt_s: float
-    solution: tuple[FloatArray, FloatArray] | None = None   # the last (x, y) OSQP returned
 
 
 def _shift_stages(v: FloatArray, start: int, stages: int, width: int) -> None:
@@ -185,11 +189,35 @@ def _shift_stages(v: FloatArray, start: int, stages: int, width: int) -> None:
         v[start:end - width] = v[start + width:end].copy()
 
 
+def _current_rho(solver: Any) -> float | None:
+    """The ρ OSQP's workspace holds now (adapted during its last solve), if OSQP tells."""
+    try:
+        return float(solver._solver.get_settings().rho)
+    except AttributeError:   # another OSQP interface: every solve then sets ρ afresh
+        return None
+
+
+def _warm_start(problem: TrackingProblem, lay: _Layout
+                ) -> tuple[FloatArray, FloatArray, float]:
+    """OSQP's start ``(x, y, ρ)``: the warm plan's QP solution and final ρ (an ``ltv_mpc`` plan
+    keeps its primal and its dual with ρ appended as its ``multipliers``), the primal shifted
+    one stage; else zeros and OSQP's initial ρ."""
+    m, n = lay.model, lay.horizon
+    n_var = m.nx * (n + 1) + m.nu * n + n * lay.n_obstacles
+    warm = problem.warm
+    if (warm is not None and warm.controller == "ltv_mpc" and warm.multipliers is not None
+            and warm.multipliers[0].shape == (n_var,)
+            and warm.multipliers[1].shape == (lay.n_rows + 1,)):
+        dual = warm.multipliers[1]
+        return shifted_primal(lay, warm.multipliers[0]), dual[:-1], float(dual[-1])
+    return np.zeros(n_var), np.zeros(lay.n_rows), float(OSQP_SETTINGS.get("rho", _OSQP_RHO))
+
+
 def shifted_primal(lay: _Layout, x: FloatArray) -> FloatArray:
     """The previous QP's primal solution ``x`` moved one stage on (the receding horizon's
     shift: states, inputs and obstacle slacks), the last stage repeated: OSQP's primal warm
-    start for the next instant. (Its dual is left as it was: shifted duals start some QPs of
-    the 7-state UAV so far off that ADMM does not converge.)"""
+    start for the next instant. (The dual is not shifted: shifted duals start some QPs of the
+    7-state UAV so far off that ADMM does not converge.)"""
     m, n, k_obs = lay.model, lay.horizon, lay.n_obstacles
     x = x.copy()
     _shift_stages(x, 0, n + 1, m.nx)
@@ -301,17 +329,19 @@ def solve_ltv_mpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
         ws = _workspace(problem, q, vals, lower, upper)
         ws.solver.update(q=q, l=lower, u=upper, Ax=vals[ws.layout.perm])
         ws.solver.update_settings(time_limit=max(1e-4, deadline.remaining()))
-        if ws.solution is not None and problem.warm is not None and done == 0:
-            ws.solver.warm_start(x=shifted_primal(ws.layout, ws.solution[0]), y=ws.solution[1])
+        if done == 0:   # from the problem alone: the answer does not depend on earlier calls
+            x0, y0, rho = _warm_start(problem, ws.layout)
+            if rho != _current_rho(ws.solver):   # a new ρ costs a factorisation
+                ws.solver.update_settings(rho=rho)
+            ws.solver.warm_start(x=x0, y=y0)
         res = ws.solver.solve(raise_error=False)
         qp_iterations += int(res.info.iter)
-        if res.x is not None and np.all(np.isfinite(res.x)):
-            ws.solution = (np.asarray(res.x, dtype=float), np.asarray(res.y, dtype=float))
         native = str(res.info.status).lower()
         if _STATUS.get(native, Status.ERROR) not in (Status.OPTIMAL, Status.FEASIBLE):
             break  # a later round that fails keeps the earlier round's plan
         solved_native, done = native, done + 1
-        z = np.asarray(res.x, dtype=float)
+        z, res_y = np.asarray(res.x, dtype=float), res.y
+        rho_out = _current_rho(ws.solver) or float(OSQP_SETTINGS.get("rho", _OSQP_RHO))
         objective = float(res.info.obj_val)
         xbar = z[:m.nx * (n + 1)].reshape(n + 1, m.nx).copy()
         xbar[0] = problem.state  # pinned; OSQP meets it to its tolerance only
@@ -334,7 +364,8 @@ def solve_ltv_mpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
         return Result(Status.NO_SOLUTION, None, None, runtime, "ltv_mpc", None, Sense.MINIMIZE,
                       f"ltv_mpc (osqp): {native} but the plan enters an obstacle by "
                       f"{slack - problem.safety_margin_m:.2f} m", info)
-    plan = ControlPlan(inputs=ubar, states=xbar, dt_s=problem.dt_s, controller="ltv_mpc")
+    plan = ControlPlan(inputs=ubar, states=xbar, dt_s=problem.dt_s, controller="ltv_mpc",
+                       multipliers=(z, np.append(np.asarray(res_y, dtype=float), rho_out)))
     note = f"; obstacle margin relaxed by {slack:.3f} m" if slack > 1e-3 else ""
     later = f"; round {done + 1}: {native}" if native != solved_native else ""
     return Result(status, objective, None, runtime, "ltv_mpc", plan, Sense.MINIMIZE,

@@ -287,7 +287,8 @@ def solve_nmpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
     b = _bounds(problem, nlp)
     args: dict[str, Any] = {"x0": np.concatenate([x_guess.ravel(), u_guess.ravel()]),
                             "p": _parameters(problem), **b}
-    if problem.warm is not None and problem.warm.multipliers is not None:
+    if (problem.warm is not None and problem.warm.controller == "nmpc"
+            and problem.warm.multipliers is not None):
         lam = _shifted_multipliers(problem.warm.multipliers, nlp)
         if lam is not None:
             args["lam_x0"], args["lam_g0"] = lam

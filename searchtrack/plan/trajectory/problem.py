@@ -132,7 +132,8 @@ class ControlPlan:
     """A controller's answer: the inputs of the next ``N`` stages and the predicted states.
 
     ``inputs`` is ``(N, nu)``; ``states`` is ``(N + 1, nx)`` starting at the problem's state.
-    ``multipliers`` are the NLP's ``(λ_x, λ_g)`` for warm-starting NMPC (``None`` from the others).
+    ``multipliers`` warm-start the controller that made the plan: NMPC's ``(λ_x, λ_g)``, the
+    QP's ``(primal, dual)`` of ``ltv_mpc`` (``None`` from the closed form).
     """
 
     inputs: FloatArray

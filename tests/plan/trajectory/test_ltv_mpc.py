@@ -128,7 +128,7 @@ def test_a_warm_plan_that_would_enter_an_obstacle_gets_more_rounds() -> None:
     start re-linearises and answers a plan that keeps the margin, instead of none."""
     from searchtrack.plan.trajectory.problem import initial_guess
 
-    problem = small_problem()
+    problem = small_problem(obstacles=Obstacles(centers_m=[[12.0, 0.3]], radii_m=[3.0]))
     states, inputs = initial_guess(problem)   # the nominal input rolled out: straight through
     through = ControlPlan(inputs=inputs, states=states, dt_s=problem.dt_s, controller="x")
     assert solve_ltv_mpc(replace(problem, warm=through), time_limit_s=5.0,
@@ -139,17 +139,16 @@ def test_a_warm_plan_that_would_enter_an_obstacle_gets_more_rounds() -> None:
 
 
 def test_the_warm_start_saves_iterations_not_the_answer(course: TrackingProblem) -> None:
-    """Along a receding-horizon run, each QP started from the shifted previous solution ends
+    """Along a receding-horizon run, each QP started from the warm plan's shifted solution ends
     where a cold OSQP start of the same QP ends (to OSQP's tolerance: no worse objective, the
     same first input), in fewer iterations over the run."""
-    from searchtrack.plan.trajectory import ltv_mpc
-
     problem, iterations = course, np.zeros(2)
     for step in range(8):
         warm = solve_ltv_mpc(problem, time_limit_s=5.0)
-        ltv_mpc._CACHE.clear()   # the same QP from a cold OSQP start (its solution is what
-        cold = solve_ltv_mpc(problem, time_limit_s=5.0)   # the next step starts from)
+        bare = None if problem.warm is None else replace(problem.warm, multipliers=None)
+        cold = solve_ltv_mpc(replace(problem, warm=bare), time_limit_s=5.0)
         assert warm.plan is not None and cold.plan is not None
+        assert warm.plan.multipliers is not None and cold.plan.multipliers is not None
         assert warm.objective is not None and cold.objective is not None
         assert warm.objective <= cold.objective + 1e-3 * abs(cold.objective)
         first = np.abs(warm.plan.first_input - cold.plan.first_input) / problem.input_range()
@@ -160,3 +159,18 @@ def test_the_warm_start_saves_iterations_not_the_answer(course: TrackingProblem)
         problem = replace(problem, state=x, time_s=problem.time_s + problem.dt_s,
                           previous_input=warm.plan.first_input, warm=warm.plan)
     assert iterations[0] < iterations[1]
+
+
+def test_an_answer_does_not_depend_on_earlier_calls(course: TrackingProblem) -> None:
+    """The same problem gives the same plan (to rounding) whether or not another problem of its
+    shape was solved in between (OSQP starts from the problem's own warm plan and its ρ)."""
+    first = solve_ltv_mpc(course, time_limit_s=5.0)
+    assert first.plan is not None
+    follow = replace(course, state=first.plan.states[1], time_s=course.dt_s,
+                     previous_input=first.plan.first_input, warm=first.plan)
+    once = solve_ltv_mpc(follow, time_limit_s=5.0)
+    solve_ltv_mpc(replace(course, state=np.array([5.0, 8.0, 1.0])), time_limit_s=5.0)
+    again = solve_ltv_mpc(follow, time_limit_s=5.0)
+    assert once.plan is not None and again.plan is not None
+    assert np.allclose(once.plan.inputs, again.plan.inputs, rtol=0.0, atol=1e-9)
+    assert once.stats["qp_iterations"] == again.stats["qp_iterations"]

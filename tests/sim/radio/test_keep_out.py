@@ -48,7 +48,8 @@ def test_without_discs_the_reference_is_followed(heading: float) -> None:
     assert result.plan is not None and result.stats["heading_fallback"] == 0.0
     assert float(np.hypot(*(flown[:2] - ref[0]))) < 2.0
     again, _ = fly_with_keep_out(KEEP, UAV, pose, ref, np.zeros((0, 2)))
-    np.testing.assert_array_equal(flown, again)
+    # the same to rounding: the QP solver's workspace is reused between calls
+    np.testing.assert_allclose(flown, again, rtol=0.0, atol=1e-9)
 
 
 @pytest.mark.parametrize("backend", ["auto", "nmpc", "ltv_mpc"])
