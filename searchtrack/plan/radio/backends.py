@@ -38,15 +38,17 @@ DEFAULT_WIDTH = 8
 
 
 def solve_exhaustive(problem: RadioPlanProblem, *, time_limit_s: float = 10.0, seed: int = 0,
-                     initial: RadioPlan | None = None) -> Result[RadioPlan]:
+                     initial: RadioPlan | None = None,
+                     scorer: Scorer | None = None) -> Result[RadioPlan]:
     """Every action sequence, depth first; ``OPTIMAL`` (or the least-violating plan, proven)
     when the search completes, else the best so far (``FEASIBLE``) or ``NO_SOLUTION``.
 
     ``initial`` (a plan of the same problem and seed, e.g. beam's) starts the search as the
-    incumbent, so the answer is never worse and more subtrees can be dropped.
+    incumbent, so the answer is never worse and more subtrees can be dropped; ``scorer`` (built
+    from the same problem and seed, e.g. for beam) saves drawing the look-ahead again.
     """
     deadline = Deadline(time_limit_s)
-    scorer = Scorer(problem, seed)
+    scorer = Scorer(problem, seed) if scorer is None else scorer
     incumbent = None
     if initial is not None:
         incumbent = Best(key_of(initial, problem.settings.discount,
@@ -59,8 +61,9 @@ def solve_exhaustive(problem: RadioPlanProblem, *, time_limit_s: float = 10.0, s
 
 
 def solve_beam(problem: RadioPlanProblem, *, time_limit_s: float = 10.0, seed: int = 0,
-               width: int = DEFAULT_WIDTH) -> Result[RadioPlan]:
-    """Beam search keeping ``width`` prefixes per level.
+               width: int = DEFAULT_WIDTH, scorer: Scorer | None = None) -> Result[RadioPlan]:
+    """Beam search keeping ``width`` prefixes per level (``scorer``: as for
+    :func:`solve_exhaustive`).
 
     Raises
     ------
@@ -69,7 +72,7 @@ def solve_beam(problem: RadioPlanProblem, *, time_limit_s: float = 10.0, seed: i
     """
     checks.count("width", width, 1)
     deadline = Deadline(time_limit_s)
-    scorer = Scorer(problem, seed)
+    scorer = Scorer(problem, seed) if scorer is None else scorer
     found = beam_search(scorer, deadline, width)
     return answer(scorer, found, "beam", deadline, exact=True,
                   note=f"width {width} ({found.nodes} nodes"

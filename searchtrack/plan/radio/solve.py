@@ -1,7 +1,7 @@
 """Solve a radio planning problem by backend name (Nguyen et al., §III-D, eq. 45).
 
 ``auto`` runs the beam search at once, then the exhaustive search in the time left, starting
-from the beam's plan, to improve it or prove it optimal
+from the beam's plan and on the beam's look-ahead, to improve it or prove it optimal
 (:func:`~searchtrack.core.registry.heuristic_then_exact`); its result names the stage whose
 plan it is. Every backend scores sequences on the same look-ahead draws for a given ``seed``.
 """
@@ -17,17 +17,28 @@ from searchtrack.plan.radio.backends import (
     solve_straight,
 )
 from searchtrack.plan.radio.problem import RadioPlan, RadioPlanProblem
+from searchtrack.plan.radio.tree import Scorer
 from searchtrack.plan.radio.validator import answer_problems
 
 
-def _prove(problem: RadioPlanProblem, first: Result[RadioPlan], limit_s: float,
-           seed: int) -> Result[RadioPlan]:
-    return solve_exhaustive(problem, time_limit_s=limit_s, seed=seed, initial=first.plan)
-
-
 def _auto(problem: RadioPlanProblem, *, time_limit_s: float, seed: int) -> Result[RadioPlan]:
-    return heuristic_then_exact(problem, solve_beam, _prove, time_limit_s=time_limit_s,
-                                seed=seed, heuristic_limit_s=time_limit_s, tol=1e-9)
+    shared: list[Scorer] = []
+
+    def scorer() -> Scorer:   # one look-ahead for both stages (the same problem and seed)
+        if not shared:
+            shared.append(Scorer(problem, seed))
+        return shared[0]
+
+    def beam(p: RadioPlanProblem, *, time_limit_s: float, seed: int) -> Result[RadioPlan]:
+        return solve_beam(p, time_limit_s=time_limit_s, seed=seed, scorer=scorer())
+
+    def prove(p: RadioPlanProblem, first: Result[RadioPlan], limit_s: float,
+              seed: int) -> Result[RadioPlan]:
+        return solve_exhaustive(p, time_limit_s=limit_s, seed=seed, initial=first.plan,
+                                scorer=scorer())
+
+    return heuristic_then_exact(problem, beam, prove, time_limit_s=time_limit_s, seed=seed,
+                                heuristic_limit_s=time_limit_s, tol=1e-9)
 
 
 BACKENDS: Registry[RadioPlanProblem, RadioPlan] = Registry("radio planning",

@@ -239,7 +239,10 @@ def _log_likelihoods(signal: RadioSignal, z: FloatArray, x: FloatArray, tau: Flo
         cells = z[np.clip(pair, 0, n_frames - 1)[:, :, None], bins[lab][None, None, :]]
         nu = gamma[lab][:, None, None] * leak[lab][None, None, :]            # (N, 1, B)
         arg = cells * nu / var
-        llr = -(nu**2) / (2.0 * var) + np.log(i0e(arg)) + arg
+        lit = arg > 0   # log I0(0) = 0: the Bessel term only where the cell carries signal
+        bessel = np.zeros(arg.shape)
+        bessel[lit] = np.log(i0e(arg[lit])) + arg[lit]
+        llr = bessel - (nu**2) / (2.0 * var)
         out[lab] = (llr.sum(axis=2) * inside).sum(axis=1)
     return out
 

@@ -33,6 +33,26 @@ def test_auto_answers_with_the_exhaustive_optimum() -> None:
     assert "heuristic_objective" in auto.stats
 
 
+def test_auto_draws_the_look_ahead_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """auto's beam and exhaustive stages score on one look-ahead (one Scorer), and answer what
+    exhaustive alone answers."""
+    from searchtrack.plan.radio import tree
+
+    built: list[int] = []
+    original = tree.Scorer.__init__
+
+    def counting(self: tree.Scorer, *args: object) -> None:
+        built.append(1)
+        original(self, *args)  # type: ignore[arg-type]
+
+    p = problem(horizon=3)
+    alone = solve(p, backend="exhaustive", seed=4)
+    monkeypatch.setattr(tree.Scorer, "__init__", counting)
+    result = solve(p, backend="auto", seed=4)
+    assert len(built) == 1 and result.status is Status.OPTIMAL
+    assert result.objective == pytest.approx(alone.objective, rel=1e-12)
+
+
 def test_deterministic_per_seed() -> None:
     """The same seed gives the same plan and rewards; another seed other rewards."""
     p = problem(plan_particles=40)
