@@ -66,6 +66,7 @@ PLAN_MAY_IMPORT_FROM_ESTIMATE = frozenset({
                                                 # LabelledParticleBelief
     "searchtrack.estimate.particle_belief",     # ParticleBelief, WeightedParticles
     "searchtrack.estimate.labelled_particles",  # LabelledParticles, update, resample
+    "searchtrack.estimate.labelled_motion",   # the labelled cloud's motion step (pure)
 })
 
 

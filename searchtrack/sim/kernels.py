@@ -150,7 +150,7 @@ KERNEL_SETS: dict[str, KernelSet] = {s.name: s for s in (
     KernelSet(PHD_KERNELS, "SMC-PHD prediction, gated update and resampling",
               ("searchtrack.estimate.phd.kernels", "searchtrack.estimate.phd.gated"), _warm_phd),
     KernelSet(RADIO_KERNELS, "radio TBD likelihood and propagation",
-              ("searchtrack.estimate.radio.likelihood", "searchtrack.estimate.radio.propagation",
+              ("searchtrack.estimate.radio.likelihood", "searchtrack.estimate.labelled_motion",
                "searchtrack.estimate.labelled_particles", "searchtrack.plan.radio.fused"),
               _warm_radio),
 )}

@@ -2,8 +2,9 @@
 
 - :mod:`.likelihood`: the separable Rice-over-Rayleigh likelihood (Proposition 1, eq. 22), a
   Numba kernel and its NumPy reference.
-- :mod:`.propagation`: the jump-Markov step (eqs. 46–47) of all particles in one Numba pass,
-  draw for draw :func:`searchtrack.models.radio.motion.propagate`.
+- :mod:`searchtrack.estimate.labelled_motion` (beside the belief seam, so that the planners'
+  look-ahead can share it): the jump-Markov step (eqs. 46–47) of all particles in one Numba
+  pass, draw for draw :func:`searchtrack.models.radio.motion.propagate`.
 - :mod:`.particles`: the filters' steps on the labelled particle LMB (one Bernoulli per label,
   vectorised across labels): birth density and prediction (eqs. 24–27 with re-birth). The store
   with its cardinality and mode read-outs, the update (eqs. 29–30) and systematic resampling are

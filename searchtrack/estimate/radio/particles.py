@@ -36,9 +36,9 @@ from numpy.typing import NDArray
 
 from searchtrack.core import checks
 from searchtrack.core.types import FloatArray
+from searchtrack.estimate.labelled_motion import propagate
 from searchtrack.estimate.labelled_particles import N_MODES, LabelledParticles, resample, update
 from searchtrack.estimate.radio.birth_proposal import draw_tau
-from searchtrack.estimate.radio.propagation import propagate
 from searchtrack.models.radio.scenario import RadioScenario
 
 __all__ = ["N_MODES", "LabelledParticles", "birth_particles", "initial_state", "predict",
@@ -90,7 +90,7 @@ def predict(state: LabelledParticles, scenario: RadioScenario, rng: np.random.Ge
     share ``r_B (1 − r) / r⁺`` equally, with ``r⁺ = p_S r + r_B (1 − r)`` (``1 − r`` floored at
     1e-12, see the module notes). The result has ``N + n_birth`` particles per label; the input
     is unchanged. With ``n_birth = 0`` the density is the propagated one alone (``r⁺`` as
-    above). The motion step is :func:`~searchtrack.estimate.radio.propagation.propagate` (the
+    above). The motion step is :func:`~searchtrack.estimate.labelled_motion.propagate` (the
     motion model's draws, then the births').
 
     ``tau_proposal`` (``(Λ, C)`` over the τ cells of

@@ -7,7 +7,7 @@ predicted ideal measurement set (Nguyen et al., §III-D, eqs. 33, 39; footnote 3
 * Predict: the cloud is propagated second by second over the look-ahead (``H · N_p`` seconds)
   with the full motion model — kinematics, mode jumps and the ``τ`` random walk
   (:func:`~searchtrack.models.radio.motion.propagate`, by the filter's fused step
-  :func:`~searchtrack.estimate.radio.propagation.propagate`, draw for draw the same) — but
+  :func:`~searchtrack.estimate.labelled_motion.propagate`, draw for draw the same) — but
   without birth or death (footnote 3): ``r`` stays that of the belief. One cloud serves every
   action sequence: the posterior ``π₂`` of a sequence is the same particles with other weights
   and existences (eq. 39).
@@ -29,8 +29,8 @@ import numpy as np
 from numba import njit
 
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
+from searchtrack.estimate.labelled_motion import propagate
 from searchtrack.estimate.labelled_particles import LabelledParticles, resample
-from searchtrack.estimate.radio.propagation import propagate
 from searchtrack.plan.radio.divergences import label_radii
 from searchtrack.plan.radio.problem import EXISTENCE_THRESHOLD, RadioPlanProblem, keep_out_radii
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from searchtrack.core.errors import InvalidInputError
-from searchtrack.estimate.radio.propagation import propagate
+from searchtrack.estimate.labelled_motion import propagate
 from searchtrack.models.radio import motion as model
 from searchtrack.models.radio.motion import TagMotion
 
