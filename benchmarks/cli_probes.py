@@ -24,7 +24,7 @@ from tables import table  # noqa: E402
 
 from searchtrack.cli import main  # noqa: E402
 from tests.cli.test_bad_input import ALL_PROBES  # noqa: E402
-from tests.cli.test_interrupt import OPTW, _interrupt, _wide_instance  # noqa: E402
+from tests.cli.test_interrupt import DATA, OPTW, _interrupt, _wide_instance  # noqa: E402
 
 
 def probes() -> None:
@@ -65,11 +65,16 @@ def sigint() -> None:
                                               "--time-limit", "120"]),
             ("optw solve mip (rc101)", ["optw", "solve", str(OPTW / "rc101.txt"), "--backend",
                                         "mip", "--time-limit", "120"]),
-            ("optw solve auto (rc101, m=2)", ["optw", "solve", str(OPTW / "rc101.txt"),
-                                              "--vehicles", "2", "--time-limit", "120"]),
+            ("optw solve auto (pr10, m=4)", ["optw", "solve", str(OPTW / "cordeau" / "pr10.txt"),
+                                             "--vehicles", "4", "--time-limit", "120"]),
             ("optw bench ils", ["optw", "bench", str(OPTW), "--backend", "ils",
                                 "--time-limit", "30"]),
             ("mission run", ["mission", "run", str(scenario), "--out", str(tmp / "out")]),
+            ("radio mission", ["radio", "mission", str(DATA / "scenarios" / "radio_paper.toml"),
+                               "--out", str(tmp / "radio")]),
+            ("campaign run (quick start, 2 workers)",
+             ["campaign", "run", str(DATA / "campaigns" / "quick_start.toml"), "--db",
+              str(tmp / "quick.duckdb")]),
         ]
         rows = []
         for name, argv in cases:
