@@ -27,6 +27,13 @@ from searchtrack.models.position_sensor import TAIL_SIGMAS, PositionSensor
 if TYPE_CHECKING:
     from searchtrack.estimate.phd.update import SensorScan
 
+CELLS_PER_GATE = 4
+"""Grid cells per gate width: a particle's candidate measurements are those within the gate of
+its cell, about ``(1 + 2 / CELLS_PER_GATE)²`` times the gate's square instead of the 3 × 3 cells
+around it at one cell per gate."""
+MAX_CELLS = 256
+"""At most this many grid cells per axis."""
+
 
 @dataclass(frozen=True)
 class Block:
@@ -81,14 +88,15 @@ def systematic(weights: FloatArray, n: int, u: float, states: FloatArray, labels
 
 def gate_grid(sensor: PositionSensor, z: FloatArray) -> tuple[FloatArray, FloatArray, IntArray,
                                                                IntArray, IntArray]:
-    """Cells over the sensor's area at least the gate (``TAIL_SIGMAS`` σ) wide, and the
-    measurements bucketed in them: ``(low corner, cell size, shape, start, order)``."""
+    """Cells over the sensor's area about a :data:`CELLS_PER_GATE`-th of the gate
+    (``TAIL_SIGMAS`` σ) wide (at most :data:`MAX_CELLS` per axis), and per cell the measurements
+    within the gate of it: ``(low corner, cell size, shape, start, order)``."""
     lo = np.ascontiguousarray(sensor.area[:, 0])
     width = sensor.area[:, 1] - sensor.area[:, 0]
     gate = TAIL_SIGMAS * sensor.sigma_m * (1.0 + 1e-9)
-    shape = np.maximum(np.floor(width / gate), 1).astype(np.int64)
+    shape = np.clip(np.floor(width * CELLS_PER_GATE / gate), 1, MAX_CELLS).astype(np.int64)
     size = width / shape
-    start, order = gated.measurement_grid(np.ascontiguousarray(z), lo, size, shape)
+    start, order = gated.measurement_grid(np.ascontiguousarray(z), lo, size, shape, gate)
     return lo, size, shape, start, order
 
 

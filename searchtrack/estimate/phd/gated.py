@@ -12,7 +12,8 @@ measurement the gated parts ``Σ (g − F) u`` of ``C_z``, of the term mean and 
 sums. :func:`correct_particles` is the second: each particle's new weight, the mass the
 measurements take from it, its strongest term (for the tags) and, after the last sensor, the
 per-group sums of the missed-target read-out. :func:`final_tags` is the tagging of the update.
-Candidate pairs come from a grid of cells at least the gate wide (:func:`measurement_grid`).
+Candidate pairs come from a grid of cells a fraction of the gate wide: each cell lists the
+measurements within the gate of it (:func:`measurement_grid`), so a particle visits one list.
 """
 
 from __future__ import annotations
@@ -34,26 +35,53 @@ def _cell(v: float, lo: float, size: float, m: int) -> int:
 
 
 @nb.njit(cache=True)
-def measurement_grid(z: FloatArray, lo: FloatArray, size: FloatArray,
-                     shape: IntArray) -> tuple[IntArray, IntArray]:
-    """Measurements bucketed by grid cell (CSR: ``start[cell]:start[cell + 1]`` of ``order``),
-    in increasing measurement index within a cell."""
+def measurement_grid(z: FloatArray, lo: FloatArray, size: FloatArray, shape: IntArray,
+                     gate: float) -> tuple[IntArray, IntArray]:
+    """Per grid cell the measurements within ``gate`` of the cell (CSR: ``start[cell]:start[cell
+    + 1]`` of ``order``, increasing measurement index within a cell). The border cells reach to
+    infinity outwards, since :func:`_cell` clamps, and every cell is widened by a millionth of
+    its size against rounding, so a particle's cell lists every measurement within ``gate`` of
+    it."""
     k = z.shape[0]
-    cells = np.empty(k, dtype=np.int64)
-    for j in range(k):
-        cells[j] = _cell(z[j, 0], lo[0], size[0], shape[0]) * shape[1] + _cell(
-            z[j, 1], lo[1], size[1], shape[1])
-    start = np.zeros(shape[0] * shape[1] + 1, dtype=np.int64)
-    for j in range(k):
-        start[cells[j] + 1] += 1
-    for q in range(shape[0] * shape[1]):
-        start[q + 1] += start[q]
-    fill = start[:-1].copy()
-    order = np.empty(k, dtype=np.int64)
-    for j in range(k):
-        order[fill[cells[j]]] = j
-        fill[cells[j]] += 1
+    m0, m1 = shape[0], shape[1]
+    g2 = gate * gate
+    start = np.zeros(m0 * m1 + 1, dtype=np.int64)
+    for rnd in range(2):
+        fill = start[:-1].copy()
+        order = np.empty(start[m0 * m1], dtype=np.int64)
+        for j in range(k):
+            z0, z1 = z[j, 0], z[j, 1]
+            for a0 in range(_cell(z0 - gate, lo[0], size[0], m0),
+                            _cell(z0 + gate, lo[0], size[0], m0) + 1):
+                e0 = _outside(z0, a0, lo[0], size[0], m0)
+                for a1 in range(_cell(z1 - gate, lo[1], size[1], m1),
+                                _cell(z1 + gate, lo[1], size[1], m1) + 1):
+                    e1 = _outside(z1, a1, lo[1], size[1], m1)
+                    if e0 * e0 + e1 * e1 <= g2:
+                        q = a0 * m1 + a1
+                        if rnd == 0:
+                            start[q + 1] += 1
+                        else:
+                            order[fill[q]] = j
+                            fill[q] += 1
+        if rnd == 0:
+            for q in range(m0 * m1):
+                start[q + 1] += start[q]
     return start, order
+
+
+@nb.njit(cache=True, inline="always")
+def _outside(v: float, a: int, lo: float, size: float, m: int) -> float:
+    """How far ``v`` lies outside cell ``a`` of an axis (0 inside), the cell widened by a
+    millionth of its size and the border cells reaching to infinity."""
+    pad = 1e-6 * size
+    low = lo + a * size - pad
+    high = lo + (a + 1) * size + pad
+    if a > 0 and v < low:
+        return low - v
+    if a < m - 1 and v > high:
+        return v - high
+    return 0.0
 
 
 @nb.njit(cache=True, parallel=True)
@@ -87,22 +115,20 @@ def gate_sums(x: FloatArray, w: FloatArray, pd: float, area: FloatArray, z: Floa
                 sux[ch, col] += u * x[i, col]
             c0 = _cell(x0, glo[0], gsize[0], gshape[0])
             c1 = _cell(x1, glo[1], gsize[1], gshape[1])
-            for a0 in range(max(c0 - 1, 0), min(c0 + 2, gshape[0])):
-                for a1 in range(max(c1 - 1, 0), min(c1 + 2, gshape[1])):
-                    q = a0 * gshape[1] + a1
-                    for t in range(start[q], start[q + 1]):
-                        j = order[t]
-                        e = z[j, 0] - x0
-                        e *= e
-                        dy = z[j, 1] - x1
-                        e += dy * dy
-                        e *= qscale
-                        if e > qmin:
-                            v = (np.exp(e) * norm - floor) * u
-                            gz[ch, j] += v
-                            gzs[ch, j, s] += v
-                            for col in range(d):
-                                gzx[ch, j, col] += v * x[i, col]
+            q = c0 * gshape[1] + c1
+            for t in range(start[q], start[q + 1]):
+                j = order[t]
+                e = z[j, 0] - x0
+                e *= e
+                dy = z[j, 1] - x1
+                e += dy * dy
+                e *= qscale
+                if e > qmin:
+                    v = (np.exp(e) * norm - floor) * u
+                    gz[ch, j] += v
+                    gzs[ch, j, s] += v
+                    for col in range(d):
+                        gzx[ch, j, col] += v * x[i, col]
     return su, sux, sus, gz, gzx, gzs
 
 
@@ -140,24 +166,22 @@ def correct_particles(x: FloatArray, w: FloatArray, prior: FloatArray, pd: float
                 jbest = zstar
                 c0 = _cell(x0, glo[0], gsize[0], gshape[0])
                 c1 = _cell(x1, glo[1], gsize[1], gshape[1])
-                for a0 in range(max(c0 - 1, 0), min(c0 + 2, gshape[0])):
-                    for a1 in range(max(c1 - 1, 0), min(c1 + 2, gshape[1])):
-                        q = a0 * gshape[1] + a1
-                        for t in range(start[q], start[q + 1]):
-                            j = order[t]
-                            e = z[j, 0] - x0
-                            e *= e
-                            dy = z[j, 1] - x1
-                            e += dy * dy
-                            e *= qscale
-                            if e > qmin:
-                                g = np.exp(e) * norm
-                                part = ((g - floor) * u) / cz[j]
-                                took += part
-                                rz[ch, j] += part
-                                share = (g * u) / cz[j]
-                                if share > best or (share == best and j < jbest):
-                                    best, jbest = share, j
+                q = c0 * gshape[1] + c1
+                for t in range(start[q], start[q + 1]):
+                    j = order[t]
+                    e = z[j, 0] - x0
+                    e *= e
+                    dy = z[j, 1] - x1
+                    e += dy * dy
+                    e *= qscale
+                    if e > qmin:
+                        g = np.exp(e) * norm
+                        part = ((g - floor) * u) / cz[j]
+                        took += part
+                        rz[ch, j] += part
+                        share = (g * u) / cz[j]
+                        if share > best or (share == best and j < jbest):
+                            best, jbest = share, j
                 if best > best_share[i]:
                     best_share[i] = best
                     owner[i] = jbest + offset

@@ -15,11 +15,11 @@ beyond them (:class:`~searchtrack.models.position_sensor.PositionSensor`). With
     Σ_i g(z|x_i) u_i = F Σ_i u_i + Σ_{i: ‖z − x_i‖ < 9σ} (g(z|x_i) − F) u_i
 
 and likewise for the term means ``Σ_i A_{z,i} x_i`` and the per-group sums. Only measurement–
-particle pairs inside the gate are evaluated (found through a grid of cells at least the gate
-wide), and the floor is added once per measurement: the same update as the dense ``(k, N)``
-arrays up to floating-point rounding. Each particle's strongest term (the ``argmax_z``
-attribution) is the better of its strongest gated term and the floor term of the measurement
-with the smallest ``C_z``.
+particle pairs inside the gate are evaluated (found through a grid of cells, each listing the
+measurements within the gate of it), and the floor is added once per measurement: the same
+update as the dense ``(k, N)`` arrays up to floating-point rounding. Each particle's strongest
+term (the ``argmax_z`` attribution) is the better of its strongest gated term and the floor term
+of the measurement with the smallest ``C_z``.
 """
 
 from __future__ import annotations

@@ -22,13 +22,30 @@ from searchtrack.sim.particles.scenario import standard_scenario
 from .helpers import POSE
 
 
-def test_measurement_grid_buckets_every_measurement_once() -> None:
-    """CSR buckets by clamped cell, increasing measurement index within a cell."""
-    z = np.array([[5.0, 5.0], [95.0, 5.0], [-50.0, 5.0], [5.0, 250.0], [6.0, 6.0]])
+def test_measurement_grid_lists_the_measurements_within_the_gate_of_each_cell() -> None:
+    """CSR lists per cell of the measurements within the gate of it (border cells reach outward,
+    since particles' cells are clamped), increasing measurement index within a cell."""
+    z = np.array([[5.0, 5.0], [95.0, 5.0], [-50.0, 5.0], [5.0, 250.0], [48.0, 5.0]])
     start, order = gated.measurement_grid(z, np.zeros(2), np.array([50.0, 50.0]),
-                                          np.array([2, 2]))
-    assert start.tolist() == [0, 3, 4, 5, 5]
-    assert order.tolist() == [0, 2, 4, 3, 1]
+                                          np.array([2, 2]), 10.0)
+    assert start.tolist() == [0, 3, 4, 6, 6]
+    assert order.tolist() == [0, 2, 4, 3, 1, 4]
+
+
+def test_measurement_grid_finds_every_pair_inside_the_gate() -> None:
+    """Every particle-measurement pair closer than the gate is listed in the particle's cell."""
+    rng = np.random.default_rng(3)
+    z = rng.uniform(-100.0, 1100.0, (60, 2))
+    x = rng.uniform(0.0, 1000.0, (4000, 2))
+    lo, size, shape, gate = np.zeros(2), np.array([1000.0 / 33, 1000.0 / 31]), \
+        np.array([33, 31]), 90.0
+    start, order = gated.measurement_grid(z, lo, size, shape, gate)
+    cells = np.minimum((x // size).astype(np.int64), shape - 1)
+    for xi, (c0, c1) in zip(x, cells, strict=True):
+        q = c0 * shape[1] + c1
+        listed = set(order[start[q]:start[q + 1]].tolist())
+        near = np.flatnonzero(np.hypot(*(z - xi).T) < gate)
+        assert set(near.tolist()) <= listed
 
 
 def _run(cfg: PHDConfig, n_scans: int) -> list[tuple[PHDState, PHDState, np.ndarray]]:
