@@ -26,9 +26,10 @@ from searchtrack.estimate.phd.kernels import CHUNK
 
 
 @nb.njit(cache=True, inline="always")
-def _cell(v: float, lo: float, size: float, m: int) -> int:
-    """Grid cell of coordinate ``v``, clamped to ``[0, m)``."""
-    q = (v - lo) / size
+def _cell(v: float, lo: float, inv: float, m: int) -> int:
+    """Grid cell of coordinate ``v`` on an axis of cells ``1 / inv`` wide from ``lo``, clamped to
+    ``[0, m)``."""
+    q = (v - lo) * inv
     if not q >= 0.0:
         return 0
     return min(int(q), m - 1)
@@ -51,11 +52,11 @@ def measurement_grid(z: FloatArray, lo: FloatArray, size: FloatArray, shape: Int
         order = np.empty(start[m0 * m1], dtype=np.int64)
         for j in range(k):
             z0, z1 = z[j, 0], z[j, 1]
-            for a0 in range(_cell(z0 - gate, lo[0], size[0], m0),
-                            _cell(z0 + gate, lo[0], size[0], m0) + 1):
+            for a0 in range(_cell(z0 - gate, lo[0], 1.0 / size[0], m0),
+                            _cell(z0 + gate, lo[0], 1.0 / size[0], m0) + 1):
                 e0 = _outside(z0, a0, lo[0], size[0], m0)
-                for a1 in range(_cell(z1 - gate, lo[1], size[1], m1),
-                                _cell(z1 + gate, lo[1], size[1], m1) + 1):
+                for a1 in range(_cell(z1 - gate, lo[1], 1.0 / size[1], m1),
+                                _cell(z1 + gate, lo[1], 1.0 / size[1], m1) + 1):
                     e1 = _outside(z1, a1, lo[1], size[1], m1)
                     if e0 * e0 + e1 * e1 <= g2:
                         q = a0 * m1 + a1
@@ -101,6 +102,7 @@ def gate_sums(x: FloatArray, w: FloatArray, pd: float, area: FloatArray, z: Floa
     gz = np.zeros((nc, k))
     gzx = np.zeros((nc, k, d))
     gzs = np.zeros((nc, k, n_slots))
+    inv0, inv1 = 1.0 / gsize[0], 1.0 / gsize[1]
     for ch in nb.prange(nc):
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
             x0, x1 = x[i, 0], x[i, 1]
@@ -113,8 +115,8 @@ def gate_sums(x: FloatArray, w: FloatArray, pd: float, area: FloatArray, z: Floa
             sus[ch, s] += u
             for col in range(d):
                 sux[ch, col] += u * x[i, col]
-            c0 = _cell(x0, glo[0], gsize[0], gshape[0])
-            c1 = _cell(x1, glo[1], gsize[1], gshape[1])
+            c0 = _cell(x0, glo[0], inv0, gshape[0])
+            c1 = _cell(x1, glo[1], inv1, gshape[1])
             q = c0 * gshape[1] + c1
             for t in range(start[q], start[q + 1]):
                 j = order[t]
@@ -153,6 +155,7 @@ def correct_particles(x: FloatArray, w: FloatArray, prior: FloatArray, pd: float
     out = np.empty(n)
     sums = np.zeros((nc, n_slots, 3 + d) if last else (nc, 0, 3 + d))
     rz = np.zeros((nc, k))
+    inv0, inv1 = 1.0 / gsize[0], 1.0 / gsize[1]
     for ch in nb.prange(nc):
         for i in range(ch * CHUNK, min(n, (ch + 1) * CHUNK)):
             x0, x1 = x[i, 0], x[i, 1]
@@ -164,8 +167,8 @@ def correct_particles(x: FloatArray, w: FloatArray, prior: FloatArray, pd: float
                 took = u * (floor * inv_sum)
                 best = (floor * u) / cz[zstar]
                 jbest = zstar
-                c0 = _cell(x0, glo[0], gsize[0], gshape[0])
-                c1 = _cell(x1, glo[1], gsize[1], gshape[1])
+                c0 = _cell(x0, glo[0], inv0, gshape[0])
+                c1 = _cell(x1, glo[1], inv1, gshape[1])
                 q = c0 * gshape[1] + c1
                 for t in range(start[q], start[q + 1]):
                     j = order[t]
