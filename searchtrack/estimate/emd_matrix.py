@@ -54,7 +54,7 @@ from searchtrack.estimate.signatures import (
     check_support_mass,
     distributions,
     nearest_support_bound,
-    truncate,
+    truncate_rows,
 )
 from searchtrack.estimate.transport import emd, emd_on_graph
 from searchtrack.estimate.transport.pair_emd import PairEMD, pair_emd
@@ -207,8 +207,8 @@ def _solve(problem: EMDMatrixProblem, method: str, time_limit_s: float) -> Resul
     warm_up()
     deadline = Deadline(time_limit_s)
     metric, gate_m = problem.metric, problem.gate_m
-    sig_t = [truncate(row, problem.support_mass) for row in problem.trackers]
-    sig_q = [truncate(row, problem.support_mass) for row in problem.measured]
+    sig_t = truncate_rows(problem.trackers, problem.support_mass)
+    sig_q = truncate_rows(problem.measured, problem.support_mass)
     out = np.full((len(sig_t), len(sig_q)), math.inf)
     unsolved = np.zeros(out.shape, dtype=bool)
     pairs = np.argwhere(centroid_bound(metric, sig_t, sig_q) < gate_m * (1.0 + SLACK))

@@ -3,6 +3,8 @@ skip pairs."""
 
 from __future__ import annotations
 
+from typing import Literal
+
 import numpy as np
 import pytest
 
@@ -10,6 +12,7 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.estimate.signatures import (
     centroid_bound,
     nearest_support_bound,
+    truncate_rows,
     truncate_signature,
 )
 from searchtrack.estimate.transport import emd
@@ -78,3 +81,75 @@ def test_lower_bounds_hold() -> None:
         assert value is not None
         assert centroid_bound(metric, [a], [b])[0, 0] <= value + 1e-9
         assert nearest_support_bound(cost, a.weights, b.weights) <= value + 1e-9
+
+
+def _reference_truncate(w: np.ndarray, mass: float) -> tuple[np.ndarray, np.ndarray]:
+    """The truncation by NumPy sorting alone (lexsort of the candidates, cumsum, searchsorted)."""
+    total = float(w.sum())
+    cand = np.flatnonzero(w > (1.0 - mass) * total / w.size)
+    order = cand[np.lexsort((cand, -w[cand]))]
+    k = int(np.searchsorted(np.cumsum(w[order]), mass * total)) + 1
+    nodes = np.sort(order[:min(k, order.size)])
+    return nodes, w[nodes] / w[nodes].sum()
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_one_pass_truncation_equals_the_sorting_one(seed: int) -> None:
+    """The one-pass kernel keeps exactly the nodes and weights of a NumPy sort, ties (repeated
+    and quantised weights), zeros and heavy tails included."""
+    rng = np.random.default_rng(seed)
+    for _ in range(40):
+        n = int(rng.integers(1, 3000))
+        kind = rng.integers(4)
+        w = (rng.random(n) if kind == 0 else np.round(rng.random(n), 2) if kind == 1
+             else rng.pareto(1.5, n) if kind == 2 else np.repeat(rng.random(n // 7 + 1), 7)[:n])
+        w[rng.random(n) < 0.3] = 0.0
+        if w.sum() <= 0.0:
+            w[0] = 1.0
+        for mass in (0.5, 0.9, 0.999, float(rng.uniform(0.01, 1.0))):
+            sig = truncate_signature(w, mass)
+            nodes, weights = _reference_truncate(w, mass)
+            np.testing.assert_array_equal(sig.nodes, nodes)
+            np.testing.assert_array_equal(sig.weights, weights)
+
+
+@pytest.mark.parametrize("order", ["C", "F", "strided"])
+def test_truncating_all_rows_equals_one_row_at_a_time(order: Literal["C", "F", "strided"]) -> None:
+    """Rows of a C- or Fortran-ordered array (a transposed bank) or of a strided view truncate
+    as the sorting reference does row by row, totals summed as NumPy sums a row."""
+    rng = np.random.default_rng(7)
+    for n in (1, 7, 8, 9, 129, 1000, 4099, 9001):  # 9001: rows past the candidate buffer
+        rows = rng.pareto(1.2, (11, n)) * (rng.random((11, n)) < 0.6)
+        rows[:, 0] += 1e-3
+        arr = (np.repeat(rows, 2, axis=1)[:, ::2] if order == "strided"
+               else np.asfortranarray(rows) if order == "F" else np.ascontiguousarray(rows))
+        for mass in (0.3, 0.9, 0.999):
+            sigs = truncate_rows(arr, mass)
+            for row, sig in zip(arr, sigs, strict=True):
+                nodes, weights = _reference_truncate(row, mass)
+                np.testing.assert_array_equal(sig.nodes, nodes)
+                np.testing.assert_array_equal(sig.weights, weights)
+
+
+def test_distributions_checks_name_the_first_fault() -> None:
+    """The fast row-sum checks fall back to naming NaN, infinite, negative and empty rows."""
+    from searchtrack.estimate.signatures import distributions
+
+    good = np.random.default_rng(1).random((3, 5))
+    assert distributions("x", good, 5) is not None
+    for value, what in ((np.nan, "finite"), (np.inf, "finite"), (-1e-300, "non-negative")):
+        bad = good.copy()
+        bad[1, 2] = value
+        with pytest.raises(InvalidInputError, match=what):
+            distributions("x", bad, 5)
+    both = good.copy()
+    both[0, 0], both[0, 1] = np.inf, -np.inf
+    with pytest.raises(InvalidInputError, match="finite"):
+        distributions("x", both, 5)
+    empty = good.copy()
+    empty[2] = 0.0
+    with pytest.raises(InvalidInputError, match="row 2 has no mass"):
+        distributions("x", empty, 5)
+    huge = np.full((1, 5), 1e308)  # finite entries whose sum overflows
+    with np.errstate(over="ignore"):
+        assert distributions("x", huge, 5) is not None

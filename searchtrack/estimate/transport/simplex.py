@@ -51,8 +51,9 @@ _WARM = [False]
 
 
 def warm_up() -> None:
-    """Compile (or load from numba's cache) the simplex kernels, and the bounded Dijkstra of
-    :mod:`~searchtrack.estimate.transport.road_blocks`, once per process.
+    """Compile (or load from numba's cache) the simplex kernels, the bounded Dijkstra of
+    :mod:`~searchtrack.estimate.transport.road_blocks` and the signature truncation of
+    :mod:`~searchtrack.estimate.signatures`, once per process.
 
     Callers run it before starting their clock, so a time limit measures solving, not
     just-in-time compilation (seconds on a cold cache).
@@ -70,6 +71,9 @@ def warm_up() -> None:
     two = np.array([1, 0], dtype=np.int64)  # nodes 0 — 1, one edge of 1 m
     dijkstra_kernels.bounded_rows(np.array([0, 1, 2], dtype=np.int64), two, np.ones(2),
                                   two[1:], two - 1, 1, 5.0, out)
+    from searchtrack.estimate import signatures  # the truncation of the EMD matrix's rows
+
+    signatures.warm_up()
     _WARM[0] = True
     log.info("network simplex kernels ready in %.2f s", time.perf_counter() - started)
 
