@@ -17,6 +17,8 @@ surveillance region: targets that leave it are gone).
 
 from __future__ import annotations
 
+import threading
+
 import numpy as np
 
 from searchtrack.core import checks
@@ -106,6 +108,23 @@ def _grid_states(state: PHDState, config: PHDConfig,
     return _newborn_states(grid.sample(rng), state.state_dim, config, rng)
 
 
+_SCRATCH = threading.local()
+
+
+def motion_noise(rng: np.random.Generator, n: int, d: int) -> FloatArray:
+    """``rng.standard_normal((n, d))``'s draws, written into a buffer each thread keeps and
+    reuses (grown by a quarter when too small), so a prediction does not map fresh pages for
+    its noise; the result is valid until the thread's next call."""
+    buf: FloatArray | None = getattr(_SCRATCH, "noise", None)
+    if buf is None or buf.shape[0] < n or buf.shape[1] != d:
+        rows = n if buf is None or buf.shape[1] != d else max(n, buf.shape[0] + buf.shape[0] // 4)
+        buf = np.empty((rows, d))
+        _SCRATCH.noise = buf
+    out = buf[:n]
+    rng.standard_normal(out=out)
+    return out
+
+
 def _predict_compiled(state: PHDState, born: FloatArray, born_mass: FloatArray,
                       motion: ConstantVelocity, config: PHDConfig, dt_s: float,
                       rng: np.random.Generator) -> PHDState:
@@ -114,7 +133,7 @@ def _predict_compiled(state: PHDState, born: FloatArray, born_mass: FloatArray,
     d, p = state.state_dim, state.position_dim
     dt = checks.non_negative("dt_s", dt_s)
     n_moved = state.n_particles + born.shape[0]
-    noise = rng.standard_normal((n_moved, d)) if dt != 0.0 else None
+    noise = motion_noise(rng, n_moved, d) if dt != 0.0 else None
     survival = np.array([config.survival_probability]) if config.survival_map is None else \
         np.asarray(config.survival_map.survival(state.positions, dt_s), dtype=np.float64)
     j = config.birth_particles_per_measurement

@@ -129,3 +129,19 @@ def test_prediction_is_deterministic_for_a_seed() -> None:
                        np.random.default_rng(3)).states
 
     np.testing.assert_array_equal(run(), run())
+
+
+def test_motion_noise_draws_what_standard_normal_draws_into_a_reused_buffer() -> None:
+    """The same draws as ``rng.standard_normal((n, d))``; the buffer is kept between calls and
+    grown when a call needs more rows."""
+    from searchtrack.estimate.phd.predict import motion_noise
+
+    a, b = np.random.default_rng(7), np.random.default_rng(7)
+    first = motion_noise(a, 50, 4)
+    np.testing.assert_array_equal(first, b.standard_normal((50, 4)))
+    second = motion_noise(a, 30, 4)
+    assert np.shares_memory(first, second)
+    np.testing.assert_array_equal(second, b.standard_normal((30, 4)))
+    bigger = motion_noise(a, 500, 4)
+    np.testing.assert_array_equal(bigger, b.standard_normal((500, 4)))
+    np.testing.assert_array_equal(motion_noise(a, 0, 6), b.standard_normal((0, 6)))
