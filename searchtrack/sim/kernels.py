@@ -143,6 +143,7 @@ KERNEL_SETS: dict[str, KernelSet] = {s.name: s for s in (
     KernelSet("simplex", "network simplex (EMD association)",
               ("searchtrack.estimate.transport.simplex_kernels",
                "searchtrack.estimate.transport.dijkstra_kernels",
+               "searchtrack.estimate.transport.simplex_start",
                "searchtrack.estimate.signatures"), _warm_simplex),
     KernelSet(ROAD_FILTER_KERNELS, "road particle filter",
               ("searchtrack.estimate.road_filter_kernels",

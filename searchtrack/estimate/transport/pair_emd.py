@@ -5,9 +5,10 @@ inputs are already valid: the truncated signatures hold positive weights and the
 is finite and non-negative. :func:`pair_emd` solves one of them as :func:`~.solve.emd` does with
 ``mass="normalize"`` (each signature scaled to unit mass, the network simplex of
 :mod:`.simplex` on the cost matrix in place), without re-validating the inputs or building a
-:class:`~searchtrack.core.result.Result`. The plan's marginals are still checked (as the
-registry checks every plan), and anything other than an optimal, checked plan or a proven
-infeasibility is handed to :func:`~.solve.emd` with its fallback chain.
+:class:`~searchtrack.core.result.Result`, and from the least-cost starting basis of
+:mod:`.simplex_start` rather than from artificial arcs. The plan's marginals are still checked
+(as the registry checks every plan), and anything other than an optimal, checked plan or a
+proven infeasibility is handed to :func:`~.solve.emd` with its fallback chain.
 """
 
 from __future__ import annotations
@@ -50,7 +51,7 @@ def pair_emd(p: FloatArray, q: FloatArray, cost: FloatArray, deadline: Deadline)
     flat = np.ascontiguousarray(cost, dtype=np.float64).ravel()
     ncols = qn.size
     solution = min_cost_flow(np.concatenate([pn, -qn]), flat, deadline, ncols=ncols,
-                             mass_scale=1.0)
+                             mass_scale=1.0, least_cost_start=True)
     status = map_status(solution)
     if status is Status.INFEASIBLE:
         return PairEMD(status, None, _NONE, _NONE)

@@ -35,6 +35,7 @@ from searchtrack.core.deadline import Deadline
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.transport import dijkstra_kernels
 from searchtrack.estimate.transport import simplex_kernels as kernels
+from searchtrack.estimate.transport.simplex_start import start_tree
 
 log = logging.getLogger("searchtrack.estimate.transport")
 
@@ -67,6 +68,8 @@ def warm_up() -> None:
     head = np.array([1, 2, 2, 0], dtype=np.int64)
     min_cost_flow(supply, cost, Deadline(math.inf), tail=tail, head=head)
     min_cost_flow(np.array([0.5, 0.5, -1.0]), np.array([1.0, 2.0]), Deadline(math.inf), ncols=1)
+    min_cost_flow(np.array([0.5, 0.5, -1.0]), np.array([1.0, 2.0]), Deadline(math.inf), ncols=1,
+                  least_cost_start=True)
     out = np.full((1, 1), math.inf)  # the bounded Dijkstra of the EMD matrix's road blocks
     two = np.array([1, 0], dtype=np.int64)  # nodes 0 — 1, one edge of 1 m
     dijkstra_kernels.bounded_rows(np.array([0, 1, 2], dtype=np.int64), two, np.ones(2),
@@ -99,6 +102,7 @@ def min_cost_flow(
     head: IntArray | None = None,
     ncols: int = 0,
     mass_scale: float | None = None,
+    least_cost_start: bool = False,
 ) -> FlowSolution:
     """Minimise ``cost @ flow`` over flows ≥ 0 meeting ``supply`` (> 0 source, < 0 sink).
 
@@ -107,7 +111,10 @@ def min_cost_flow(
     ``(len(supply) - ncols, ncols)`` matrix, rows are the first nodes and columns the last.
     ``supply`` should sum to zero; what cannot be routed is reported as ``artificial_flow``,
     and up to ``1e-10 · mass_scale`` of it (default: the mass to move) counts as round-off.
-    Costs must be finite and non-negative (the caller checks).
+    Costs must be finite and non-negative (the caller checks). With ``least_cost_start`` a
+    transportation problem starts from the least-cost basis of
+    :func:`~.simplex_start.start_tree` (a feasible flow from the outset), else from one
+    artificial arc per node.
     """
     n = supply.shape[0]
     n_real = cost.shape[0]
@@ -131,8 +138,15 @@ def min_cost_flow(
     cursor = np.zeros(1, dtype=np.int64)
     stack = np.empty(n + 1, dtype=np.int64)
     stem = np.empty(n + 1, dtype=np.int64)
-    kernels.init_tree(supply, art_cost, art_up, parent, pred, up, depth, pi, tree_flow,
-                      first_child, next_sib, prev_sib, n_real)
+    if ncols > 0 and n_real > 0 and least_cost_start and start_tree(
+            supply, cost, nrows, ncols, art_up, parent, pred, up, depth, tree_flow,
+            first_child, next_sib, prev_sib, state, stack):
+        kernels.refresh(cost, n_real, art_cost, art_up, parent, pred, up, depth, pi,
+                        first_child, next_sib, stack)
+    else:
+        state[:] = 1
+        kernels.init_tree(supply, art_cost, art_up, parent, pred, up, depth, pi, tree_flow,
+                          first_child, next_sib, prev_sib, n_real)
     tree = (parent, pred, up, depth, pi, tree_flow, first_child, next_sib, prev_sib)
     pivots = 0
     refreshed_clean = False
