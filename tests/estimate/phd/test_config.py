@@ -29,7 +29,7 @@ def test_bad_config(kwargs: dict[str, object], field: str) -> None:
 
 def test_config_coerces_numbers_and_freezes_the_region() -> None:
     """Integers given for real settings become floats; the region is a read-only array."""
-    cfg = PHDConfig(birth_mass=1, survival_probability=1, region=[[0, 10], [0, 20]])
+    cfg = PHDConfig(birth_mass=1, survival_probability=1, region=[[0, 10], [0, 20]])  # type: ignore[arg-type]
     assert isinstance(cfg.birth_mass, float) and cfg.survival_probability == 1.0
     assert isinstance(cfg.region, np.ndarray) and not cfg.region.flags.writeable
     np.testing.assert_array_equal(cfg.region, [[0.0, 10.0], [0.0, 20.0]])
