@@ -92,3 +92,28 @@ def bounded_rows(indptr: IntArray, indices: IntArray, lengths: FloatArray, sourc
                     seen[w] = s
                     size = _push(heap_d, heap_v, size, nd, w)
     return work
+
+
+@njit(cache=True)
+def table_rows(
+    table: FloatArray, end_a: IntArray, end_b: IntArray, off_a: FloatArray, off_b: FloatArray,
+    chain: IntArray, sources: IntArray, targets: IntArray, out: FloatArray,
+) -> None:
+    """``out[s, t]``: the road distance from ``sources[s]`` to ``targets[t]`` through the
+    junction table ``table`` (the least of the four end-to-end sums, or the distance along a
+    shared chain), summed and compared in the order of
+    :meth:`~searchtrack.models.road_metric.SourceDistances.to`."""
+    for s in range(sources.shape[0]):
+        u = sources[s]
+        ra, rb, sa, sb, cs = end_a[u], end_b[u], off_a[u], off_b[u], chain[u]
+        row_a, row_b = table[ra], table[rb]
+        for t in range(targets.shape[0]):
+            v = targets[t]
+            ta, tb, tao, tbo = end_a[v], end_b[v], off_a[v], off_b[v]
+            d = sa + row_a[ta] + tao
+            d = min(d, sa + row_a[tb] + tbo)
+            d = min(d, sb + row_b[ta] + tao)
+            d = min(d, sb + row_b[tb] + tbo)
+            if cs >= 0 and cs == chain[v]:
+                d = min(d, abs(sa - tao))
+            out[s, t] = d

@@ -19,7 +19,7 @@ exceeds ``limit`` too, so a distance within ``limit`` is exact and one beyond it
 A source signature's partners share its Dijkstra runs: one ``(|S_source|, |targets|)`` block
 per source signature, which each pair slices. When the network's
 :class:`~searchtrack.models.road_metric.RoadMetric` holds all junction-to-junction distances (a
-map with few junctions between long chains), blocks come from it instead, exact and by indexing
+map with few junctions between long chains), blocks come from it instead, exact, by one kernel pass
 alone. With a finite ``limit`` the block of a pair is exact
 where finite and a *lower bound* ``limit`` where capped (:meth:`PairBlocks.capped`), so the EMD
 under the capped costs is a lower bound on the EMD, exact when its plan uses no capped entry;
@@ -184,5 +184,17 @@ class PairBlocks:
 
     def _distances(self, sources: IntArray, targets: IntArray, limit: float) -> FloatArray:
         if self.indexed:
-            return self.metric.distances(sources, targets)
+            return table_distances(self.metric, sources, targets)
         return chain_distances(self.metric, sources, targets, limit)
+
+
+def table_distances(metric: RoadMetric, sources: IntArray, targets: IntArray) -> FloatArray:
+    """:meth:`RoadMetric.distances` of a metric with a junction table, by one kernel pass (the
+    same sums, in the same order)."""
+    table = metric.junction_distances
+    assert table is not None
+    out = np.empty((sources.size, targets.size))
+    kernels.table_rows(table, metric.end_a, metric.end_b, metric.off_a, metric.off_b,
+                       metric.chain, np.ascontiguousarray(sources, np.int64),
+                       np.ascontiguousarray(targets, np.int64), out)
+    return out

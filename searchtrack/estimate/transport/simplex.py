@@ -74,6 +74,8 @@ def warm_up() -> None:
     two = np.array([1, 0], dtype=np.int64)  # nodes 0 — 1, one edge of 1 m
     dijkstra_kernels.bounded_rows(np.array([0, 1, 2], dtype=np.int64), two, np.ones(2),
                                   two[1:], two - 1, 1, 5.0, out)
+    dijkstra_kernels.table_rows(np.zeros((1, 1)), two * 0, two * 0, np.ones(2), np.ones(2),
+                                two, two, two, np.empty((2, 2)))
     from searchtrack.estimate import signatures  # the truncation of the EMD matrix's rows
 
     signatures.warm_up()

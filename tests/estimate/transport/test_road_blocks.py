@@ -12,6 +12,7 @@ from searchtrack.estimate.transport.road_blocks import (
     PairBlocks,
     chain_distances,
     road_distances,
+    table_distances,
 )
 from searchtrack.models import RoadNetwork, random_network
 from searchtrack.models.road_metric import RoadMetric
@@ -130,3 +131,21 @@ def test_chain_distances_across_components_and_along_a_chain() -> None:
     got = chain_distances(RoadMetric(net, dense_junction_limit=0), np.array([1, 4]),
                           np.array([2, 3, 5]))
     np.testing.assert_array_equal(got, [[10.0, 20.0, math.inf], [math.inf, math.inf, 10.0]])
+
+
+@pytest.mark.parametrize("seed", range(16))
+def test_table_distances_are_the_metrics_bit_for_bit(seed: int) -> None:
+    """The kernel pass over the junction table gives RoadMetric.distances exactly (same sums,
+    same order), inf across components included, and SciPy's distances to round-off."""
+    rng = np.random.default_rng([seed, 53])
+    net = random_network(int(rng.integers(3, 12)), float(rng.uniform(100.0, 600.0)), seed=seed)
+    metric = RoadMetric(net)
+    assert metric.junction_distances is not None
+    sources = rng.choice(net.n_nodes, int(rng.integers(1, min(net.n_nodes, 15) + 1)),
+                         replace=False)
+    targets = rng.choice(net.n_nodes, int(rng.integers(1, min(net.n_nodes, 40) + 1)))
+    got = table_distances(metric, sources, targets)
+    np.testing.assert_array_equal(got, metric.distances(sources, targets))
+    want = net.shortest_paths(np.unique(targets))[:, sources].T
+    cols = np.searchsorted(np.unique(targets), targets)
+    np.testing.assert_allclose(got, want[:, cols], rtol=1e-12, atol=1e-9)
