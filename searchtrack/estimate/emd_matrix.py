@@ -57,6 +57,7 @@ from searchtrack.estimate.signatures import (
     truncate_rows,
 )
 from searchtrack.estimate.transport import emd, emd_on_graph
+from searchtrack.estimate.transport.pair_batch import solve_sources
 from searchtrack.estimate.transport.pair_emd import PairEMD, pair_emd
 from searchtrack.estimate.transport.road_blocks import PairBlocks
 from searchtrack.estimate.transport.simplex import KERNEL_SET, warm_up
@@ -214,8 +215,13 @@ def _solve(problem: EMDMatrixProblem, method: str, time_limit_s: float) -> Resul
     pairs = np.argwhere(centroid_bound(metric, sig_t, sig_q) < gate_m * (1.0 + SLACK))
     pair_solver = (None if pairs.size == 0 else _GraphPairs(metric) if method == "graph"
                    else _TransportPairs(metric, sig_t, sig_q, pairs, gate_m))
+    batched, done = (pair_solver.batch(pairs, gate_m, deadline)
+                     if isinstance(pair_solver, _TransportPairs) else (None, None))
     inexact = 0
-    for i, j in pairs:
+    for n, (i, j) in enumerate(pairs):
+        if done is not None and batched is not None and done[n]:
+            out[i, j] = batched[n]
+            continue
         if deadline.expired():
             unsolved[i, j] = True
             continue
@@ -314,6 +320,13 @@ class _TransportPairs:
         self.metric = metric
         self.blocks = PairBlocks(metric, sig_t, sig_q, pairs, _LIMIT_FACTOR * gate)
         self.refined = 0
+
+    def batch(self, pairs: IntArray, gate: float,
+              deadline: Deadline) -> tuple[FloatArray, BoolArray]:
+        """The pairs proven by one kernel call per source signature
+        (:func:`~searchtrack.estimate.transport.pair_batch.solve_sources`): their values and
+        their mask; the rest are :meth:`__call__`'s."""
+        return solve_sources(self.blocks, pairs, gate * (1.0 + SLACK), deadline)
 
     def __call__(self, i: int, j: int, p: Signature, q: Signature, gate: float,
                  deadline: Deadline) -> tuple[float, bool | None]:

@@ -147,8 +147,9 @@ class PairBlocks:
                          for k in np.unique(pairs[:, src_col])}
         self.blocks: dict[int, tuple[IntArray, FloatArray]] = {}
 
-    def _source_block(self, k: int) -> tuple[IntArray, FloatArray]:
-        """Target nodes (all partners of source signature ``k``) and the distances to them."""
+    def source_block(self, k: int) -> tuple[IntArray, FloatArray]:
+        """Target nodes (all partners of source signature ``k``, sorted) and the
+        ``(|S_k|, |targets|)`` distances to them (made once per source)."""
         if k not in self.blocks:
             targets = np.unique(np.concatenate([self.dst_sigs[m].nodes
                                                 for m in self.partners[k]]))
@@ -160,7 +161,7 @@ class PairBlocks:
         """``(|S_i|, |S_j|)`` road distances between tracker ``i``'s and measurement ``j``'s
         supports, ``inf`` beyond :attr:`limit` (see :meth:`capped`)."""
         k, m = (j, i) if self.from_measurements else (i, j)
-        targets, dist = self._source_block(k)
+        targets, dist = self.source_block(k)
         cols = np.searchsorted(targets, self.dst_sigs[m].nodes)
         return dist[:, cols].T if self.from_measurements else dist[:, cols]
 

@@ -77,6 +77,9 @@ def warm_up() -> None:
     dijkstra_kernels.table_rows(np.zeros((1, 1)), two * 0, two * 0, np.ones(2), np.ones(2),
                                 two, two, two, np.empty((2, 2)))
     from searchtrack.estimate import signatures  # the truncation of the EMD matrix's rows
+    from searchtrack.estimate.transport import pair_batch  # the EMD matrix's per-source pairs
+
+    pair_batch.warm_up()
 
     signatures.warm_up()
     _WARM[0] = True
