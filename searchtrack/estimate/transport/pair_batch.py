@@ -72,15 +72,17 @@ def solve_pair(cost: FloatArray, supply: FloatArray, nrows: int, ncols: int,
     stack = np.empty(n + 1, dtype=np.int64)
     stem = np.empty(n + 1, dtype=np.int64)
     empty = np.zeros(0, dtype=np.int64)
-    if start_tree(supply, cost, nrows, ncols, art_up, parent, pred, up, depth, tree_flow,
-                  first_child, next_sib, prev_sib, state, stack):
+    # potentials computed from the tree by refresh need no second refresh before a clean
+    # pricing pass proves the start optimal (min_cost_flow refreshes once more: same values)
+    refreshed_clean = start_tree(supply, cost, nrows, ncols, art_up, parent, pred, up, depth,
+                                 tree_flow, first_child, next_sib, prev_sib, state, stack)
+    if refreshed_clean:
         refresh(cost, n_real, art_cost, art_up, parent, pred, up, depth, pi, first_child,
                 next_sib, stack)
     else:
         state[:] = 1
         init_tree(supply, art_cost, art_up, parent, pred, up, depth, pi, tree_flow,
                   first_child, next_sib, prev_sib, n_real)
-    refreshed_clean = False
     calls = 0
     while True:
         if calls >= max_chunks:
@@ -190,7 +192,8 @@ def source_pairs(
         else:
             supply[:nrows] = src_w
             supply[nrows:] = -w_all[a:b]
-        if _bound(cost, supply[:nrows], -supply[nrows:], nrows, ncols) >= threshold:
+        if threshold < math.inf and _bound(cost, supply[:nrows], -supply[nrows:], nrows,
+                                           ncols) >= threshold:
             codes[k], values[k] = SOLVED, math.inf
             continue
         code, value = solve_pair(cost, supply, nrows, ncols, max_chunks)

@@ -146,13 +146,18 @@ class PairBlocks:
         self.partners = {int(k): pairs[pairs[:, src_col] == k, dst_col]
                          for k in np.unique(pairs[:, src_col])}
         self.blocks: dict[int, tuple[IntArray, FloatArray]] = {}
+        self.targets: dict[bytes, IntArray] = {}
 
     def source_block(self, k: int) -> tuple[IntArray, FloatArray]:
         """Target nodes (all partners of source signature ``k``, sorted) and the
         ``(|S_k|, |targets|)`` distances to them (made once per source)."""
         if k not in self.blocks:
-            targets = np.unique(np.concatenate([self.dst_sigs[m].nodes
-                                                for m in self.partners[k]]))
+            key = self.partners[k].tobytes()  # sources with the same partners share targets
+            targets = self.targets.get(key)
+            if targets is None:
+                targets = np.unique(np.concatenate([self.dst_sigs[m].nodes
+                                                    for m in self.partners[k]]))
+                self.targets[key] = targets
             self.blocks[k] = targets, self._distances(self.src_sigs[k].nodes, targets,
                                                       self.limit)
         return self.blocks[k]

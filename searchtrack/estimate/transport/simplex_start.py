@@ -39,26 +39,38 @@ def _least_cost_arcs(supply: FloatArray, cost: FloatArray, nrows: int, ncols: in
     arcs = np.empty(lines - 1, dtype=np.int64)
     k = 0
     n_arcs = cost.shape[0]
-    low = cost.min()
-    span = cost.max() - low
+    low, high = np.inf, -np.inf
+    for e in range(n_arcs):
+        low = min(low, cost[e])
+        high = max(high, cost[e])
+    span = high - low
     buckets = 4 * lines
     scale = (buckets - 1) / span if span > 0.0 else 0.0
     count = np.zeros(buckets + 1, dtype=np.int64)
+    bucket = np.empty(n_arcs, dtype=np.int64)
     for e in range(n_arcs):
-        count[int((cost[e] - low) * scale) + 1] += 1
+        b = int((cost[e] - low) * scale)
+        bucket[e] = b
+        count[b + 1] += 1
     for b in range(buckets):
         count[b + 1] += count[b]
-    ranked = np.empty(n_arcs, dtype=np.int64)
-    for e in range(n_arcs):  # cost buckets in order, arcs in index order within one
-        b = int((cost[e] - low) * scale)
-        ranked[count[b]] = e
-        count[b] += 1
-    for arc in ranked:
-        e = int(arc)
+    # cost buckets in order, arcs in index order within one; ends kept apart (no division)
+    rank_i = np.empty(n_arcs, dtype=np.int32)
+    rank_j = np.empty(n_arcs, dtype=np.int32)
+    e = 0
+    for i in range(nrows):
+        for j in range(ncols):
+            b = bucket[e]
+            rank_i[count[b]] = i
+            rank_j[count[b]] = j
+            count[b] += 1
+            e += 1
+    for r in range(n_arcs):
         if k == lines - 1:
             break
-        i = e // ncols
-        j = nrows + e - i * ncols
+        i = int(rank_i[r])
+        j = nrows + int(rank_j[r])
+        e = i * ncols + int(rank_j[r])
         if struck[i] or struck[j]:
             continue
         arcs[k] = e
