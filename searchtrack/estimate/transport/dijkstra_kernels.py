@@ -10,7 +10,7 @@ cleared, so a source costs only what it explores, not the size of the graph.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from searchtrack.core.types import FloatArray, IntArray
 
@@ -94,7 +94,7 @@ def bounded_rows(indptr: IntArray, indices: IntArray, lengths: FloatArray, sourc
     return work
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)
 def table_rows(
     table: FloatArray, end_a: IntArray, end_b: IntArray, off_a: FloatArray, off_b: FloatArray,
     chain: IntArray, sources: IntArray, targets: IntArray, out: FloatArray,
@@ -103,17 +103,24 @@ def table_rows(
     junction table ``table`` (the least of the four end-to-end sums, or the distance along a
     shared chain), summed and compared in the order of
     :meth:`~searchtrack.models.road_metric.SourceDistances.to`."""
-    for s in range(sources.shape[0]):
+    n_t = targets.shape[0]
+    t_a, t_b = np.empty(n_t, dtype=np.int64), np.empty(n_t, dtype=np.int64)
+    t_ao, t_bo = np.empty(n_t), np.empty(n_t)
+    t_chain = np.empty(n_t, dtype=np.int64)
+    for t in range(n_t):  # the targets' ends, gathered once for all sources
+        v = targets[t]
+        t_a[t], t_b[t], t_ao[t], t_bo[t], t_chain[t] = end_a[v], end_b[v], off_a[v], off_b[v], \
+            chain[v]
+    for s in prange(sources.shape[0]):  # rows in parallel
         u = sources[s]
         ra, rb, sa, sb, cs = end_a[u], end_b[u], off_a[u], off_b[u], chain[u]
         row_a, row_b = table[ra], table[rb]
-        for t in range(targets.shape[0]):
-            v = targets[t]
-            ta, tb, tao, tbo = end_a[v], end_b[v], off_a[v], off_b[v]
+        for t in range(n_t):
+            ta, tb, tao, tbo = t_a[t], t_b[t], t_ao[t], t_bo[t]
             d = sa + row_a[ta] + tao
             d = min(d, sa + row_a[tb] + tbo)
             d = min(d, sb + row_b[ta] + tao)
             d = min(d, sb + row_b[tb] + tbo)
-            if cs >= 0 and cs == chain[v]:
+            if cs >= 0 and cs == t_chain[t]:
                 d = min(d, abs(sa - tao))
             out[s, t] = d

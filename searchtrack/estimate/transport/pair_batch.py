@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 from numpy.typing import NDArray
 
 from searchtrack.core.deadline import Deadline
@@ -149,55 +149,63 @@ def _bound(cost: FloatArray, p: FloatArray, q: FloatArray, nrows: int, ncols: in
 
 
 @njit(cache=True)
+def _partner(
+    dist: FloatArray, flip: bool, src_w: FloatArray, m: int, nodes_all: IntArray,
+    w_all: FloatArray, ptr_all: IntArray, targets: IntArray, threshold: float, max_chunks: int,
+) -> tuple[int, float]:
+    """:func:`source_pairs` for its partner signature ``m``."""
+    s = dist.shape[0]
+    a, b = ptr_all[m], ptr_all[m + 1]
+    cols = np.searchsorted(targets, nodes_all[a:b])
+    t = b - a
+    if flip:
+        nrows, ncols = t, s
+    else:
+        nrows, ncols = s, t
+    cost = np.empty(nrows * ncols)
+    finite = True
+    for i in range(nrows):
+        for j in range(ncols):
+            c = dist[j, cols[i]] if flip else dist[i, cols[j]]
+            finite = finite and math.isfinite(c)
+            cost[i * ncols + j] = c
+    if not finite:
+        return FALLBACK, math.nan  # beyond the search limit or across components
+    supply = np.empty(nrows + ncols)
+    if flip:
+        supply[:nrows] = w_all[a:b]
+        supply[nrows:] = -src_w
+    else:
+        supply[:nrows] = src_w
+        supply[nrows:] = -w_all[a:b]
+    if threshold < math.inf and _bound(cost, supply[:nrows], -supply[nrows:], nrows,
+                                       ncols) >= threshold:
+        return SOLVED, math.inf
+    return solve_pair(cost, supply, nrows, ncols, max_chunks)
+
+
+@njit(cache=True, parallel=True)
 def source_pairs(
     dist: FloatArray, flip: bool, src_w: FloatArray, partners: IntArray, nodes_all: IntArray,
     w_all: FloatArray, ptr_all: IntArray, targets: IntArray, threshold: float,
     max_chunks: int, values: FloatArray, codes: NDArray[np.int8],
 ) -> None:
-    """Solve the pairs of one source signature.
+    """Solve the pairs of one source signature, partners in parallel (each pair on its own).
 
     ``dist`` is the ``(|S|, len(targets))`` block of the source's support against the sorted
     ``targets``; partner ``partners[k]`` has support ``nodes_all[ptr_all[m]:ptr_all[m + 1]]``
     and normalised weights ``w_all`` there (``m = partners[k]``), the source the normalised
     ``src_w``. Without ``flip`` the source is the tracker (the rows of the LP), with it the
     measurement (the columns). ``values[k]`` is the EMD (or ``inf`` when the nearest-support
-    bound reaches ``threshold``) where ``codes[k] == SOLVED``; ``FALLBACK`` pairs are the
-    caller's.
+    bound reaches ``threshold``) where ``codes[k] == SOLVED``; ``FALLBACK`` pairs (a block with
+    an ``inf`` entry: beyond the search limit or across components; an unproven solve) are
+    the caller's.
     """
-    s = dist.shape[0]
-    for k in range(partners.shape[0]):
-        m = partners[k]
-        a, b = ptr_all[m], ptr_all[m + 1]
-        cols = np.searchsorted(targets, nodes_all[a:b])
-        t = b - a
-        if flip:
-            nrows, ncols = t, s
-        else:
-            nrows, ncols = s, t
-        cost = np.empty(nrows * ncols)
-        finite = True
-        for i in range(nrows):
-            for j in range(ncols):
-                c = dist[j, cols[i]] if flip else dist[i, cols[j]]
-                finite = finite and math.isfinite(c)
-                cost[i * ncols + j] = c
-        codes[k] = FALLBACK
-        values[k] = math.nan
-        if not finite:
-            continue  # beyond the search limit or across components: the per-pair path
-        supply = np.empty(nrows + ncols)
-        if flip:
-            supply[:nrows] = w_all[a:b]
-            supply[nrows:] = -src_w
-        else:
-            supply[:nrows] = src_w
-            supply[nrows:] = -w_all[a:b]
-        if threshold < math.inf and _bound(cost, supply[:nrows], -supply[nrows:], nrows,
-                                           ncols) >= threshold:
-            codes[k], values[k] = SOLVED, math.inf
-            continue
-        code, value = solve_pair(cost, supply, nrows, ncols, max_chunks)
-        codes[k], values[k] = code, value
+    for k in prange(partners.shape[0]):
+        code, value = _partner(dist, flip, src_w, partners[k], nodes_all, w_all, ptr_all,
+                               targets, threshold, max_chunks)
+        codes[k] = code
+        values[k] = value
 
 
 def solve_sources(blocks: PairBlocks, pairs: IntArray, threshold: float,
