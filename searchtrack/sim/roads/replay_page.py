@@ -100,6 +100,10 @@ class _Reader(JsonFields):
         return x.astype(np.int64) if integer is True else x
 
 
+#: Largest coordinate a record may hold (m): far beyond any map, within the page's 32-bit floats.
+MAX_COORD_M = 1e9
+
+
 def read_replay(record: Mapping[str, Any], source: str | Path = "mission record") -> Replay:
     """Check a mission record and gather what the page draws; :class:`ParseError` names
     ``source`` and the field at fault (and says to re-run a mission recorded without a map)."""
@@ -127,7 +131,8 @@ def read_replay(record: Mapping[str, Any], source: str | Path = "mission record"
                                     "false_associations"))
     mp = r.obj(top["map"], "map")
     nodes = r.array(r.get(mp, "nodes_xy_m", "map."), "map.nodes_xy_m", (None, 2),
-                    "a list of [x, y] node positions (m)")
+                    f"a list of [x, y] node positions (m, |x|, |y| ≤ {MAX_COORD_M:g})",
+                    low=-MAX_COORD_M, high=MAX_COORD_M)
     n = nodes.shape[0]
     edges = r.array(r.get(mp, "edges", "map."), "map.edges", (None, 2),
                     f"a list of [i, j] node index pairs (in [0, {n}))", integer=True, low=0.0,
@@ -135,7 +140,8 @@ def read_replay(record: Mapping[str, Any], source: str | Path = "mission record"
     if n < 2 or edges.shape[0] == 0:
         raise r.fail("map", "must hold at least 2 nodes and 1 edge")
     uav, target = (r.array(r.get(top, k), k, (s + 1, None, 2), f"{s + 1} lists (the start, "
-                           "then each step) of [x, y] per vehicle")
+                           f"then each step) of [x, y] per vehicle (m, |x|, |y| ≤ "
+                           f"{MAX_COORD_M:g})", low=-MAX_COORD_M, high=MAX_COORD_M)
                    for k in ("uav_xy_m", "target_xy_m"))
     if uav.shape[1] == 0 or target.shape[1] == 0:
         raise r.fail("uav_xy_m" if uav.shape[1] == 0 else "target_xy_m", "holds no vehicle")

@@ -208,6 +208,8 @@ BAD = [
     ("map.nodes_xy_m.1", [0.0], "map.nodes_xy_m", "[x, y] node positions"),
     ("map.edges.0.1", 10**6, "map.edges[0][1]", "node index"),
     ("uav_xy_m.1.0.0", math.nan, "uav_xy_m[1][0][0]", "nan"),
+    ("uav_xy_m.1.0.1", 1e300, "uav_xy_m[1][0][1]", "≤ 1e+09"),
+    ("map.nodes_xy_m.0.0", -1e39, "map.nodes_xy_m[0][0]", "≤ 1e+09"),
     ("target_xy_m.2.1.1", "5", "target_xy_m[2][1][1]", "'5'"),
     ("moc.3", 1.5, "moc[3]", "fractions"),
     ("trackers.0", True, "trackers[0]", "True"),
