@@ -31,6 +31,7 @@ from numba import njit
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
 from searchtrack.estimate.labelled_motion import propagate
 from searchtrack.estimate.labelled_particles import LabelledParticles, resample
+from searchtrack.models.radio import propagate as model_propagate
 from searchtrack.plan.radio.divergences import label_radii
 from searchtrack.plan.radio.problem import EXISTENCE_THRESHOLD, RadioPlanProblem, keep_out_radii
 
@@ -140,6 +141,20 @@ def _disc_mass(x: FloatArray, y: FloatArray, w: FloatArray, centres: FloatArray,
 
 def look_ahead(problem: RadioPlanProblem, rng: np.random.Generator) -> LookAhead:
     """Draw, predict and estimate the look-ahead cloud of ``problem`` (module docstring)."""
+    return LookAhead(*look_ahead_arrays(problem, rng))
+
+
+LookAheadArrays = tuple[FloatArray, IntArray, FloatArray, FloatArray, BoolArray, FloatArray,
+                        IntArray, FloatArray]
+"""The fields of a :class:`LookAhead`, in order, read-only."""
+
+
+def look_ahead_arrays(problem: RadioPlanProblem, rng: np.random.Generator, *,
+                      fused: bool = True) -> LookAheadArrays:
+    """The fields of the look-ahead of ``problem``, the cloud propagated by the filter's fused
+    step (:func:`~searchtrack.estimate.labelled_motion.propagate`) or, with ``fused`` false, by
+    the motion model's NumPy step (:func:`searchtrack.models.radio.motion.propagate`): the same
+    draws either way."""
     sc = problem.scenario
     st = problem.settings
     n_p = problem.steps_per_interval
@@ -156,7 +171,10 @@ def look_ahead(problem: RadioPlanProblem, rng: np.random.Generator) -> LookAhead
     est_frame = np.empty((st.horizon, n_labels), dtype=np.int64)
     buffers = ((x, mode, tau), (np.empty_like(x), np.empty_like(mode), np.empty_like(tau)))
     for t in range(total):
-        x, mode, tau = propagate(sc.motion, x, mode, tau, rng, out=buffers[(t + 1) % 2])
+        if fused:
+            x, mode, tau = propagate(sc.motion, x, mode, tau, rng, out=buffers[(t + 1) % 2])
+        else:
+            x, mode, tau = model_propagate(sc.motion, x, mode, tau, rng)
         xy[t] = x[:, :, ::2]
         if (t + 1) % n_p == 0:
             j = (t + 1) // n_p - 1
@@ -167,4 +185,4 @@ def look_ahead(problem: RadioPlanProblem, rng: np.random.Generator) -> LookAhead
     arrays = (xy, frames, r, w, r > EXISTENCE_THRESHOLD, est_xy, est_frame, radii)
     for arr in arrays:
         arr.setflags(write=False)
-    return LookAhead(*arrays)
+    return arrays

@@ -22,44 +22,19 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from searchtrack.core.types import FloatArray
-from searchtrack.estimate.labelled_particles import LabelledParticles, resample
-from searchtrack.models.radio import RadioSignal, propagate
+from searchtrack.models.radio import RadioSignal
 from searchtrack.plan.radio.divergences import disc_mass, label_radii
 from searchtrack.plan.radio.ideal import IdealLikelihood, amplitudes
 from searchtrack.plan.radio.kernels import ideal_log_likelihoods
-from searchtrack.plan.radio.lookahead import LookAhead
-from searchtrack.plan.radio.problem import EXISTENCE_THRESHOLD, RadioPlanProblem, keep_out_radii
+from searchtrack.plan.radio.lookahead import LookAhead, look_ahead_arrays
+from searchtrack.plan.radio.problem import RadioPlanProblem
 from searchtrack.plan.radio.tree import Actions, Nodes, Scorer
 
 
 def reference_look_ahead(problem: RadioPlanProblem, rng: np.random.Generator) -> LookAhead:
     """The look-ahead cloud of ``problem`` propagated by the motion model's NumPy step."""
-    sc = problem.scenario
-    st = problem.settings
-    n_p = problem.steps_per_interval
-    total = problem.n_poses
-    drawn = resample(problem.belief, rng, st.plan_particles)
-    x, mode, tau = drawn.x, drawn.mode, drawn.tau
-    w = drawn.w
-    r = np.array(problem.belief.r, dtype=np.float64)
-    radii = keep_out_radii(x[:, :, ::2], r, st)
-    n_labels, n = w.shape
-    xy = np.empty((total, n_labels, n, 2))
-    frames = np.empty((st.horizon, n_labels, n), dtype=np.int64)
-    est_xy = np.empty((st.horizon, n_labels, 2))
-    est_frame = np.empty((st.horizon, n_labels), dtype=np.int64)
-    for t in range(total):
-        x, mode, tau = propagate(sc.motion, x, mode, tau, rng)
-        xy[t] = x[:, :, ::2]
-        if (t + 1) % n_p == 0:
-            j = (t + 1) // n_p - 1
-            cloud = LabelledParticles(x, mode, tau, w, r)
-            frames[j] = sc.signal.frame_of(tau)
-            est_xy[j] = cloud.mean_xy()
-            est_frame[j] = cloud.frame_mode(sc.signal)
-    arrays = (xy, frames, r, w, r > EXISTENCE_THRESHOLD, est_xy, est_frame, radii)
-    for arr in arrays:
-        arr.setflags(write=False)
+    arrays = look_ahead_arrays(problem, rng, fused=False)
+    xy, radii, total = arrays[0], arrays[-1], problem.n_poses
     trees = tuple(cKDTree(xy[t].reshape(-1, 2), balanced_tree=False, compact_nodes=False)
                   for t in range(total)) if radii.max() > 0 else ()
     return TreeLookAhead(*arrays, trees=trees)
