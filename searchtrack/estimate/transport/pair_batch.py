@@ -35,6 +35,7 @@ from searchtrack.estimate.transport.simplex_kernels import (
     init_tree,
     pivots,
     refresh,
+    work_arrays,
 )
 from searchtrack.estimate.transport.simplex_start import start_tree
 
@@ -57,20 +58,8 @@ def solve_pair(cost: FloatArray, supply: FloatArray, nrows: int, ncols: int,
     if nrows == 0 or ncols == 0:
         return FALLBACK, math.nan
     art_cost = (cost.max() + 1.0) * n
-    art_up = np.zeros(n, dtype=np.int8)
-    parent = np.empty(n + 1, dtype=np.int64)
-    pred = np.empty(n + 1, dtype=np.int64)
-    up = np.zeros(n + 1, dtype=np.int8)
-    depth = np.empty(n + 1, dtype=np.int64)
-    pi = np.empty(n + 1, dtype=np.float64)
-    tree_flow = np.zeros(n + 1, dtype=np.float64)
-    first_child = np.empty(n + 1, dtype=np.int64)
-    next_sib = np.full(n + 1, -1, dtype=np.int64)
-    prev_sib = np.full(n + 1, -1, dtype=np.int64)
-    state = np.ones(n_real, dtype=np.int8)
-    cursor = np.zeros(1, dtype=np.int64)
-    stack = np.empty(n + 1, dtype=np.int64)
-    stem = np.empty(n + 1, dtype=np.int64)
+    (art_up, parent, pred, up, depth, pi, tree_flow, first_child, next_sib, prev_sib, state,
+     cursor, stack, stem) = work_arrays(n, n_real)
     empty = np.zeros(0, dtype=np.int64)
     # potentials computed from the tree by refresh need no second refresh before a clean
     # pricing pass proves the start optimal (min_cost_flow refreshes once more: same values)

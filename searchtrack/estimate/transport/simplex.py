@@ -129,20 +129,8 @@ def min_cost_flow(
     head_a = empty if head is None else head
     max_cost = float(cost.max()) if n_real else 0.0
     art_cost = (max_cost + 1.0) * max(n, 1)
-    art_up = np.zeros(n, dtype=np.int8)
-    parent = np.empty(n + 1, dtype=np.int64)
-    pred = np.empty(n + 1, dtype=np.int64)
-    up = np.zeros(n + 1, dtype=np.int8)
-    depth = np.empty(n + 1, dtype=np.int64)
-    pi = np.empty(n + 1, dtype=np.float64)
-    tree_flow = np.zeros(n + 1, dtype=np.float64)
-    first_child = np.empty(n + 1, dtype=np.int64)
-    next_sib = np.full(n + 1, -1, dtype=np.int64)
-    prev_sib = np.full(n + 1, -1, dtype=np.int64)
-    state = np.ones(n_real, dtype=np.int8)
-    cursor = np.zeros(1, dtype=np.int64)
-    stack = np.empty(n + 1, dtype=np.int64)
-    stem = np.empty(n + 1, dtype=np.int64)
+    (art_up, parent, pred, up, depth, pi, tree_flow, first_child, next_sib, prev_sib, state,
+     cursor, stack, stem) = kernels.work_arrays(n, n_real)
     if ncols > 0 and n_real > 0 and least_cost_start and start_tree(
             supply, cost, nrows, ncols, art_up, parent, pred, up, depth, tree_flow,
             first_child, next_sib, prev_sib, state, stack):

@@ -24,6 +24,22 @@ EPS = 1e-14  # pricing tolerance, relative to max(|cost|, |potentials|) of the a
 OPTIMAL, MORE, UNBOUNDED = 0, 1, 2
 
 
+@njit(cache=True)
+def work_arrays(n: int, n_real: int) -> tuple[
+        NDArray[np.int8], IntArray, IntArray, NDArray[np.int8], IntArray, FloatArray, FloatArray,
+        IntArray, IntArray, IntArray, NDArray[np.int8], IntArray, IntArray, IntArray]:
+    """The work arrays of a network simplex on ``n`` nodes and ``n_real`` real arcs:
+    ``(art_up, parent, pred, up, depth, pi, tree_flow, first_child, next_sib, prev_sib, state,
+    cursor, stack, stem)``, the tree's over ``n + 1`` nodes (the artificial root last)."""
+    return (np.zeros(n, dtype=np.int8), np.empty(n + 1, dtype=np.int64),
+            np.empty(n + 1, dtype=np.int64), np.zeros(n + 1, dtype=np.int8),
+            np.empty(n + 1, dtype=np.int64), np.empty(n + 1, dtype=np.float64),
+            np.zeros(n + 1, dtype=np.float64), np.empty(n + 1, dtype=np.int64),
+            np.full(n + 1, -1, dtype=np.int64), np.full(n + 1, -1, dtype=np.int64),
+            np.ones(n_real, dtype=np.int8), np.zeros(1, dtype=np.int64),
+            np.empty(n + 1, dtype=np.int64), np.empty(n + 1, dtype=np.int64))
+
+
 @njit(cache=True, inline="always")
 def _ends(
     e: int, tail: IntArray, head: IntArray, ncols: int, nrows: int, n_real: int, root: int,
