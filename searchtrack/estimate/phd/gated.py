@@ -35,6 +35,24 @@ def _cell(v: float, lo: float, inv: float, m: int) -> int:
     return min(int(q), m - 1)
 
 
+@nb.njit(cache=True, inline="always")
+def _grid_cell(x0: float, x1: float, glo: FloatArray, inv0: float, inv1: float,
+               gshape: IntArray) -> int:
+    """Flat index of the grid cell of the point ``(x0, x1)``."""
+    cols: int = gshape[1]
+    return _cell(x0, glo[0], inv0, gshape[0]) * cols + _cell(x1, glo[1], inv1, cols)
+
+
+@nb.njit(cache=True, inline="always")
+def _exponent(z: FloatArray, j: int, x0: float, x1: float, qscale: float) -> float:
+    """The Gaussian's exponent ``qscale · ‖z_j − (x0, x1)‖²`` (summed in this order)."""
+    e: float = z[j, 0] - x0
+    e *= e
+    dy: float = z[j, 1] - x1
+    e += dy * dy
+    return e * qscale
+
+
 @nb.njit(cache=True)
 def measurement_grid(z: FloatArray, lo: FloatArray, size: FloatArray, shape: IntArray,
                      gate: float) -> tuple[IntArray, IntArray]:
@@ -115,16 +133,10 @@ def gate_sums(x: FloatArray, w: FloatArray, pd: float, area: FloatArray, z: Floa
             sus[ch, s] += u
             for col in range(d):
                 sux[ch, col] += u * x[i, col]
-            c0 = _cell(x0, glo[0], inv0, gshape[0])
-            c1 = _cell(x1, glo[1], inv1, gshape[1])
-            q = c0 * gshape[1] + c1
+            q = _grid_cell(x0, x1, glo, inv0, inv1, gshape)
             for t in range(start[q], start[q + 1]):
                 j = order[t]
-                e = z[j, 0] - x0
-                e *= e
-                dy = z[j, 1] - x1
-                e += dy * dy
-                e *= qscale
+                e = _exponent(z, j, x0, x1, qscale)
                 if e > qmin:
                     v = (np.exp(e) * norm - floor) * u
                     gz[ch, j] += v
@@ -167,16 +179,10 @@ def correct_particles(x: FloatArray, w: FloatArray, prior: FloatArray, pd: float
                 took = u * (floor * inv_sum)
                 best = (floor * u) / cz[zstar]
                 jbest = zstar
-                c0 = _cell(x0, glo[0], inv0, gshape[0])
-                c1 = _cell(x1, glo[1], inv1, gshape[1])
-                q = c0 * gshape[1] + c1
+                q = _grid_cell(x0, x1, glo, inv0, inv1, gshape)
                 for t in range(start[q], start[q + 1]):
                     j = order[t]
-                    e = z[j, 0] - x0
-                    e *= e
-                    dy = z[j, 1] - x1
-                    e += dy * dy
-                    e *= qscale
+                    e = _exponent(z, j, x0, x1, qscale)
                     if e > qmin:
                         g = np.exp(e) * norm
                         part = ((g - floor) * u) / cz[j]
