@@ -100,19 +100,25 @@ def _area(value: ArrayLike) -> tuple[float, float]:
 
 def _fly(model: UavModel, pose: FloatArray, targets: FloatArray, n: int) -> FloatArray:
     """``(A, n, 3)`` poses flying from ``pose`` toward each target heading."""
-    x = np.full(targets.shape, pose[0])
-    y = np.full(targets.shape, pose[1])
-    heading = np.full(targets.shape, pose[2])
+    return fly_toward(model, np.full(targets.shape, pose[0]), np.full(targets.shape, pose[1]),
+                      np.full(targets.shape, pose[2]), targets, n)
+
+
+def fly_toward(model: UavModel, x: FloatArray, y: FloatArray, heading: FloatArray,
+               targets: FloatArray, n: int) -> FloatArray:
+    """``(*S, n, 3)`` poses of ``n`` steps from the poses ``(x, y, heading)`` toward the target
+    headings, element-wise over arrays of one shape ``S``: each step turns toward the target
+    by at most ``ω_max Δt`` and flies ``v Δt`` along the chord of the turn."""
     max_turn = model.max_turn_rate * model.step_s
     length = model.speed_mps * model.step_s
-    out = np.empty((targets.size, n, 3))
+    out = np.empty((*targets.shape, n, 3))
     for i in range(n):
         turn = np.clip(wrap_angle(targets - heading), -max_turn, max_turn)
         chord = heading + turn / 2.0
         x = x + length * np.cos(chord)
         y = y + length * np.sin(chord)
         heading = wrap_angle(heading + turn)
-        out[:, i, 0], out[:, i, 1], out[:, i, 2] = x, y, heading
+        out[..., i, 0], out[..., i, 1], out[..., i, 2] = x, y, heading
     return out
 
 

@@ -32,7 +32,7 @@ import numpy as np
 from searchtrack.core.angles import wrap_angle
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
 from searchtrack.models.radio import RadioSignal, UavModel, primitives
-from searchtrack.models.radio.uav import OUTSIDE_TIE_M
+from searchtrack.models.radio.uav import OUTSIDE_TIE_M, fly_toward
 from searchtrack.plan.radio.divergences import cauchy_schwarz, renyi
 from searchtrack.plan.radio.fused import score_children
 from searchtrack.plan.radio.ideal import (
@@ -250,19 +250,8 @@ def batch_primitives(model: UavModel, poses: FloatArray,
     n_headings, n = model.n_headings, model.steps_per_plan
     deltas = -np.pi + 2.0 * np.pi * np.arange(n_headings) / n_headings
     targets = wrap_angle(poses[:, 2:3] + deltas)                          # (B, A)
-    x = np.repeat(poses[:, 0:1], n_headings, axis=1)
-    y = np.repeat(poses[:, 1:2], n_headings, axis=1)
-    heading = np.repeat(poses[:, 2:3], n_headings, axis=1)
-    max_turn = model.max_turn_rate * model.step_s
-    length = model.speed_mps * model.step_s
-    paths = np.empty((*targets.shape, n, 3))
-    for i in range(n):
-        turn = np.clip(wrap_angle(targets - heading), -max_turn, max_turn)
-        chord = heading + turn / 2.0
-        x = x + length * np.cos(chord)
-        y = y + length * np.sin(chord)
-        heading = wrap_angle(heading + turn)
-        paths[:, :, i, 0], paths[:, :, i, 1], paths[:, :, i, 2] = x, y, heading
+    x, y, heading = (np.repeat(poses[:, k:k + 1], n_headings, axis=1) for k in range(3))
+    paths = fly_toward(model, x, y, heading, targets, n)
     width, height = float(area_m[0]), float(area_m[1])
     px, py = paths[..., 0], paths[..., 1]
     inside = np.all((px >= 0.0) & (px <= width) & (py >= 0.0) & (py <= height), axis=2)
