@@ -129,8 +129,7 @@ def draw(out: Path = GALLERY, names: list[str] | None = None, workers: int = 2) 
         return []
     stamp.unlink(missing_ok=True)
     with ThreadPoolExecutor(max_workers=workers) as pool:
-        for finished in pool.map(lambda job: _run(job, out), jobs):
-            del finished
+        list(pool.map(lambda job: _run(job, out), jobs))   # raises the first job's failure
     if all((out / n).is_file() for n in FIGURES):
         stamp.write_text(current)
     return sorted(names)

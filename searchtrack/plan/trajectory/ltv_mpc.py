@@ -322,10 +322,11 @@ def solve_ltv_mpc(problem: TrackingProblem, *, time_limit_s: float = 0.05,
     solved_native, done = native, 0
     nxs, nus = m.nx * (n + 1), m.nu * n
     a, b, c = _linearise(problem, xbar, ubar)
+    lay = _layout_of(problem)
     for _ in range(max(1, rounds)):
         normals, rhs = _obstacle_rows(problem, xbar)
-        lower, upper = _bounds(problem, _layout_of(problem), c, rhs)
-        vals = _values(_layout_of(problem), a, b, normals)
+        lower, upper = _bounds(problem, lay, c, rhs)
+        vals = _values(lay, a, b, normals)
         ws = _workspace(problem, q, vals, lower, upper)
         ws.solver.update(q=q, l=lower, u=upper, Ax=vals[ws.layout.perm])
         ws.solver.update_settings(time_limit=max(1e-4, deadline.remaining()))
