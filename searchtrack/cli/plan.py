@@ -136,7 +136,8 @@ def plan_command(args: argparse.Namespace, console: Console) -> int:
         raise SearchtrackError(f"--backend {args.backend!r}: unknown {args.family} backend; "
                                f"choose one of {list(names)}")
     problem = module.read_problem(Path(args.problem))
-    export.require_frame(args, jobs.geo_projection(module, problem))   # read, not solved
+    projection = jobs.geo_projection(module, problem)
+    export.require_frame(args, projection)   # read, not solved
     ready_kernels(console, module.KERNELS)
     with console.status(f"solving {args.family} problem {Path(args.problem).name} with "
                         f"{args.backend} ({args.time_limit:g} s)"):
@@ -158,7 +159,7 @@ def plan_command(args: argparse.Namespace, console: Console) -> int:
         if not paths.paths:
             console.print(f"nothing to export: the {args.family} plan moves no vehicle")
         else:
-            frame = export.geo_frame(args, jobs.geo_projection(module, problem), args.altitude)
+            frame = export.geo_frame(args, projection, args.altitude)
             export.write_files(exports, path_files(paths, frame, args.speed), console)
     return exit_status(result)
 
