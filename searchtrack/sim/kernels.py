@@ -145,7 +145,7 @@ KERNEL_SETS: dict[str, KernelSet] = {s.name: s for s in (
                "searchtrack.estimate.transport.dijkstra_kernels",
                "searchtrack.estimate.transport.simplex_start",
                "searchtrack.estimate.transport.pair_batch",
-               "searchtrack.estimate.signatures"), _warm_simplex),
+               "searchtrack.estimate.signature_kernels"), _warm_simplex),
     KernelSet(ROAD_FILTER_KERNELS, "road particle filter",
               ("searchtrack.estimate.road_filter_kernels",
                "searchtrack.estimate.road_resample_kernels", "searchtrack.estimate.road_births"),

@@ -45,6 +45,15 @@ _JUNCTION_CSR: weakref.WeakKeyDictionary[RoadMetric, tuple[IntArray, IntArray, F
     weakref.WeakKeyDictionary())
 
 
+def sorted_unique(values: IntArray) -> IntArray:
+    """The distinct entries of ``values``, ascending: ``np.unique`` by a sort, which is several
+    times faster than NumPy's hash-based ``unique`` on the few hundred nodes of a support."""
+    out = np.sort(values)
+    if out.size:
+        out = out[np.concatenate(([True], out[1:] != out[:-1]))]
+    return out
+
+
 def graph_arrays(network: RoadNetwork) -> tuple[IntArray, IntArray, FloatArray]:
     """``(indptr, indices, lengths)`` of the network's CSR adjacency, as the kernel takes them
     (made once per network)."""
@@ -77,8 +86,8 @@ def chain_distances(metric: RoadMetric, sources: IntArray, targets: IntArray,
     (module docstring); ``inf`` beyond ``limit`` or across components."""
     src_a, src_b = metric.end_a[sources], metric.end_b[sources]
     dst_a, dst_b = metric.end_a[targets], metric.end_b[targets]
-    ends = np.unique(np.concatenate([src_a, src_b]))
-    reached = np.unique(np.concatenate([dst_a, dst_b]))
+    ends = sorted_unique(np.concatenate([src_a, src_b]))
+    reached = sorted_unique(np.concatenate([dst_a, dst_b]))
     indptr, indices, lengths = junction_arrays(metric)
     col = np.full(metric.junctions.size, -1, dtype=np.int64)
     col[reached] = np.arange(reached.size, dtype=np.int64)
@@ -155,8 +164,8 @@ class PairBlocks:
             key = self.partners[k].tobytes()  # sources with the same partners share targets
             targets = self.targets.get(key)
             if targets is None:
-                targets = np.unique(np.concatenate([self.dst_sigs[m].nodes
-                                                    for m in self.partners[k]]))
+                targets = sorted_unique(np.concatenate([self.dst_sigs[m].nodes
+                                                        for m in self.partners[k]]))
                 self.targets[key] = targets
             self.blocks[k] = targets, self._distances(self.src_sigs[k].nodes, targets,
                                                       self.limit)
