@@ -56,6 +56,7 @@ import numpy as np
 from numba import njit
 
 from searchtrack.core import checks
+from searchtrack.core.kernel_cache import follow_callees
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.road_filter_kernels import MAX_EXPONENT
 from searchtrack.estimate.road_jumps import disc_intervals, join_draws
@@ -320,3 +321,5 @@ def _births(edge: IntArray, s: FloatArray, w: FloatArray, count: IntArray, lik: 
             acc += out_w[f, j]
         sums[f] = acc
 
+
+follow_callees(__name__, globals())

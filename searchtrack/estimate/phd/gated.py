@@ -21,6 +21,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from searchtrack.core.kernel_cache import follow_callees
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.phd.kernels import CHUNK
 
@@ -225,3 +226,6 @@ def final_tags(best_share: FloatArray, w: FloatArray, owner: IntArray, keeper: I
                 t = offset + m
         out[i] = t
     return out
+
+
+follow_callees(__name__, globals())

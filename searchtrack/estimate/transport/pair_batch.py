@@ -27,6 +27,7 @@ from numba import njit, prange
 from numpy.typing import NDArray
 
 from searchtrack.core.deadline import Deadline
+from searchtrack.core.kernel_cache import follow_callees
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
 from searchtrack.estimate.transport.road_blocks import PairBlocks
 from searchtrack.estimate.transport.simplex_kernels import (
@@ -259,3 +260,6 @@ def warm_up() -> None:
     source_pairs(np.array([[1.0, 2.0]]), True, np.array([1.0]), np.zeros(1, np.int64),
                  np.array([3, 4], np.int64), np.array([0.5, 0.5]), np.array([0, 2], np.int64),
                  np.array([3, 4], np.int64), math.inf, _MAX_CHUNKS, values, codes)
+
+
+follow_callees(__name__, globals())

@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from searchtrack.core.kernel_cache import follow_callees
 from searchtrack.plan.optw.labelling_primitives import (
     clock,
     completion,
@@ -284,3 +285,6 @@ def label_pass(  # type: ignore[no-untyped-def]
             break
     return (status, lb, best, sinks, n_sinks, lv, lp, par, n_lab, own, pops, work[0], found,
             n_found)
+
+
+follow_callees(__name__, globals())

@@ -28,6 +28,7 @@ from functools import cached_property
 import numpy as np
 from numba import njit
 
+from searchtrack.core.kernel_cache import follow_callees
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
 from searchtrack.estimate.labelled_motion import propagate
 from searchtrack.estimate.labelled_particles import LabelledParticles, resample
@@ -186,3 +187,6 @@ def look_ahead_arrays(problem: RadioPlanProblem, rng: np.random.Generator, *,
     for arr in arrays:
         arr.setflags(write=False)
     return arrays
+
+
+follow_callees(__name__, globals())
