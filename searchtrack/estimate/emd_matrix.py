@@ -217,13 +217,14 @@ def _solve(problem: EMDMatrixProblem, method: str, time_limit_s: float) -> Resul
                    else _TransportPairs(metric, sig_t, sig_q, pairs, gate_m))
     batched, done = (pair_solver.batch(pairs, gate_m, deadline)
                      if isinstance(pair_solver, _TransportPairs) else (None, None))
-    inexact = 0
+    inexact = timed_out = 0
     for n, (i, j) in enumerate(pairs):
         if done is not None and batched is not None and done[n]:
             out[i, j] = batched[n]
             continue
         if deadline.expired():
             unsolved[i, j] = True
+            timed_out += 1
             continue
         assert pair_solver is not None
         value, exact = pair_solver(int(i), int(j), sig_t[i], sig_q[j], gate_m, deadline)
@@ -231,9 +232,12 @@ def _solve(problem: EMDMatrixProblem, method: str, time_limit_s: float) -> Resul
         unsolved[i, j] = exact is None
         inexact += exact is False
     late = int(unsolved.sum())
-    if late:
-        log.warning("emd_matrix: %d of %d pairs left unsolved at +inf (time limit %.3g s or "
-                    "solver failure)", late, len(pairs), time_limit_s)
+    if timed_out:
+        log.warning("emd_matrix: %d of %d pairs left unsolved at +inf: time limit %.3g s "
+                    "reached", timed_out, len(pairs), time_limit_s)
+    if late > timed_out:
+        log.warning("emd_matrix: %d of %d pairs left unsolved at +inf: the pair solver "
+                    "failed (see the warnings above)", late - timed_out, len(pairs))
     out.setflags(write=False)
     unsolved.setflags(write=False)
     finite = out[np.isfinite(out)]

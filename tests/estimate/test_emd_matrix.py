@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 import math
 
 import numpy as np
@@ -142,13 +143,17 @@ def test_catalogue_every_backend_proves_a_known_matrix(backend: str) -> None:
     assert result.objective == pytest.approx(50.0)
 
 
-def test_unsolved_pairs_are_reported_not_hidden() -> None:
-    """A matrix cut off by its time limit is FEASIBLE, and marks the pairs it left at +inf."""
+def test_unsolved_pairs_are_reported_not_hidden(caplog: pytest.LogCaptureFixture) -> None:
+    """A matrix cut off by its time limit is FEASIBLE, marks the pairs it left at +inf, and
+    says the time limit (not the solver) left them."""
     net = line_network([10.0] * 4)
     problem = EMDMatrixProblem.build(net, np.eye(5)[[2]], np.eye(5)[[0]])
-    result = solve_emd_matrix(problem, time_limit_s=1e-9)
+    with caplog.at_level(logging.WARNING, logger="searchtrack.estimate.emd_matrix"):
+        result = solve_emd_matrix(problem, time_limit_s=1e-9)
     assert result.status is Status.FEASIBLE and result.plan is not None
     assert result.plan.unsolved.tolist() == [[True]] and "unsolved" in result.message
+    assert [r.getMessage() for r in caplog.records] == [
+        "emd_matrix: 1 of 1 pairs left unsolved at +inf: time limit 1e-09 s reached"]
 
 
 @pytest.mark.parametrize(("change", "field"), [
