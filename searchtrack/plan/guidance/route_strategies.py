@@ -10,7 +10,12 @@ climbing its gradient (5.12):
 - ``route_loiter``: paired UAVs loiter over their tracker's peak (5.15);
 - ``route_search_and_loiter``: paired UAVs loiter while their peak is ≤ ``ϱ`` (5.16);
 - ``route_search_and_reacquire``: as ``route_search_and_loiter``, but a fading tracker's UAV
-  flies its reacquisition route (5.33), exactly as search-and-reacquire.
+  flies its reacquisition route (5.33), exactly as search-and-reacquire;
+- ``route_partition_search``, ``route_partition_loiter``: as ``route_search`` and
+  ``route_loiter``, but the searching UAVs split the mass by a balanced partition and value
+  time in their prizes (:mod:`~searchtrack.plan.guidance.search_partition`): a UAV that plans
+  sees only the cells it owns, each worth its mass discounted by the earliest arrival, and
+  when none lies within the look-ahead it doubles the look-ahead (a few times) to reach them.
 
 The rule's paired UAVs are held exactly as in the thesis strategy. A UAV the rule leaves
 searching keeps its :class:`~searchtrack.plan.guidance.search_routes.SearchRoute` (mode
@@ -40,6 +45,7 @@ from __future__ import annotations
 import logging
 
 import numpy as np
+from numpy.typing import NDArray
 
 from searchtrack.core.deadline import Deadline
 from searchtrack.core.registry import MAX_SEED, SolveFn
@@ -47,6 +53,7 @@ from searchtrack.core.result import Result
 from searchtrack.core.types import FloatArray
 from searchtrack.plan.guidance.pairing import pair_checked
 from searchtrack.plan.guidance.problem import GuidanceProblem
+from searchtrack.plan.guidance.search_partition import balanced_partition
 from searchtrack.plan.guidance.search_routes import (
     SearchRoute,
     near_peaks,
@@ -68,16 +75,35 @@ from searchtrack.plan.optw.solve import checked, warm_up
 
 log = logging.getLogger("searchtrack.plan.guidance.route_strategies")
 
+#: The partitioned strategies double a UAV's look-ahead at most this many times to reach its
+#: part of the partition.
+REACH_DOUBLINGS = 3
+#: The least share of the heaviest cell's mass a cell holds to be partitioned (the search
+#: OPTW's ``min_share``).
+MIN_SHARE = 1e-3
+
 
 def plan_search(problem: GuidanceProblem, uav: int, mass: FloatArray, claimed: list[int],
-                rng: np.random.Generator, budget: Deadline, waiting: int) -> tuple[int, ...]:
+                rng: np.random.Generator, budget: Deadline, waiting: int,
+                keep: NDArray[np.bool_] | None = None) -> tuple[int, ...]:
     """Plan ``uav``'s search route over the field's ``mass``, leaving out the cells of the
     ``claimed`` nodes; the OPTW gets an equal share of what is left of ``budget`` among the
-    ``waiting`` plans still to make (this one included). Empty when nothing is planned."""
+    ``waiting`` plans still to make (this one included). Empty when nothing is planned.
+
+    With ``keep`` (the cells of the UAV's part of the partition) the prizes are discounted by
+    the earliest arrival (``search_discount_s``) and only the kept cells are candidates; when
+    none lies within the look-ahead, the look-ahead is doubled (up to
+    :data:`REACH_DOUBLINGS` times) until one does."""
     cfg, view = problem.config, problem.view
-    inst, node_ids = search_instance(
-        problem.search_cells, mass, view.uav_xy_m[uav], cfg.speed_mps, cfg.search_horizon_s,
-        max_nodes=cfg.search_route_nodes, serve_m=cfg.serve_m, exclude=claimed)
+    horizon = cfg.search_horizon_s
+    for _ in range(1 + (REACH_DOUBLINGS if keep is not None else 0)):
+        inst, node_ids = search_instance(
+            problem.search_cells, mass, view.uav_xy_m[uav], cfg.speed_mps, horizon,
+            max_nodes=cfg.search_route_nodes, serve_m=cfg.serve_m, exclude=claimed, keep=keep,
+            discount_s=None if keep is None else cfg.search_discount_s)
+        if inst.n > 1:
+            break
+        horizon *= 2.0
     seed = int(rng.integers(0, MAX_SEED))
     if inst.n == 1:
         return ()
@@ -93,11 +119,31 @@ def plan_search(problem: GuidanceProblem, uav: int, mass: FloatArray, claimed: l
     return nodes
 
 
-def route_search(rule: ModeRule, name: str, *, reacquire: bool = False
-                 ) -> SolveFn[GuidanceProblem, Guidance]:
+def partition_cells(problem: GuidanceProblem, mass: FloatArray, searchers: list[int]
+                    ) -> dict[int, NDArray[np.bool_]]:
+    """Per searching UAV, the cells it owns: the cells holding at least the search OPTW's
+    least share of the heaviest cell's mass, split by
+    :func:`~searchtrack.plan.guidance.search_partition.balanced_partition` among the
+    ``searchers`` where they are now."""
+    cells = problem.search_cells
+    total, vertex = cells.prizes(mass)
+    massive = np.flatnonzero((total > 0.0) & (total >= MIN_SHARE * total.max()))
+    owner = balanced_partition(problem.view.network.coords[vertex[massive]], total[massive],
+                               problem.view.uav_xy_m[searchers])
+    owned = {}
+    for i, j in enumerate(searchers):
+        keep = np.zeros(cells.n_cells, dtype=bool)
+        keep[massive[owner == i]] = True
+        owned[j] = keep
+    return owned
+
+
+def route_search(rule: ModeRule, name: str, *, reacquire: bool = False,
+                 partitioned: bool = False) -> SolveFn[GuidanceProblem, Guidance]:
     """The backend that holds the UAVs ``rule`` pairs as the thesis strategy does (and, with
     ``reacquire``, flies fading trackers' reacquisition routes) while the others fly search
-    routes (module docstring)."""
+    routes (module docstring); with ``partitioned``, over their part of the partition with
+    discounted prizes (:mod:`~searchtrack.plan.guidance.search_partition`)."""
 
     def solve(problem: GuidanceProblem, *, time_limit_s: float, seed: int) -> Result[Guidance]:
         clock = Deadline(time_limit_s)
@@ -124,10 +170,13 @@ def route_search(rule: ModeRule, name: str, *, reacquire: bool = False
         if due:
             peaks = [view.bank[t].peak_node() for t in range(len(view.bank))]
             mass = search_mass(view.field, near_peaks(view.network, peaks, cfg.sensor_range_m))
+        owned = partition_cells(problem, mass, searching) if partitioned and mass is not None \
+            else {}
         for k, j in enumerate(due):
             assert mass is not None
             claimed = [v for r in kept.values() for v in r.nodes]
-            nodes = plan_search(problem, j, mass, claimed, rng, budget, len(due) - k)
+            nodes = plan_search(problem, j, mass, claimed, rng, budget, len(due) - k,
+                                owned.get(j))
             if nodes:
                 kept[j] = SearchRoute(j, nodes, view.time_s)
         plans += len(due)
@@ -152,3 +201,7 @@ solve_route_loiter = route_search(loiter_modes, "route_loiter")
 solve_route_search_and_loiter = route_search(search_and_loiter_modes, "route_search_and_loiter")
 solve_route_search_and_reacquire = route_search(search_and_loiter_modes,
                                                 "route_search_and_reacquire", reacquire=True)
+solve_route_partition_search = route_search(search_modes, "route_partition_search",
+                                            partitioned=True)
+solve_route_partition_loiter = route_search(loiter_modes, "route_partition_loiter",
+                                            partitioned=True)

@@ -45,6 +45,7 @@ from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.belief import SearchField
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.guidance.reacquire import reacquisition_instance
+from searchtrack.plan.guidance.search_partition import discounted_prize
 from searchtrack.plan.optw.instance import OPTWInstance
 
 
@@ -150,6 +151,8 @@ def search_instance(
     serve_m: float = 0.0,
     exclude: ArrayLike = (),
     min_share: float = 1e-3,
+    keep: ArrayLike | None = None,
+    discount_s: float | None = None,
 ) -> tuple[OPTWInstance, NDArray[np.int64]]:
     """The search OPTW of one UAV and the road node of each vertex (module docstring).
 
@@ -160,6 +163,12 @@ def search_instance(
     their mass. Windows ``[0, horizon_s]``, Euclidean travel at
     ``speed_mps``, open end (as :func:`~searchtrack.plan.guidance.reacquire.
     reacquisition_instance`, which builds it).
+
+    The partitioned route strategies (:mod:`~searchtrack.plan.guidance.search_partition`)
+    pass ``keep``, a boolean per cell (only those cells may be candidates: the UAV's part of
+    the partition), and ``discount_s``, the discount time ``τ``: the candidates are then the
+    heaviest by their discounted prize ``m / (1 + d/(S τ))`` (``d`` the straight-line distance
+    to the cell's vertex, ``S`` = ``speed_mps``), which is also their score.
     """
     xy = np.asarray(uav_xy_m, dtype=np.float64)
     if xy.shape != (2,) or not np.all(np.isfinite(xy)):
@@ -182,10 +191,17 @@ def search_instance(
     ok = (total > 0.0) & (dist <= speed * float(horizon_s)) & (dist > serve_m)
     ok[cells.cell_of[skip]] = False
     ok &= total >= min_share * total.max()
+    if keep is not None:
+        mine = np.asarray(keep)
+        if mine.dtype != np.bool_ or mine.shape != total.shape:
+            raise InvalidInputError("keep", keep, f"must be one boolean per cell, shape "
+                                    f"{total.shape}")
+        ok &= mine
+    score = total if discount_s is None else discounted_prize(total, dist / speed, discount_s)
     chosen = np.flatnonzero(ok)
-    chosen = chosen[np.lexsort((chosen, dist[chosen], -total[chosen]))][:k]
+    chosen = chosen[np.lexsort((chosen, dist[chosen], -score[chosen]))][:k]
     prize = np.zeros(net.n_nodes)
-    prize[vertex[chosen]] = total[chosen]
+    prize[vertex[chosen]] = score[chosen]
     return reacquisition_instance(net, prize, xy, speed, float(horizon_s), max_nodes=k,
                                   support_mass=1.0)
 

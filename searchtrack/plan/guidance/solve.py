@@ -18,6 +18,8 @@ from searchtrack.core.result import Result
 from searchtrack.plan.guidance.problem import GuidanceProblem
 from searchtrack.plan.guidance.route_strategies import (
     solve_route_loiter,
+    solve_route_partition_loiter,
+    solve_route_partition_search,
     solve_route_search,
     solve_route_search_and_loiter,
     solve_route_search_and_reacquire,
@@ -52,6 +54,13 @@ BACKENDS.register(Backend("route_search_and_loiter", solve_route_search_and_loit
 BACKENDS.register(Backend("route_search_and_reacquire", solve_route_search_and_reacquire, False,
                           "as search-and-reacquire (5.33), searching UAVs flying OPTW search "
                           "routes"))
+BACKENDS.register(Backend("route_partition_search", solve_route_partition_search, False,
+                          "every UAV flies OPTW search routes over its part of a balanced "
+                          "partition of the search field's mass, prizes discounted by arrival"))
+BACKENDS.register(Backend("route_partition_loiter", solve_route_partition_loiter, False,
+                          "paired UAVs loiter (5.15), the rest fly OPTW search routes over their "
+                          "part of a balanced partition of the mass, prizes discounted by "
+                          "arrival"))
 
 
 def solve(problem: GuidanceProblem, *, backend: str = "search_and_reacquire",
@@ -65,7 +74,8 @@ def solve(problem: GuidanceProblem, *, backend: str = "search_and_reacquire",
     backend
         A name of :data:`BACKENDS`: ``"search"``, ``"loiter"``, ``"search_and_loiter"``,
         ``"search_and_reacquire"`` or a route strategy (``"route_search"``, ``"route_loiter"``,
-        ``"route_search_and_loiter"``, ``"route_search_and_reacquire"``).
+        ``"route_search_and_loiter"``, ``"route_search_and_reacquire"``, and their partitioned
+        variants ``"route_partition_search"``, ``"route_partition_loiter"``).
     time_limit_s
         The step's planning budget: the OPTW solves of the step (reacquisition, search) share
         it.

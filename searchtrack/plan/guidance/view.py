@@ -116,6 +116,10 @@ class StrategyConfig:
     search_serve_m
         A search route's first node counts as reached within this distance (m); ``None``
         means ``ρ/2``.
+    search_discount_s
+        Discount time ``τ`` (s) of the partitioned route strategies' search prizes, ``m / (1 +
+        t/τ)`` for a cell first reachable at ``t``
+        (:mod:`~searchtrack.plan.guidance.search_partition`); the other strategies ignore it.
     """
 
     sensor_range_m: float = 120.0
@@ -137,6 +141,7 @@ class StrategyConfig:
     search_route_nodes: int = 30
     search_cell_m: float | None = None
     search_serve_m: float | None = None
+    search_discount_s: float = 15.0
 
     def __post_init__(self) -> None:
         rho = positive("sensor_range_m", self.sensor_range_m)
@@ -162,6 +167,7 @@ class StrategyConfig:
             whole_count(name, getattr(self, name))
         set_(self, "coverage_weight", non_negative("coverage_weight", self.coverage_weight))
         check_search_settings(self)
+        positive("search_discount_s", self.search_discount_s)
         if self.search_cell_m is None:
             set_(self, "search_cell_m", math.sqrt(2.0) * rho)
         if self.search_serve_m is None:

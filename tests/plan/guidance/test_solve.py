@@ -46,11 +46,12 @@ def _problem(net: RoadNetwork, xy: list[list[float]], peaks: list[tuple[int, flo
 
 
 def test_catalogue_lists_the_strategies() -> None:
-    """The registry holds the four Ch. 5 strategies and the four route strategies, none of
-    them exact."""
+    """The registry holds the four Ch. 5 strategies, the four route strategies and the two
+    partitioned route strategies, none of them exact."""
     assert NAMES == ["search", "loiter", "search_and_loiter", "search_and_reacquire",
                      "route_search", "route_loiter", "route_search_and_loiter",
-                     "route_search_and_reacquire"]
+                     "route_search_and_reacquire", "route_partition_search",
+                     "route_partition_loiter"]
     assert all(not BACKENDS.get(n).exact and BACKENDS.get(n).description for n in NAMES)
 
 
@@ -79,10 +80,12 @@ def test_out_of_range_uav_springs_back_to_the_road(backend: str) -> None:
 
 STRONG = {"search": "search", "loiter": "loiter", "search_and_loiter": "search",
           "search_and_reacquire": "search", "route_search": "route", "route_loiter": "loiter",
-          "route_search_and_loiter": "route", "route_search_and_reacquire": "route"}
+          "route_search_and_loiter": "route", "route_search_and_reacquire": "route",
+          "route_partition_search": "route", "route_partition_loiter": "loiter"}
 FADING = {"search": "search", "loiter": "loiter", "search_and_loiter": "loiter",
           "search_and_reacquire": "reacquire", "route_search": "route", "route_loiter": "loiter",
-          "route_search_and_loiter": "loiter", "route_search_and_reacquire": "reacquire"}
+          "route_search_and_loiter": "loiter", "route_search_and_reacquire": "reacquire",
+          "route_partition_search": "route", "route_partition_loiter": "loiter"}
 
 
 
@@ -135,7 +138,8 @@ def test_two_uavs_one_tracker(backend: str) -> None:
                    time_limit_s=2.0, seed=3)
     g = result.plan
     assert g is not None and g.pairing.tracker == (0, -1)
-    # under route_search the paired UAV's route already takes the short road's every cell
+    # under route_search the paired UAV's route already takes the short road's every cell;
+    # under route_partition_search the partition leaves the other UAV its own cells
     assert g.mode == (FADING[backend],
                       "search" if backend == "route_search" else SEARCHING[backend])
 

@@ -57,7 +57,8 @@ def test_tracking_strategies_find_targets(world: World, strategy: str) -> None:
         b.track_id for b in log.births}
 
 
-@pytest.mark.parametrize("strategy", ["route_loiter", "route_search_and_reacquire"])
+@pytest.mark.parametrize("strategy", ["route_loiter", "route_search_and_reacquire",
+                                      "route_partition_loiter"])
 def test_route_strategies_fly_search_routes(world: World, strategy: str) -> None:
     """A short mission with a route strategy runs through, its searching UAVs flying planned
     search routes, and repeats exactly for its seed."""
