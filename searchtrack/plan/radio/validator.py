@@ -31,12 +31,12 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import i0e
+from scipy.special import expit, i0e
 
 from searchtrack.core.angles import wrap_angle
 from searchtrack.core.result import Result
 from searchtrack.core.types import FloatArray
-from searchtrack.estimate.labelled_particles import LabelledParticles, resample, update
+from searchtrack.estimate.labelled_particles import LabelledParticles, resample
 from searchtrack.models.radio import RadioSignal, propagate
 from searchtrack.models.radio.stft import ideal_stft
 from searchtrack.plan.radio.problem import RadioPlan, RadioPlanProblem
@@ -247,6 +247,21 @@ def _log_likelihoods(signal: RadioSignal, z: FloatArray, x: FloatArray, tau: Flo
     return out
 
 
+def _log_update(log_w: FloatArray, r: FloatArray,
+                log_lik: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Eqs. 29–30 with the weights kept as logarithms from one update to the next, so that a
+    particle whose weight falls below the smallest double is not lost to a later, stronger
+    likelihood: ``log η = log Σ exp(log w + log g)``, ``log w ← log w + log g − log η``,
+    ``r ← r η / (1 − r + r η)``."""
+    post = log_w + log_lik
+    peak = np.max(post, axis=1, keepdims=True)
+    log_eta = peak[:, 0] + np.log(np.sum(np.exp(post - peak), axis=1))
+    with np.errstate(divide="ignore"):  # r = 0 or 1 stay where they are
+        odds_against = np.log1p(-r) - np.log(r) - log_eta   # log((1 − r) / (r η))
+    out = np.asarray(expit(-odds_against), dtype=np.float64)   # 1 / (1 + (1 − r) / (r η))
+    return post - log_eta[:, None], out
+
+
 def check_plan(problem: RadioPlanProblem, plan: RadioPlan, *, seed: int = 0,
                any_heading: bool = False) -> PlanCheck:
     """Check ``plan`` against ``problem`` and recompute its void probabilities and rewards on
@@ -267,18 +282,20 @@ def check_plan(problem: RadioPlanProblem, plan: RadioPlan, *, seed: int = 0,
     scored = cloud.r.copy()   # the reward's existences: r̃ for a label not heard yet
     for lab in unheard:
         scored[lab] = max(float(scored[lab]), st.explore_existence)
-    posterior = LabelledParticles(cloud.x, cloud.mode, cloud.tau, cloud.w, scored)
+    with np.errstate(divide="ignore"):
+        log_w, r_post = np.log(cloud.w), scored.copy()  # the posterior, weights in log space
     void, rewards = [], []
     n_p = problem.steps_per_interval
     for k in range(problem.n_poses):
         x, mode, tau = propagate(sc.motion, cloud.x, cloud.mode, cloud.tau, rng)
         cloud = LabelledParticles(x, mode, tau, cloud.w, cloud.r)
-        posterior = LabelledParticles(x, mode, tau, posterior.w, posterior.r)
         pose = plan.path[k]
         void.append(_void(cloud.r, cloud.w, x[:, :, ::2], pose[:2], radii))
         if (k + 1) % n_p == 0:
             z = _ideal(problem, cloud, pose)
-            posterior = update(posterior, _log_likelihoods(sc.signal, z, x, tau, pose))
+            log_w, r_post = _log_update(log_w, r_post,
+                                        _log_likelihoods(sc.signal, z, x, tau, pose))
+            posterior = LabelledParticles(x, mode, tau, np.exp(log_w), r_post)
             prior = LabelledParticles(x, mode, tau, cloud.w, scored)
             rewards.append(_divergence(problem, prior, posterior))
     voids, gains = np.array(void), np.array(rewards)

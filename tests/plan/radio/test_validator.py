@@ -162,3 +162,22 @@ def test_certain_and_impossible_labels_check_at_every_alpha(alpha: float) -> Non
     check = check_plan(p, result.plan)
     assert check.valid and check.reasons == ()
     assert math.isfinite(check.objective) and check.objective == pytest.approx(result.objective)
+
+
+def test_updates_keep_particles_whose_weight_underflows() -> None:
+    """A particle 800 nats behind after one update wins after a second 1000 nats in its favour:
+    the validator's chain keeps log weights, as the planner's does (linear weights would have
+    lost it to underflow and scored the plan differently)."""
+    from searchtrack.plan.radio.validator import _log_update
+
+    log_w = np.log(np.full((1, 2), 0.5))
+    r = np.array([0.9])
+    log_w, r1 = _log_update(log_w, r, np.array([[0.0, -800.0]]))
+    assert np.exp(log_w[0, 1]) == 0.0 and log_w[0, 1] > -801.0
+    log_w, r2 = _log_update(log_w, r1, np.array([[0.0, 1000.0]]))
+    np.testing.assert_allclose(np.exp(log_w[0]), [math.exp(-200.0), 1.0], rtol=1e-12)
+    eta = 0.5 * (1.0 + math.exp(-800.0))  # the first update's η: r barely moves
+    assert r1[0] == pytest.approx(0.9 * eta / (0.1 + 0.9 * eta), rel=1e-12)
+    assert r2[0] == pytest.approx(1.0, abs=1e-12)
+    assert _log_update(log_w, np.array([0.0]), np.zeros((1, 2)))[1][0] == 0.0
+    assert _log_update(log_w, np.array([1.0]), np.zeros((1, 2)))[1][0] == 1.0
