@@ -44,15 +44,15 @@ def whole_count(name: str, value: object) -> int:
 
 
 def check_search_settings(spec: object) -> None:
-    """Check the :data:`SEARCH_SETTINGS` attributes of ``spec`` (a :class:`StrategyConfig` or
-    a mission's guidance spec): counts ≥ 1, times > 0, the cell side > 0 and the serve
-    distance ≥ 0 when given (``None``: derived from ``ρ``)."""
+    """Check the search settings of ``spec`` (a :class:`StrategyConfig` or a guidance spec):
+    counts ≥ 1, times and cell side > 0, serve distance ≥ 0 (``None``: derived from ``ρ``)."""
     for name in ("search_iterations", "search_route_nodes"):
         whole_count(name, getattr(spec, name))
     for name in ("search_horizon_s", "search_replan_s"):
         positive(name, getattr(spec, name))
-    for name, check in (("search_cell_m", positive), ("search_serve_m", non_negative)):
-        value = getattr(spec, name)
+    for name, check in (("search_cell_m", positive), ("search_serve_m", non_negative),
+                        ("search_discount_s", positive)):
+        value = getattr(spec, name, None)
         if value is not None:
             check(name, value)
 
@@ -117,9 +117,7 @@ class StrategyConfig:
         A search route's first node counts as reached within this distance (m); ``None``
         means ``ρ/2``.
     search_discount_s
-        Discount time ``τ`` (s) of the partitioned route strategies' search prizes, ``m / (1 +
-        t/τ)`` for a cell first reachable at ``t``
-        (:mod:`~searchtrack.plan.guidance.search_partition`); the other strategies ignore it.
+        Discount time ``τ`` (s) of the partitioned route strategies' prizes ``m / (1 + t/τ)``.
     """
 
     sensor_range_m: float = 120.0
@@ -167,7 +165,6 @@ class StrategyConfig:
             whole_count(name, getattr(self, name))
         set_(self, "coverage_weight", non_negative("coverage_weight", self.coverage_weight))
         check_search_settings(self)
-        positive("search_discount_s", self.search_discount_s)
         if self.search_cell_m is None:
             set_(self, "search_cell_m", math.sqrt(2.0) * rho)
         if self.search_serve_m is None:
