@@ -76,7 +76,9 @@ def _routes(inst: OPTWInstance, sol: Arrays) -> Routes:
 
 @dataclass(frozen=True)
 class Tuning:
-    """Search parameters (defaults tuned on the Solomon and Cordeau OPTW benchmarks, m = 1).
+    """Search parameters (defaults tuned on the Solomon and Cordeau OPTW benchmarks, m = 1, and on
+    the Cordeau TOPTW benchmark, m = 2 and 4, for ``split``; ``w_route``, ``k_max`` and
+    ``relocate`` are off by default).
 
     Parameters
     ----------
@@ -101,6 +103,15 @@ class Tuning:
         same removing only until that customer fits.
     local_search
         Reorder routes (2-opt, or-opt) and re-insert after each recreate.
+    w_route
+        Relative weight of the route ruin: every visit of one random route.
+    k_max
+        Upper bound on the ruin size (at least 4).
+    relocate
+        Also move visits between routes when that shortens the total travel, in the local search.
+    split
+        The segment ruin removes ``ceil(k / vehicles)`` visits from each route (else ``k`` from
+        each, which with several vehicles wipes out most of the plan).
     """
 
     k_frac: float = 0.5
@@ -118,13 +129,18 @@ class Tuning:
     w_target: float = 1.0
     w_fit: float = 1.0
     local_search: bool = True
+    w_route: float = 0.0
+    k_max: int = 1 << 30
+    relocate: bool = False
+    split: bool = True
 
     def array(self) -> NDArray[np.float64]:
         """Parameters in the order of the ``ils_search.P_*`` indices."""
         return np.array([self.k_frac, self.temperature, self.t_end, self.cycle0, self.grow,
                          self.p_equal, self.alpha_lo, self.alpha_hi, self.noise,
                          self.w_segment, self.w_random, self.w_related, self.w_target,
-                         self.w_fit, float(self.local_search)], dtype=np.float64)
+                         self.w_fit, float(self.local_search), self.w_route, float(self.k_max),
+                         float(self.relocate), float(self.split)], dtype=np.float64)
 
 
 def solve_ils(
@@ -256,6 +272,9 @@ def _solve(
     if initial is not None:
         _load_initial(inst, initial, ins, cur)
     K.insert_greedy(ins, cur, rng, 2.0, 0.0)
+    seq = np.zeros(nc + 2, dtype=np.int64)
+    if tuning.local_search:
+        KS.local_search(ins, cur, rng, seq, tuning.relocate)
     best = _empty(inst, nc + 2, sink)
     work = _empty(inst, nc + 2, sink)
     K.copy_sol(best, cur)
@@ -271,7 +290,6 @@ def _solve(
     key = np.zeros(nc + 1, dtype=np.int64)
     mark = np.zeros(sink + 1, dtype=np.bool_)
     vst = np.zeros(sink + 1, dtype=np.int64)
-    seq = np.zeros(nc + 2, dtype=np.int64)
     total = float(inst.profit[vertex_ok].sum())
     complete = total - 1e-9 * max(1.0, total)  # collecting this much is provably optimal
     first = float(fst[KS.F_BEST_P])

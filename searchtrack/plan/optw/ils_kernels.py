@@ -99,9 +99,9 @@ def time_of(sol):  # type: ignore[no-untyped-def]
 
 # --------------------------------------------------------------------------- insertion
 @njit(cache=True)
-def best_position(ins, sol, g):  # type: ignore[no-untyped-def]
-    """Feasible insertion of ``g`` with the least Shift: ``(route, position, shift)``, route −1
-    if none."""
+def best_in_routes(ins, sol, g, r0, r1):  # type: ignore[no-untyped-def]
+    """Feasible insertion of ``g`` with the least Shift in routes ``r0 .. r1-1``: ``(route,
+    position, shift)``, route −1 if none (ties: the first route, then the first position)."""
     T, S, Op, C = ins[0], ins[1], ins[2], ins[3]
     rt, ln, arr, st, ms = sol[0], sol[1], sol[2], sol[3], sol[4]
     og = Op[g]
@@ -111,7 +111,7 @@ def best_position(ins, sol, g):  # type: ignore[no-untyped-def]
     bp = -1
     bd = _BIG
     need = og + sg
-    for r in range(ln.shape[0]):
+    for r in range(r0, r1):
         # latest service starts st + ms are non-decreasing along a route: skip the positions
         # whose successor must start before g could even finish (binary search)
         lo = 1
@@ -138,6 +138,13 @@ def best_position(ins, sol, g):  # type: ignore[no-untyped-def]
                 br = r
                 bp = p
     return br, bp, bd
+
+
+@njit(cache=True)
+def best_position(ins, sol, g):  # type: ignore[no-untyped-def]
+    """Feasible insertion of ``g`` with the least Shift: ``(route, position, shift)``, route −1
+    if none."""
+    return best_in_routes(ins, sol, g, 0, sol[1].shape[0])
 
 
 @njit(cache=True)
@@ -208,12 +215,20 @@ def insert_greedy(ins, sol, rng, alpha, noise):  # type: ignore[no-untyped-def]
     Every score is multiplied by ``1 + noise·U[0, 1)`` (randomised tie-breaking). A customer that
     fits nowhere is set aside until an insertion with a negative Shift (a shortcut, possible
     because travel times break the triangle inequality) makes room again: otherwise insertions
-    only consume slack.
+    only consume slack. Each customer's best position is cached per route and recomputed only
+    for the routes changed since (an insertion changes one route), which gives the same choices
+    as recomputing every position every time.
     """
     P, cand = ins[4], ins[5]
     own = sol[5]
+    m = sol[1].shape[0]
+    nvx = P.shape[0]
     alive = np.empty(cand.shape[0], dtype=np.int64)
     weight = np.empty(cand.shape[0], dtype=np.float64)
+    cpos = np.empty((nvx, m), dtype=np.int64)
+    cdel = np.empty((nvx, m), dtype=np.int64)
+    cver = np.full((nvx, m), -1, dtype=np.int64)
+    ver = np.zeros(m, dtype=np.int64)
     total = 0
     for g in cand:
         if own[g] < 0:
@@ -227,15 +242,26 @@ def insert_greedy(ins, sol, rng, alpha, noise):  # type: ignore[no-untyped-def]
         bi = -1
         br = -1
         bp = -1
-        bd = 0
+        bd = _BIG
         i = 0
         while i < na:
-            r, p, d = best_position(ins, sol, alive[i])
+            g = alive[i]
+            r = -1
+            p = -1
+            d = _BIG
+            for q in range(m):
+                if cver[g, q] != ver[q]:
+                    _, cpos[g, q], cdel[g, q] = best_in_routes(ins, sol, g, q, q + 1)
+                    cver[g, q] = ver[q]
+                if cpos[g, q] >= 0 and cdel[g, q] < d:
+                    d = cdel[g, q]
+                    r = q
+                    p = cpos[g, q]
             if r < 0:
                 na -= 1
                 _swap(alive, weight, i, na)
                 continue
-            sc = weight[i] / (max(d, 0) + 1.0)
+            sc = weight[i] / ((d if d > 0 else 0) + 1.0)
             if noise > 0.0:
                 sc *= 1.0 + noise * rand_u(rng)
             if sc > bs:
@@ -248,6 +274,7 @@ def insert_greedy(ins, sol, rng, alpha, noise):  # type: ignore[no-untyped-def]
         if bi < 0:
             break
         insert_at(ins, sol, alive[bi], br, bp)
+        ver[br] += 1
         count += 1
         na -= 1
         _swap(alive, weight, bi, na)

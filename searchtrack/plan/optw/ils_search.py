@@ -1,10 +1,12 @@
 """Numba search loop of the OPTW ILS: ruin operators, route reordering, acceptance, restarts.
 
-One iteration copies the current solution, ruins it (removes some visits, chosen by one of five
-operators), recreates it with the randomised greedy insertion of
+One iteration copies the current solution, ruins it (removes some visits, chosen by one of six
+operators, the route ruin and the inter-route relocation of :mod:`searchtrack.plan.optw.ils_moves`
+included), recreates it with the randomised greedy insertion of
 :mod:`searchtrack.plan.optw.ils_kernels`, improves it by reordering routes and inserting again,
 and accepts it by simulated annealing on the profit (ties broken by time). The temperature falls
-geometrically over cycles of growing length; each cycle restarts from the best solution. Same
+geometrically over cycles of growing length; each cycle restarts from the best solution. Only the
+routes that ruin and recreate changed are reordered: the others are already locally optimal. Same
 array layout as the kernels module.
 """
 
@@ -28,6 +30,7 @@ from searchtrack.plan.optw.ils_kernels import (
     time_of,
     visited_list,
 )
+from searchtrack.plan.optw.ils_moves import relocate, ruin_route
 
 # indices into the integer control array ``ctl``
 C_ITER, C_SINCE_BEST, C_CYCLE_IT, C_CYCLE_LEN, C_RESTARTS = 0, 1, 2, 3, 4
@@ -35,7 +38,7 @@ C_ITER, C_SINCE_BEST, C_CYCLE_IT, C_CYCLE_LEN, C_RESTARTS = 0, 1, 2, 3, 4
 F_BEST_P, F_BEST_T, F_CUR_P, F_CUR_T, F_TEMP, F_T0 = 0, 1, 2, 3, 4, 5
 # indices into the parameter array ``par`` (see ``ils.Tuning``)
 (P_KFRAC, P_T0, P_T1, P_CYCLE0, P_GROW, P_EQUAL, P_ALO, P_AHI, P_NOISE,
- P_WSEG, P_WRAND, P_WREL, P_WTARGET, P_WFIT, P_LS) = range(15)
+ P_WSEG, P_WRAND, P_WREL, P_WTARGET, P_WFIT, P_LS, P_WROUTE, P_KMAX, P_RELOC, P_SPLIT) = range(19)
 
 
 @njit(cache=True)
@@ -255,18 +258,50 @@ def reorder(ins, sol, r, seq):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def local_search(ins, sol, rng, seq):  # type: ignore[no-untyped-def]
-    """Alternate reordering of every route and greedy insertion until neither helps."""
+def local_search(ins, sol, rng, seq, inter=False):  # type: ignore[no-untyped-def]
+    """Alternate reordering of every route (and, with ``inter``, moves between routes) and
+    greedy insertion until neither helps."""
+    improve_routes(ins, sol, rng, seq, np.ones(sol[1].shape[0], dtype=np.bool_), inter)
+
+
+@njit(cache=True)
+def improve_routes(ins, sol, rng, seq, dirty, inter):  # type: ignore[no-untyped-def]
+    """:func:`local_search` reordering only the routes flagged in ``dirty`` and those the other
+    moves change (the others are already reordered); clears ``dirty``."""
     ln = sol[1]
+    m = ln.shape[0]
+    lens = np.empty(m, dtype=np.int64)
+    pending = False
     while True:
-        moved = False
-        for r in range(ln.shape[0]):
-            if reorder(ins, sol, r, seq):
-                moved = True
-        if not moved:
+        for r in range(m):
+            if dirty[r]:
+                dirty[r] = False
+                if reorder(ins, sol, r, seq):
+                    pending = True
+        if inter and m > 1 and relocate(ins, sol, dirty) > 0:
+            pending = True
+            continue  # reorder the routes it changed, then look again
+        if not pending:
             return
+        pending = False
+        lens[:] = ln
         if insert_greedy(ins, sol, rng, 2.0, 0.0) == 0:
             return
+        for r in range(m):
+            dirty[r] = ln[r] != lens[r]
+
+
+@njit(cache=True)
+def changed_routes(a, b, dirty):  # type: ignore[no-untyped-def]
+    """Flag in ``dirty`` the routes whose visits differ between solutions ``a`` and ``b``."""
+    for r in range(a[1].shape[0]):
+        n = a[1][r]
+        d = n != b[1][r]
+        p = 1
+        while not d and p < n - 1:
+            d = a[0][r, p] != b[0][r, p]
+            p += 1
+        dirty[r] = d
 
 
 @njit(cache=True)
@@ -276,27 +311,35 @@ def run_search(ins, cur, best, work, rng, ctl, fst, par, n_iter, buf, mark, key,
     All search state (solutions, counters, temperature, random state) lives in the arrays, so a
     search resumed call after call gives identical results whatever the batch sizes.
     """
-    wsum = par[P_WSEG] + par[P_WRAND] + par[P_WREL] + par[P_WTARGET] + par[P_WFIT]
+    wsum = (par[P_WSEG] + par[P_WRAND] + par[P_WREL] + par[P_WTARGET] + par[P_WFIT]
+            + par[P_WROUTE])
+    inter = par[P_RELOC] > 0.0
+    dirty = np.zeros(cur[1].shape[0], dtype=np.bool_)
     for _ in range(n_iter):
         copy_sol(work, cur)
         nv = visited_list(work, buf)
         kmax = max(int(par[P_KFRAC] * nv), min(nv, 4))  # short routes: up to all visits
+        kmax = min(kmax, max(4, int(par[P_KMAX])))
         k = 1 + rand_int(rng, max(1, kmax))
         x = rand_u(rng) * wsum
         if x < par[P_WSEG]:
-            ruin_segment(ins, work, rng, k)
+            m = work[1].shape[0]
+            ruin_segment(ins, work, rng, (k + m - 1) // m if par[P_SPLIT] > 0.0 else k)
         elif x < par[P_WSEG] + par[P_WRAND]:
             ruin_random(ins, work, rng, k, buf, mark)
         elif x < par[P_WSEG] + par[P_WRAND] + par[P_WREL]:
             ruin_related(ins, work, rng, k, buf, mark, key, vst, 0)
         elif x < par[P_WSEG] + par[P_WRAND] + par[P_WREL] + par[P_WTARGET]:
             ruin_related(ins, work, rng, k, buf, mark, key, vst, 1)
-        else:
+        elif x < wsum - par[P_WROUTE]:
             ruin_related(ins, work, rng, k, buf, mark, key, vst, 2)
+        else:
+            ruin_route(ins, work, rng)
         alpha = par[P_ALO] + (par[P_AHI] - par[P_ALO]) * rand_u(rng)
         insert_greedy(ins, work, rng, alpha, par[P_NOISE])
-        if par[P_LS] > 0.0:
-            local_search(ins, work, rng, seq)
+        if par[P_LS] > 0.0:  # the routes ruin and recreate left alone are already reordered
+            changed_routes(work, cur, dirty)
+            improve_routes(ins, work, rng, seq, dirty, inter)
         pw = profit_of(ins, work)
         tw = time_of(work)
         accept = better(pw, tw, fst[F_CUR_P], fst[F_CUR_T])

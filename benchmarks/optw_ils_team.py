@@ -1,0 +1,100 @@
+"""Benchmark the team OPTW iterated local search against the literature's best known values.
+
+Usage: ``python benchmarks/optw_ils_team.py [LIMIT_S ...] [--seed N] [--vehicles 1 2 3 4]
+[--instances pr11 pr12 ...]`` (default limits 1 and 10 s, Cordeau pr01–pr20, m = 1…4).
+
+For each (instance, m) it prints the profit, the best known value of ``toptw_best_known.csv`` and
+the gap ``(best known − profit) / best known`` in %, then the mean gap per m and overall. Every
+plan is re-checked by the independent validator. A profit above the best known value is flagged
+and its routes printed: a possible new best known value, or a sign that the list uses another
+distance convention (see ``toptw_best_known.md``). Run serially on an idle machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import time
+from pathlib import Path
+
+from searchtrack.plan.optw import read_optw, validate
+from searchtrack.plan.optw.ils import solve_ils, warm_up
+
+HERE = Path(__file__).resolve().parent
+DATA = HERE.parent / "searchtrack" / "data"
+FOLDERS = (DATA / "optw" / "cordeau", DATA / "toptw" / "cordeau")
+INSTANCES = [f"pr{i:02d}" for i in range(1, 21)]
+
+
+def best_known() -> dict[tuple[str, int], float]:
+    """The literature's best known values by (instance, m) (``toptw_best_known.csv``)."""
+    with (HERE / "toptw_best_known.csv").open(encoding="utf-8") as fh:
+        return {(r["instance"], int(r["vehicles"])): float(r["best_known"])
+                for r in csv.DictReader(fh)}
+
+
+def _path(name: str) -> Path:
+    for folder in FOLDERS:
+        p = folder / f"{name}.txt"
+        if p.exists():
+            return p
+    raise SystemExit(f"unknown instance {name!r}")
+
+
+def run(limit_s: float, seed: int, names: list[str], vehicles: list[int]) -> float:
+    """Solve every (instance, m) within ``limit_s`` seconds; print the table; return the mean
+    gap."""
+    bk = best_known()
+    gaps: dict[int, list[float]] = {m: [] for m in vehicles}
+    print(f"\n== time limit {limit_s:g} s, seed {seed}")
+    print(f"{'instance':9} {'m':>2} {'profit':>7} {'best':>7} {'gap %':>7} {'time s':>7} "
+          f"{'iters':>8}")
+    for name in names:
+        for m in vehicles:
+            if (name, m) not in bk:
+                continue
+            inst = read_optw(_path(name), vehicles=m)
+            started = time.perf_counter()
+            res = solve_ils(inst, time_limit_s=limit_s, seed=seed)
+            elapsed = time.perf_counter() - started
+            assert res.plan is not None and res.objective is not None
+            check = validate(inst, res.plan)
+            if not check.feasible or abs(check.profit - res.objective) > 1e-6:
+                raise SystemExit(f"{name} m={m}: invalid plan {check.violations} {check.profit}")
+            best = bk[(name, m)]
+            gap = 100.0 * (best - res.objective) / best
+            gaps[m].append(gap)
+            flag = "  ABOVE BEST KNOWN" if res.objective > best + 1e-9 else ""
+            print(f"{name:9} {m:2d} {res.objective:7g} {best:7g} {gap:7.2f} {elapsed:7.2f} "
+                  f"{int(res.stats.get('iterations', 0)):8d}{flag}", flush=True)
+            if flag:
+                for route in res.plan:
+                    print(f"    route {list(route)}")
+                print(f"    validated: feasible, profit {check.profit:g}")
+    every = [g for m in vehicles for g in gaps[m]]
+    for m in vehicles:
+        if gaps[m]:
+            print(f"mean gap m={m}: {sum(gaps[m]) / len(gaps[m]):.3f} % over {len(gaps[m])}")
+    mean = sum(every) / max(1, len(every))
+    print(f"mean gap overall: {mean:.3f} % over {len(every)} "
+          f"({sum(g > 0 for g in every)} below best known)")
+    return mean
+
+
+def main() -> None:
+    """Parse the command line and run the benchmark for each time limit."""
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("limits", nargs="*", type=float, default=[1.0, 10.0])
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--vehicles", nargs="+", type=int, default=[1, 2, 3, 4])
+    ap.add_argument("--instances", nargs="+", default=INSTANCES)
+    args = ap.parse_args()
+    started = time.perf_counter()
+    warm_up()
+    print(f"warm-up (Numba compile or cache load) {time.perf_counter() - started:.2f} s")
+    for limit in args.limits:
+        run(limit, args.seed, args.instances, args.vehicles)
+
+
+if __name__ == "__main__":
+    main()
