@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from numba import njit
 
+from searchtrack.core.kernel_cache import follow_callees
 from searchtrack.plan.optw.ils_kernels import best_in_routes, insert_at, rand_int, schedule
 
 
@@ -109,3 +110,6 @@ def ruin_route(ins, sol, rng):  # type: ignore[no-untyped-def]
                 schedule(ins, sol, r)
                 return
             pick -= 1
+
+
+follow_callees(__name__, globals())

@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from searchtrack.core.kernel_cache import follow_callees
 from searchtrack.plan.optw.ils_kernels import (
     best_position,
     better,
@@ -371,3 +372,6 @@ def run_search(ins, cur, best, work, rng, ctl, fst, par, n_iter, buf, mark, key,
             ctl[C_CYCLE_LEN] = int(ctl[C_CYCLE_LEN] * par[P_GROW]) + 1
         frac = ctl[C_CYCLE_IT] / ctl[C_CYCLE_LEN]
         fst[F_TEMP] = fst[F_T0] * (par[P_T1] ** frac)
+
+
+follow_callees(__name__, globals())
