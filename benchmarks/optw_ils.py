@@ -11,8 +11,11 @@ import csv
 import time
 from pathlib import Path
 
+from searchtrack.core.result import Result
 from searchtrack.plan.optw import read_optw, validate
 from searchtrack.plan.optw.ils import solve_ils, warm_up
+from searchtrack.plan.optw.instance import OPTWInstance, Routes
+from searchtrack.plan.optw.validate import Validation
 
 BENCH = Path(__file__).resolve().parents[1] / "searchtrack" / "data" / "optw"
 
@@ -27,6 +30,20 @@ def optima(root: Path) -> list[tuple[Path, float]]:
     return rows
 
 
+def solve_checked(inst: OPTWInstance, limit_s: float, seed: int,
+                  label: str) -> tuple[Result[Routes], Validation, float]:
+    """``solve_ils`` within ``limit_s``, its plan re-checked by the validator (exit on an invalid
+    plan or a profit the validator does not confirm): the result, the check and the seconds."""
+    started = time.perf_counter()
+    res = solve_ils(inst, time_limit_s=limit_s, seed=seed)
+    elapsed = time.perf_counter() - started
+    assert res.plan is not None and res.objective is not None
+    check = validate(inst, res.plan)
+    if not check.feasible or abs(check.profit - res.objective) > 1e-6:
+        raise SystemExit(f"{label}: invalid plan {check.violations} {check.profit}")
+    return res, check, elapsed
+
+
 def run(limit_s: float, seed: int, only: set[str]) -> float:
     """Solve every instance within ``limit_s`` seconds; print the table and return the mean gap."""
     gaps = []
@@ -35,14 +52,8 @@ def run(limit_s: float, seed: int, only: set[str]) -> float:
     for path, best in optima(BENCH):
         if only and path.stem not in only:
             continue
-        inst = read_optw(path)
-        started = time.perf_counter()
-        res = solve_ils(inst, time_limit_s=limit_s, seed=seed)
-        elapsed = time.perf_counter() - started
-        assert res.plan is not None and res.objective is not None
-        check = validate(inst, res.plan)
-        if not check.feasible or abs(check.profit - res.objective) > 1e-6:
-            raise SystemExit(f"{path.stem}: invalid plan {check.violations} {check.profit}")
+        res, _, elapsed = solve_checked(read_optw(path), limit_s, seed, path.stem)
+        assert res.objective is not None
         gap = 100.0 * (best - res.objective) / best
         gaps.append(gap)
         flag = "" if gap <= 0 else "  *"
@@ -54,6 +65,13 @@ def run(limit_s: float, seed: int, only: set[str]) -> float:
     return mean
 
 
+def timed_warm_up() -> None:
+    """Compile or load the ILS kernels and say how long it took (outside every timed run)."""
+    started = time.perf_counter()
+    warm_up()
+    print(f"warm-up (Numba compile or cache load) {time.perf_counter() - started:.2f} s")
+
+
 def main() -> None:
     """Parse the command line and run the benchmark for each time limit."""
     ap = argparse.ArgumentParser(description=__doc__)
@@ -61,9 +79,7 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--only", default="", help="comma-separated instance names")
     args = ap.parse_args()
-    started = time.perf_counter()
-    warm_up()
-    print(f"warm-up (Numba compile or cache load) {time.perf_counter() - started:.2f} s")
+    timed_warm_up()
     only = {s for s in args.only.split(",") if s}
     for limit in args.limits:
         run(limit, args.seed, only)

@@ -14,11 +14,11 @@ from __future__ import annotations
 
 import argparse
 import csv
-import time
 from pathlib import Path
 
-from searchtrack.plan.optw import read_optw, validate
-from searchtrack.plan.optw.ils import solve_ils, warm_up
+from optw_ils import solve_checked, timed_warm_up
+
+from searchtrack.plan.optw import read_optw
 
 HERE = Path(__file__).resolve().parent
 DATA = HERE.parent / "searchtrack" / "data"
@@ -53,14 +53,9 @@ def run(limit_s: float, seed: int, names: list[str], vehicles: list[int]) -> flo
         for m in vehicles:
             if (name, m) not in bk:
                 continue
-            inst = read_optw(_path(name), vehicles=m)
-            started = time.perf_counter()
-            res = solve_ils(inst, time_limit_s=limit_s, seed=seed)
-            elapsed = time.perf_counter() - started
+            res, check, elapsed = solve_checked(read_optw(_path(name), vehicles=m), limit_s,
+                                                seed, f"{name} m={m}")
             assert res.plan is not None and res.objective is not None
-            check = validate(inst, res.plan)
-            if not check.feasible or abs(check.profit - res.objective) > 1e-6:
-                raise SystemExit(f"{name} m={m}: invalid plan {check.violations} {check.profit}")
             best = bk[(name, m)]
             gap = 100.0 * (best - res.objective) / best
             gaps[m].append(gap)
@@ -89,9 +84,7 @@ def main() -> None:
     ap.add_argument("--vehicles", nargs="+", type=int, default=[1, 2, 3, 4])
     ap.add_argument("--instances", nargs="+", default=INSTANCES)
     args = ap.parse_args()
-    started = time.perf_counter()
-    warm_up()
-    print(f"warm-up (Numba compile or cache load) {time.perf_counter() - started:.2f} s")
+    timed_warm_up()
     for limit in args.limits:
         run(limit, args.seed, args.instances, args.vehicles)
 
