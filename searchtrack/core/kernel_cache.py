@@ -70,11 +70,11 @@ def follow_callees(module: str, namespace: Mapping[str, object]) -> None:
     files = callee_files(module, namespace)
     if not own or not files:
         return
-    digest = hashlib.sha256()
+    hasher = hashlib.sha256()
     for path in files:
         stat = path.stat()
-        digest.update(f"{path}\0{stat.st_mtime_ns}\0{stat.st_size}\n".encode())
-    stamp = digest.hexdigest()
+        hasher.update(f"{path}\0{stat.st_mtime_ns}\0{stat.st_size}\n".encode())
+    stamp = hasher.hexdigest()
     where = Path(own[0].cache_path) / f"{module.rsplit('.', 1)[-1]}.callees"
     try:
         if where.read_text(encoding="utf-8") == stamp:

@@ -205,8 +205,9 @@ def _detach(x: int, parent: IntArray, first_child: IntArray, next_sib: IntArray,
 
 
 @njit(cache=True, inline="always")
-def _attach(x: int, p: int, parent: IntArray, first_child: IntArray, next_sib: IntArray,
-            prev_sib: IntArray) -> None:
+def attach(x: int, p: int, parent: IntArray, first_child: IntArray, next_sib: IntArray,
+           prev_sib: IntArray) -> None:
+    """Make node ``x`` the first child of ``p`` in the spanning tree's child lists."""
     b = first_child[p]
     next_sib[x] = b
     prev_sib[x] = -1
@@ -298,11 +299,11 @@ def pivots(
             pred[w] = pred[c]
             up[w] = 1 - up[c]
             tree_flow[w] = tree_flow[c]
-            _attach(w, c, parent, first_child, next_sib, prev_sib)
+            attach(w, c, parent, first_child, next_sib, prev_sib)
         pred[u_in] = e_in
         up[u_in] = 1 if u_in == s else 0
         tree_flow[u_in] = delta
-        _attach(u_in, v_in, parent, first_child, next_sib, prev_sib)
+        attach(u_in, v_in, parent, first_child, next_sib, prev_sib)
         # shift potentials of the moved subtree so that e_in has zero reduced cost; fix depths
         sigma = (pi[v_in] - cost[e_in] if u_in == s else pi[v_in] + cost[e_in]) - pi[u_in]
         pi[u_in] += sigma

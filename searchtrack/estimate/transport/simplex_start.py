@@ -22,7 +22,9 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
+from searchtrack.core.kernel_cache import follow_callees
 from searchtrack.core.types import FloatArray, IntArray
+from searchtrack.estimate.transport.simplex_kernels import attach
 
 
 @njit(cache=True)
@@ -190,15 +192,12 @@ def start_tree(
         art_up[0], up[0], tree_flow[0] = 0, 0, -net[0]
     pred[0] = n_real
     for y in range(n):
-        x = parent[y]
-        b = first_child[x]
-        next_sib[y] = b
-        prev_sib[y] = -1
-        if b >= 0:
-            prev_sib[b] = y
-        first_child[x] = y
+        attach(y, parent[y], parent, first_child, next_sib, prev_sib)
     for e in range(n_real):
         state[e] = 1
     for e in arcs:
         state[e] = 0
     return True
+
+
+follow_callees(__name__, globals())
