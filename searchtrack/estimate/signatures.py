@@ -30,6 +30,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.kernel_threads import threads_for
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate import signature_kernels as kernels
 from searchtrack.models.road_metric import RoadMetric
@@ -83,7 +84,8 @@ def distributions(name: str, values: ArrayLike, n_nodes: int) -> FloatArray:
         raise InvalidInputError(name, f"<array of shape {arr.shape}>",
                                 f"must have shape (rows, {n_nodes}), one column per node")
     if arr.size and arr.flags.c_contiguous != arr.flags.f_contiguous:
-        bad, empty_row = kernels.faults(arr, arr.flags.f_contiguous)
+        with threads_for(arr.size):
+            bad, empty_row = kernels.faults(arr, arr.flags.f_contiguous)
         if not bad:  # else the checks below name the fault
             if empty_row >= 0:
                 raise InvalidInputError(name, f"<array of shape {arr.shape}>",
@@ -137,13 +139,14 @@ def truncate_rows(arr: FloatArray, mass: float) -> list[Signature]:
     if mass >= 1.0 or arr.shape[0] == 0 or arr.shape[1] == 0:
         return [truncate(row, mass) for row in arr]
     by_column = bool(arr.flags.f_contiguous and not arr.flags.c_contiguous)
-    if by_column:
-        total = kernels.row_sums_by_column(arr, *kernels.pairwise_program(arr.shape[1]))
-    elif arr.flags.c_contiguous:
-        total = kernels.row_sums(arr, *kernels.pairwise_program(arr.shape[1]))
-    else:
-        total = np.array([row.sum() for row in arr])
-    nodes, offsets = kernels.heaviest(arr, total, mass, by_column)
+    with threads_for(arr.size):
+        if by_column:
+            total = kernels.row_sums_by_column(arr, *kernels.pairwise_program(arr.shape[1]))
+        elif arr.flags.c_contiguous:
+            total = kernels.row_sums(arr, *kernels.pairwise_program(arr.shape[1]))
+        else:
+            total = np.array([row.sum() for row in arr])
+        nodes, offsets = kernels.heaviest(arr, total, mass, by_column)
     return [_signature(arr[r], nodes[offsets[r]:offsets[r + 1]]) for r in range(arr.shape[0])]
 
 

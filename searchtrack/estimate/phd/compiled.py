@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from searchtrack.core.kernel_threads import threads_for
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.phd import gated, kernels
 from searchtrack.models.motion import ConstantVelocity
@@ -69,11 +70,12 @@ def predict_blocks(blocks: Sequence[Block], motion: ConstantVelocity, dt_s: floa
     e = np.empty((0, d)) if noise is None else noise
     kept = row = 0
     for blk in blocks:
-        kept += kernels.move_compact(
-            np.ascontiguousarray(blk.states, dtype=np.float64), e, row, blk.moved,
-            noise is not None, dt, a, b, c, p, np.ascontiguousarray(blk.weights),
-            np.ascontiguousarray(blk.survival, dtype=np.float64), blk.tags, blk.label, lo, hi,
-            out_x, out_w, out_l, out_t, kept)
+        with threads_for(blk.states.size):
+            kept += kernels.move_compact(
+                np.ascontiguousarray(blk.states, dtype=np.float64), e, row, blk.moved,
+                noise is not None, dt, a, b, c, p, np.ascontiguousarray(blk.weights),
+                np.ascontiguousarray(blk.survival, dtype=np.float64), blk.tags, blk.label, lo,
+                hi, out_x, out_w, out_l, out_t, kept)
         row += blk.states.shape[0] if blk.moved else 0
     return out_x[:kept], out_w[:kept], out_l[:kept], out_t[:kept]
 
@@ -83,7 +85,8 @@ def systematic(weights: FloatArray, n: int, u: float, states: FloatArray, labels
     """The states, labels and tags of ``n`` particles drawn by systematic resampling with offset
     ``u`` (the indices of :func:`~searchtrack.estimate.phd.resample.systematic_indices`)."""
     cum = kernels.cumulative(np.ascontiguousarray(weights))
-    return kernels.systematic_gather(cum, u, n, np.ascontiguousarray(states), labels, tags)
+    with threads_for(n * states.shape[1]):
+        return kernels.systematic_gather(cum, u, n, np.ascontiguousarray(states), labels, tags)
 
 
 def gate_grid(sensor: PositionSensor, z: FloatArray) -> tuple[FloatArray, FloatArray, IntArray,
@@ -149,9 +152,10 @@ def gated_corrections(x: FloatArray, prior: FloatArray, tags: IntArray,
         cp = np.ones(1)
         inv_sum, zstar = 0.0, 0
         if k:
-            su, sux, sus, gz, gzx, gzs = gated.gate_sums(
-                x, out.weights, sensor.pd, area, z, qscale, qmin, norm, floor, lo, size, shape,
-                start, order, tags, n_slots)
+            with threads_for(x.shape[0] * k):
+                su, sux, sus, gz, gzx, gzs = gated.gate_sums(
+                    x, out.weights, sensor.pd, area, z, qscale, qmin, norm, floor, lo, size,
+                    shape, start, order, tags, n_slots)
             explained = floor * su.sum() + gz.sum(axis=0)
             c = sensor.clutter_intensity(scan.pose, z) + explained
             cp = np.where(c > 0.0, c, 1.0)
@@ -163,10 +167,11 @@ def gated_corrections(x: FloatArray, prior: FloatArray, tags: IntArray,
                 groups = np.asarray(np.argmax(per_group, axis=1) - 1, dtype=np.int64)
             out.groups.append(groups)
             out.seeds.append(sensor.to_position(scan.pose, z))
-        out.weights, sums, rz = gated.correct_particles(
-            x, out.weights, prior, sensor.pd, area, z, cp, qscale, qmin, norm, floor, inv_sum,
-            zstar, lo, size, shape, start, order, out.attributed, out.best_share, out.owner,
-            offset, tags, n_slots, idx == len(scans) - 1)
+        with threads_for(x.shape[0] * max(k, 1)):
+            out.weights, sums, rz = gated.correct_particles(
+                x, out.weights, prior, sensor.pd, area, z, cp, qscale, qmin, norm, floor,
+                inv_sum, zstar, lo, size, shape, start, order, out.attributed, out.best_share,
+                out.owner, offset, tags, n_slots, idx == len(scans) - 1)
         out.slot_sums = sums.sum(axis=0)
         if k:
             rho = (floor * su.sum()) / cp + rz.sum(axis=0)

@@ -51,6 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from searchtrack.core.errors import InvalidInputError
+from searchtrack.core.kernel_threads import threads_for
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.phd import compiled, gated
 from searchtrack.estimate.phd.config import PHDConfig
@@ -248,8 +249,9 @@ def update(state: PHDState, scans: Sequence[SensorScan], config: PHDConfig) -> P
                              np.empty(0, dtype=np.int64), slot_mass)
     kept_rho = np.where(keeper == np.arange(rho.shape[0]), rho, 0.0)
     if fast:
-        tags = gated.final_tags(acc.best_share, weights, acc.owner, keeper, member, state.tags,
-                                acc.offset)
+        with threads_for(weights.size):
+            tags = gated.final_tags(acc.best_share, weights, acc.owner, keeper, member,
+                                    state.tags, acc.offset)
     else:
         owner = np.where(acc.owner >= 0, keeper[np.maximum(acc.owner, 0)], NO_TAG) \
             if rho.shape[0] else acc.owner

@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 
 from searchtrack.core.deadline import Deadline
 from searchtrack.core.kernel_cache import follow_callees
+from searchtrack.core.kernel_threads import threads_for
 from searchtrack.core.types import BoolArray, FloatArray, IntArray
 from searchtrack.estimate.transport.road_blocks import PairBlocks
 from searchtrack.estimate.transport.simplex_kernels import (
@@ -221,11 +222,12 @@ def solve_sources(blocks: PairBlocks, pairs: IntArray, threshold: float,
         targets, dist = blocks.source_block(k)
         got = np.empty(b - a)
         codes = np.empty(b - a, dtype=np.int8)
-        source_pairs(np.ascontiguousarray(dist, dtype=np.float64), blocks.from_measurements,
-                     normalised(blocks.src_sigs[k].weights),
-                     np.ascontiguousarray(pairs[rows, dst_col], dtype=np.int64), nodes_all,
-                     w_all, ptr_all, np.ascontiguousarray(targets, dtype=np.int64),
-                     float(threshold), _MAX_CHUNKS, got, codes)
+        with threads_for((b - a) * dist.size):
+            source_pairs(np.ascontiguousarray(dist, dtype=np.float64), blocks.from_measurements,
+                         normalised(blocks.src_sigs[k].weights),
+                         np.ascontiguousarray(pairs[rows, dst_col], dtype=np.int64), nodes_all,
+                         w_all, ptr_all, np.ascontiguousarray(targets, dtype=np.int64),
+                         float(threshold), _MAX_CHUNKS, got, codes)
         ok = codes == SOLVED
         values[rows[ok]] = got[ok]
         done[rows[ok]] = True

@@ -33,6 +33,7 @@ import weakref
 
 import numpy as np
 
+from searchtrack.core.kernel_threads import threads_for
 from searchtrack.core.types import FloatArray, IntArray
 from searchtrack.estimate.signatures import Signature
 from searchtrack.estimate.transport import dijkstra_kernels as kernels
@@ -209,7 +210,8 @@ def table_distances(metric: RoadMetric, sources: IntArray, targets: IntArray) ->
     table = metric.junction_distances
     assert table is not None
     out = np.empty((sources.size, targets.size))
-    kernels.table_rows(table, metric.end_a, metric.end_b, metric.off_a, metric.off_b,
-                       metric.chain, np.ascontiguousarray(sources, np.int64),
-                       np.ascontiguousarray(targets, np.int64), out)
+    with threads_for(out.size):
+        kernels.table_rows(table, metric.end_a, metric.end_b, metric.off_a, metric.off_b,
+                           metric.chain, np.ascontiguousarray(sources, np.int64),
+                           np.ascontiguousarray(targets, np.int64), out)
     return out
