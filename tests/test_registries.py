@@ -137,9 +137,9 @@ def test_warm_up_compiles_the_registered_kernel_sets(monkeypatch: pytest.MonkeyP
     sets and the estimators' (which no solver registry lists), and no defined set is left
     out of it."""
     compiled: list[str] = []
-    monkeypatch.setattr(cli_kernels, "is_cold", lambda ks: False)
-    monkeypatch.setattr(cli_kernels, "warm",
-                        lambda sets: {ks.name: compiled.append(ks.name) or 0.0 for ks in sets})
+    monkeypatch.setattr(cli_kernels, "cold_sets", lambda names: [])
+    monkeypatch.setattr(cli_kernels, "warm", lambda sets, jobs=1: {
+        ks.name: compiled.append(ks.name) or 0.0 for ks in sets})
     assert main(["warm-up"]) == 0
     registered = {k for registry in kernels.solver_registries() for name in registry.names()
                   for k in registry.get(name).kernels}

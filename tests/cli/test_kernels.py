@@ -7,7 +7,7 @@ from rich.console import Console
 
 from searchtrack.cli import kernels as cli_kernels
 from searchtrack.cli import main
-from searchtrack.sim.kernels import KERNEL_SETS
+from searchtrack.sim.kernels import KERNEL_SETS, warm
 
 
 def test_notice_only_when_a_set_is_cold(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -37,3 +37,22 @@ def test_warm_up_command(capsys: pytest.CaptureFixture[str]) -> None:
 def test_warm_up_unknown_set_exits_2(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["warm-up", "--only", "nope"]) == 2
     assert "unknown kernel set" in capsys.readouterr().err
+
+
+def test_warm_up_compiles_on_several_processes(capsys: pytest.CaptureFixture[str]) -> None:
+    """``--jobs 2`` readies each named set (in two fresh processes when a set is cold, here
+    loading what the cache holds) and reports every one of them."""
+    assert main(["warm-up", "--only", "radio", "road-filter", "--jobs", "2"]) == 0
+    out = capsys.readouterr().out
+    assert "radio" in out and "road-filter" in out and "kernels ready" in out
+
+
+def test_warm_on_a_pool_times_every_set() -> None:
+    """The pool path of :func:`warm` compiles in spawned processes and times each set."""
+    took = warm([KERNEL_SETS["radio"], KERNEL_SETS["road-filter"]], jobs=2)
+    assert set(took) == {"radio", "road-filter"} and all(t > 0 for t in took.values())
+
+
+def test_warm_up_bad_jobs_exits_2(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["warm-up", "--jobs", "0"]) == 2
+    assert "--jobs 0" in capsys.readouterr().err
