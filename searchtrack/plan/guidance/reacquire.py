@@ -17,13 +17,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from searchtrack.core.checks import count
 from searchtrack.core.deadline import check_time_limit
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.result import Result
 from searchtrack.estimate.belief import NodePredictor, SparseNodePredictor
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.optw.instance import OPTWInstance
-from searchtrack.plan.optw.solve import solve
+from searchtrack.plan.optw.solve import checked, solve, warm_up
 
 log = logging.getLogger("searchtrack.plan.guidance.reacquire")
 
@@ -183,6 +184,17 @@ def reacquisition_instance(
     return inst, np.concatenate([[-1], nodes]).astype(np.int64)
 
 
+def check_optw_iterations(backend: str, iterations: int | None) -> None:
+    """An iteration cap of the reacquisition OPTW is an integer ≥ 1, and only with the ILS
+    (``backend == "ils"``), the one backend that counts iterations."""
+    if iterations is None:
+        return
+    count("optw_iterations", iterations, least=1)
+    if backend != "ils":
+        raise InvalidInputError("optw_iterations", iterations,
+                                f"caps the ILS only; optw_backend is {backend!r}, not 'ils'")
+
+
 def plan_reacquisition(
     instance: OPTWInstance,
     node_ids: NDArray[np.int64],
@@ -190,15 +202,27 @@ def plan_reacquisition(
     backend: str = "auto",
     time_limit_s: float = 0.03,
     seed: int = 0,
+    max_iterations: int | None = None,
 ) -> tuple[tuple[int, ...], Result[tuple[tuple[int, ...], ...]]]:
     """Solve the reacquisition OPTW; the route as road node ids (start excluded) and the result.
 
     An instance with no candidate node, or a result without a plan, gives an empty route.
+    ``max_iterations`` caps the ILS's iterations (``backend = "ils"`` only), its answer then
+    the same on any machine fast enough to reach the cap within ``time_limit_s``; it is checked
+    by the family's validator, as every backend's answer is.
     """
     check_time_limit(time_limit_s)
+    check_optw_iterations(backend, max_iterations)
     if node_ids.shape != (instance.n,):
         raise InvalidInputError("node_ids", node_ids, f"must have {instance.n} entries")
-    result = solve(instance, backend=backend, time_limit_s=time_limit_s, seed=seed)
+    if max_iterations is None:
+        result = solve(instance, backend=backend, time_limit_s=time_limit_s, seed=seed)
+    else:
+        from searchtrack.plan.optw.ils import solve_ils  # numba kernels: loaded on first use
+
+        warm_up("ils")
+        result = checked(instance, solve_ils(instance, time_limit_s=time_limit_s, seed=seed,
+                                             max_iterations=max_iterations))
     if result.plan is None or not result.plan:
         return (), result
     route = tuple(int(node_ids[v]) for v in result.plan[0] if v != instance.start)

@@ -179,7 +179,7 @@ def _plan(problem: GuidanceProblem, uav: int, tracker: int, rng: np.random.Gener
     seed = int(rng.integers(0, MAX_SEED))
     nodes, result = plan_reacquisition(inst, node_ids, backend=cfg.optw_backend,
                                        time_limit_s=max(1e-3, budget.remaining() / waiting),
-                                       seed=seed)
+                                       seed=seed, max_iterations=cfg.optw_iterations)
     log.debug("uav %d, track %d: T_r=%.1f s, %d candidates, %s route of %d nodes (%.3g)",
               uav, belief.track_id, horizon, inst.n - 1, result.status.name, len(nodes),
               result.objective or 0.0)

@@ -18,6 +18,7 @@ from searchtrack.models.dubins import MPS_PER_MPH
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.guidance.forces import default_loiter_k, default_spring_k
 from searchtrack.plan.guidance.pairing import Pairing
+from searchtrack.plan.guidance.reacquire import check_optw_iterations
 from searchtrack.plan.guidance.search_routes import SearchRoute
 from searchtrack.plan.optw.solve import BACKENDS
 
@@ -88,6 +89,11 @@ class StrategyConfig:
         ``time_limit_s``: the UAVs that re-plan in the same step share it (``T_r`` simulation
         and instance building included, each OPTW solve gets an equal share of what is left,
         at least 1 ms).
+    optw_iterations
+        With ``optw_backend = "ils"``, a cap on the ruin-and-recreate iterations of each
+        reacquisition OPTW, so that the route does not depend on the machine's speed (the solve
+        still stops at its share of the budget); ``None`` (default): the share of the budget
+        alone. Only the ILS counts iterations, so another backend with a cap is an error.
     max_route_nodes, support_mass
         Candidate truncation of the OPTW (see
         :func:`~searchtrack.plan.guidance.reacquire.candidate_nodes`).
@@ -129,6 +135,7 @@ class StrategyConfig:
     p_min: float = 0.07
     speed_mps: float = 80.0 * MPS_PER_MPH
     optw_backend: str = "auto"
+    optw_iterations: int | None = None
     max_route_nodes: int = 60
     support_mass: float = 0.95
     max_reacquire_steps: int = 2000
@@ -156,6 +163,7 @@ class StrategyConfig:
             v = positive(name, getattr(self, name))
             if v > 1.0 or (v == 1.0 and name != "support_mass"):
                 raise InvalidInputError(name, getattr(self, name), "must be in (0, 1)")
+        check_optw_iterations(self.optw_backend, self.optw_iterations)
         if self.p_min >= self.revisit_threshold:
             raise InvalidInputError("p_min", self.p_min, "must be below revisit_threshold")
         if self.optw_backend not in BACKENDS.names():

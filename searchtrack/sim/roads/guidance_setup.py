@@ -24,6 +24,7 @@ def strategy_config(scenario: Scenario) -> StrategyConfig:
         p_min=scenario.filter.p_min,
         speed_mps=scenario.limits.speed_max_mps,
         optw_backend=g.optw_backend,
+        optw_iterations=g.optw_iterations,
         coverage_weight=g.coverage_weight,
         **{name: getattr(g, name) for name in SEARCH_SETTINGS},
     )

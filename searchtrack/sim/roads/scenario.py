@@ -26,6 +26,7 @@ from searchtrack.models import (
     read_osm,
 )
 from searchtrack.models.lrt_sensor import THESIS_ALTITUDES_M
+from searchtrack.plan.guidance.reacquire import check_optw_iterations
 from searchtrack.plan.guidance.solve import BACKENDS as GUIDANCE_BACKENDS
 from searchtrack.plan.guidance.view import STEERINGS, StrategyConfig, check_search_settings
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
@@ -154,6 +155,10 @@ class GuidanceSpec:
     optw_backend, optw_budget_s
         Solver of the reacquisition OPTW, and the time limit of each step's guidance solve
         (shared by the OPTW solves of the UAVs that re-plan in that step).
+    optw_iterations
+        With ``optw_backend = "ils"``, a cap on each reacquisition OPTW's iterations, so that a
+        seed flies the same mission on a slower or busier machine (``None``: the time share
+        alone; :class:`~searchtrack.plan.guidance.view.StrategyConfig`).
     coverage_weight
         Weight (≥ 0, the units of the gradient force ∇R) of the coverage force that pushes
         free UAVs (searching, paired with no tracker) away from road the fleet covered
@@ -180,6 +185,7 @@ search_serve_m
     revisit_threshold: float = 0.3
     optw_backend: str = "auto"
     optw_budget_s: float = 0.03
+    optw_iterations: int | None = None
     coverage_weight: float = 0.0
     search_iterations: int = StrategyConfig.search_iterations
     search_horizon_s: float = StrategyConfig.search_horizon_s
@@ -206,6 +212,7 @@ search_serve_m
             raise InvalidInputError("revisit_threshold", self.revisit_threshold,
                                     "must be in (0, 1)")
         positive("optw_budget_s", self.optw_budget_s)
+        check_optw_iterations(self.optw_backend, self.optw_iterations)
         non_negative("coverage_weight", self.coverage_weight)
         check_search_settings(self)
 

@@ -222,6 +222,8 @@ def _guidance(t: Table) -> GuidanceSpec:
         optw_backend=t.string("optw_backend", d.optw_backend,
                               choices=tuple(OPTW_BACKENDS.names())),
         optw_budget_s=t.number("optw_budget_s", d.optw_budget_s),
+        optw_iterations=(t.integer("optw_iterations", minimum=1) if t.has("optw_iterations")
+                         else None),
         coverage_weight=t.number("coverage_weight", d.coverage_weight),
         search_iterations=t.integer("search_iterations", d.search_iterations, minimum=1),
         search_horizon_s=t.number("search_horizon_s", d.search_horizon_s, positive=True),

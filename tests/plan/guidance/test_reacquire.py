@@ -145,3 +145,26 @@ def test_reacquire_bad_arguments() -> None:
         plan_reacquisition(inst, ids[:-1])
     with pytest.raises(InvalidInputError, match="time_limit_s"):
         plan_reacquisition(inst, ids, time_limit_s=0.0)
+    for backend, cap in (("auto", 10), ("ils", 0), ("ils", True)):
+        with pytest.raises(InvalidInputError, match="optw_iterations"):
+            plan_reacquisition(inst, ids, backend=backend, max_iterations=cap)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_an_iteration_cap_repeats_the_route(seed: int) -> None:
+    """With the ILS's iterations capped, a route is valid and the same on every call with one
+    seed, whatever the time left over."""
+    rng = np.random.default_rng(seed)
+    net = grid_network(5, 5, 100.0, 25.0)
+    p = rng.random(net.n_nodes) ** 4
+    p /= p.sum()
+    inst, ids = reacquisition_instance(net, p, rng.uniform(0, 400, 2), 35.0, 25.0, max_nodes=30)
+    first = plan_reacquisition(inst, ids, backend="ils", time_limit_s=10.0, seed=seed,
+                               max_iterations=200)
+    assert first[1].plan is not None
+    vertices = [0] + [int(np.flatnonzero(ids == n)[0]) for n in first[0]]
+    assert validate(inst, [vertices]).feasible
+    for limit in (5.0, 20.0):
+        again = plan_reacquisition(inst, ids, backend="ils", time_limit_s=limit, seed=seed,
+                                   max_iterations=200)
+        assert again[0] == first[0] and again[1].objective == first[1].objective

@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 
-from searchtrack.core.errors import ParseError
+from searchtrack.core.errors import InvalidInputError, ParseError
 from searchtrack.sim.roads.scenario import FilterSpec, GuidanceSpec, MapSpec, Scenario, bundled_map
 from searchtrack.sim.roads.scenario_file import load_scenario
 from tests.sim.roads.scenario_text import GRID, write
@@ -298,6 +298,22 @@ def test_the_search_route_settings_reach_the_guidance(tmp_path: Path) -> None:
     for name in SEARCH_SETTINGS[:4]:
         assert getattr(plain, name) == getattr(StrategyConfig, name)
     assert (plain.search_cell_m, plain.search_serve_m) == (math.sqrt(2.0) * rho, 0.5 * rho)
+
+
+def test_an_optw_iteration_cap_reaches_the_guidance(tmp_path: Path) -> None:
+    """``optw_iterations`` with the ILS reaches the StrategyConfig; absent, there is no cap;
+    with another backend, or below 1, it is refused naming the key."""
+    from searchtrack.sim.roads.guidance_setup import strategy_config
+
+    text = GRID + "[guidance]\noptw_backend = 'ils'\noptw_iterations = 250\n"
+    assert strategy_config(load_scenario(write(tmp_path, text))).optw_iterations == 250
+    assert strategy_config(load_scenario(write(tmp_path, GRID))).optw_iterations is None
+    for bad in ("[guidance]\noptw_iterations = 250\n",
+                "[guidance]\noptw_backend = 'ils'\noptw_iterations = 0\n"):
+        with pytest.raises(ParseError, match="optw_iterations"):
+            load_scenario(write(tmp_path, GRID + bad))
+    with pytest.raises(InvalidInputError, match="optw_iterations"):
+        GuidanceSpec(optw_iterations=250)
 
 
 @pytest.mark.parametrize("key,bad", [("search_iterations", "0"), ("search_iterations", "2.5"),
