@@ -30,7 +30,7 @@ EXPECTED = {
     "p000_osm_city.toml": ("road_tracking_episode", 4 * 20),
     "p002_exp2.toml": ("radio_tracking_episode", 9 * 2 * 3 * 20),
     "p002_safety.toml": ("radio_tracking_episode", 6 * 20),
-    "p002_safety_paper.toml": ("radio_tracking_episode", 2 * 20),
+    "p002_safety_paper.toml": ("radio_tracking_episode", 4 * 40),
     "p002_exp1.toml": ("radio_tracking_episode", 2 * 20),
     "p002_calibration.toml": ("radio_tracking_episode", 7 * 6),
     "p002_time_domain.toml": ("radio_tracking_episode", 2 * 10),
