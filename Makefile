@@ -59,11 +59,12 @@ browser:
 docs: $(TEST_STAMP)
 	$(BIN)/mkdocs build --strict --site-dir out/site
 
-# The suite runs on TEST_WORKERS processes (pytest-xdist): about 4 minutes on 2 cores.
+# The suite runs on TEST_WORKERS processes (pytest-xdist; the tests that share the built
+# documentation site stay on one of them): about 3 minutes on 2 cores.
 TEST_WORKERS ?= 2
 
 test: lint typecheck browser
-	$(BIN)/pytest -q -n $(TEST_WORKERS)
+	$(BIN)/pytest -q -n $(TEST_WORKERS) --dist loadgroup
 
 # The fast subset (about 5 minutes): every family's table at reduced size and one campaign cell
 # per paper; run it on two trees to compare them (see benchmarks/fast.sh).

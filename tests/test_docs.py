@@ -165,6 +165,7 @@ def _html(site: Path, page: str) -> str:
 
 
 @pytest.mark.slow
+@pytest.mark.xdist_group("site")  # one worker builds the site once
 def test_home_and_guides_include_the_readme(site: Path) -> None:
     """The README sections arrive through the snippet markers, and no marker leaks."""
     home = _html(site, "")
@@ -178,6 +179,7 @@ def test_home_and_guides_include_the_readme(site: Path) -> None:
 
 
 @pytest.mark.slow
+@pytest.mark.xdist_group("site")  # one worker builds the site once
 @pytest.mark.parametrize("page", sorted(PAPERS))
 def test_paper_pages(site: Path, page: str) -> None:
     """Each paper page is built, names its experiment and links its classes into the API pages."""
@@ -189,6 +191,7 @@ def test_paper_pages(site: Path, page: str) -> None:
 
 
 @pytest.mark.slow
+@pytest.mark.xdist_group("site")  # one worker builds the site once
 @pytest.mark.parametrize("layer", LAYERS)
 def test_api_pages(site: Path, layer: str) -> None:
     """Each API page documents every module of its layer, rendered from its docstrings."""
