@@ -77,8 +77,8 @@ def _routes(inst: OPTWInstance, sol: Arrays) -> Routes:
 @dataclass(frozen=True)
 class Tuning:
     """Search parameters (defaults tuned on the Solomon and Cordeau OPTW benchmarks, m = 1, and on
-    the Cordeau TOPTW benchmark, m = 2 and 4, for ``split``; ``w_route``, ``k_max`` and
-    ``relocate`` are off by default).
+    the Cordeau TOPTW benchmark, m = 1 to 4, for ``split`` and ``k_max``; ``w_route``,
+    ``relocate`` and ``elite`` are off by default).
 
     Parameters
     ----------
@@ -106,12 +106,17 @@ class Tuning:
     w_route
         Relative weight of the route ruin: every visit of one random route.
     k_max
-        Upper bound on the ruin size (at least 4).
+        Upper bound on the ruin size (at least 4): on large team instances many small ruins find
+        more than fewer large ones in the same time.
     relocate
         Also move visits between routes when that shortens the total travel, in the local search.
     split
         The segment ruin removes ``ceil(k / vehicles)`` visits from each route (else ``k`` from
         each, which with several vehicles wipes out most of the plan).
+    elite
+        With more than 1, keep this many distinct solutions (the best and the ends of cycles,
+        ranked by profit then time) and restart each cycle from a random one of them instead of
+        the best.
     """
 
     k_frac: float = 0.5
@@ -130,9 +135,10 @@ class Tuning:
     w_fit: float = 1.0
     local_search: bool = True
     w_route: float = 0.0
-    k_max: int = 1 << 30
+    k_max: int = 15
     relocate: bool = False
     split: bool = True
+    elite: int = 0
 
     def array(self) -> NDArray[np.float64]:
         """Parameters in the order of the ``ils_search.P_*`` indices."""
@@ -140,7 +146,8 @@ class Tuning:
                          self.p_equal, self.alpha_lo, self.alpha_hi, self.noise,
                          self.w_segment, self.w_random, self.w_related, self.w_target,
                          self.w_fit, float(self.local_search), self.w_route, float(self.k_max),
-                         float(self.relocate), float(self.split)], dtype=np.float64)
+                         float(self.relocate), float(self.split), float(self.elite)],
+                        dtype=np.float64)
 
 
 def solve_ils(
@@ -294,6 +301,7 @@ def _solve(
     complete = total - 1e-9 * max(1.0, total)  # collecting this much is provably optimal
     first = float(fst[KS.F_BEST_P])
     batch = 1
+    pool: list[tuple[float, float, Arrays]] = []
     while nc and fst[KS.F_BEST_P] < complete and not deadline.expired():
         done = int(ctl[KS.C_ITER])
         if max_iterations is not None and done >= max_iterations:
@@ -301,6 +309,8 @@ def _solve(
         k = batch if max_iterations is None else min(batch, max_iterations - done)
         t0 = time.perf_counter()
         KS.run_search(ins, cur, best, work, rng, ctl, fst, par, k, buf, mark, key, vst, seq)
+        if tuning.elite > 1 and ctl[KS.C_CYCLE_IT] == 0:
+            _restart_elite(pool, tuning.elite, cur, best, fst, rng)
         dt = time.perf_counter() - t0
         if dt < _BATCH_S / 2:
             batch *= 2
@@ -325,6 +335,22 @@ def _solve(
         plan=plan,
         stats=stats,
     )
+
+
+def _restart_elite(pool: list[tuple[float, float, Arrays]], size: int, cur: Arrays, best: Arrays,
+                   fst: NDArray[np.float64], rng: NDArray[np.uint64]) -> None:
+    """Add the best and the current solution to ``pool`` (distinct profit and time, at most
+    ``size``, best first) and copy a random member into ``cur``."""
+    for sol, p, t in ((best, fst[KS.F_BEST_P], fst[KS.F_BEST_T]),
+                      (cur, fst[KS.F_CUR_P], fst[KS.F_CUR_T])):
+        if all(abs(p - q) > 1e-9 or t != u for q, u, _ in pool):
+            pool.append((float(p), float(t), tuple(a.copy() for a in sol)))
+    pool.sort(key=lambda e: (-e[0], e[1]))
+    del pool[size:]
+    p, t, pick = pool[K.rand_int(rng, len(pool))]
+    K.copy_sol(cur, pick)
+    fst[KS.F_CUR_P] = p
+    fst[KS.F_CUR_T] = t
 
 
 def warm_up() -> None:

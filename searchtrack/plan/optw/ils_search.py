@@ -5,9 +5,9 @@ operators, the route ruin and the inter-route relocation of :mod:`searchtrack.pl
 included), recreates it with the randomised greedy insertion of
 :mod:`searchtrack.plan.optw.ils_kernels`, improves it by reordering routes and inserting again,
 and accepts it by simulated annealing on the profit (ties broken by time). The temperature falls
-geometrically over cycles of growing length; each cycle restarts from the best solution. Only the
-routes that ruin and recreate changed are reordered: the others are already locally optimal. Same
-array layout as the kernels module.
+geometrically over cycles of growing length; each cycle restarts from the best solution (or from
+one of an elite pool that the caller keeps). Only the routes that ruin and recreate changed are
+reordered: the others are already locally optimal. Same array layout as the kernels module.
 """
 
 from __future__ import annotations
@@ -39,7 +39,8 @@ C_ITER, C_SINCE_BEST, C_CYCLE_IT, C_CYCLE_LEN, C_RESTARTS = 0, 1, 2, 3, 4
 F_BEST_P, F_BEST_T, F_CUR_P, F_CUR_T, F_TEMP, F_T0 = 0, 1, 2, 3, 4, 5
 # indices into the parameter array ``par`` (see ``ils.Tuning``)
 (P_KFRAC, P_T0, P_T1, P_CYCLE0, P_GROW, P_EQUAL, P_ALO, P_AHI, P_NOISE,
- P_WSEG, P_WRAND, P_WREL, P_WTARGET, P_WFIT, P_LS, P_WROUTE, P_KMAX, P_RELOC, P_SPLIT) = range(19)
+ P_WSEG, P_WRAND, P_WREL, P_WTARGET, P_WFIT, P_LS, P_WROUTE, P_KMAX, P_RELOC, P_SPLIT,
+ P_ELITE) = range(20)
 
 
 @njit(cache=True)
@@ -310,7 +311,9 @@ def run_search(ins, cur, best, work, rng, ctl, fst, par, n_iter, buf, mark, key,
     """Run ``n_iter`` ruin-and-recreate iterations with local search from the current solution.
 
     All search state (solutions, counters, temperature, random state) lives in the arrays, so a
-    search resumed call after call gives identical results whatever the batch sizes.
+    search resumed call after call gives identical results whatever the batch sizes. With an
+    elite pool (``par[P_ELITE] > 1``) it returns at the end of a cycle, before restarting: the
+    caller sets ``cur``.
     """
     wsum = (par[P_WSEG] + par[P_WRAND] + par[P_WREL] + par[P_WTARGET] + par[P_WFIT]
             + par[P_WROUTE])
@@ -364,12 +367,15 @@ def run_search(ins, cur, best, work, rng, ctl, fst, par, n_iter, buf, mark, key,
         ctl[C_ITER] += 1
         ctl[C_CYCLE_IT] += 1
         if ctl[C_CYCLE_IT] >= ctl[C_CYCLE_LEN]:
-            copy_sol(cur, best)
-            fst[F_CUR_P] = fst[F_BEST_P]
-            fst[F_CUR_T] = fst[F_BEST_T]
             ctl[C_CYCLE_IT] = 0
             ctl[C_RESTARTS] += 1
             ctl[C_CYCLE_LEN] = int(ctl[C_CYCLE_LEN] * par[P_GROW]) + 1
+            if par[P_ELITE] > 1.0:  # the caller picks the restart (``ils._restart_elite``)
+                fst[F_TEMP] = fst[F_T0]
+                return
+            copy_sol(cur, best)
+            fst[F_CUR_P] = fst[F_BEST_P]
+            fst[F_CUR_T] = fst[F_BEST_T]
         frac = ctl[C_CYCLE_IT] / ctl[C_CYCLE_LEN]
         fst[F_TEMP] = fst[F_T0] * (par[P_T1] ** frac)
 

@@ -183,3 +183,19 @@ def test_team_search_honours_the_time_limit() -> None:
     res = solve_ils(inst, time_limit_s=0.3, seed=1)
     assert time.perf_counter() - started < 0.3 + 0.2
     assert res.plan is not None and validate(inst, res.plan).feasible
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_elite_restarts_are_valid_and_deterministic(seed: int) -> None:
+    """Cycles restarting from an elite pool (short cycles, so many restarts): valid plans, profit
+    as validated, and the same plan for the same seed."""
+    inst = random_instance(seed, 20, vehicles=1 + seed % 3)
+    tuning = Tuning(elite=3, cycle0=10, grow=1.2)
+    a = _solve(inst, 60.0, seed, None, 300, tuning)
+    b = _solve(inst, 60.0, seed, None, 300, tuning)
+    assert a.plan == b.plan
+    assert a.stats["restarts"] > 3
+    assert a.plan is not None and a.objective is not None
+    check = validate(inst, a.plan)
+    assert check.feasible, check.violations
+    assert check.profit == pytest.approx(a.objective)
