@@ -285,7 +285,7 @@ def add_parser(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None
     p_mis.add_argument("--keep-out", action="store_true",
                        help="also keep r_min from every estimate in the flown trajectory")
     p_mis.add_argument("--roughening", type=_roughening, default=MISSION.roughening_m, metavar="M",
-                       help="jitter the filter's particles by at least M metres after each "
+                       help="jitter the filter's particles by M metres (σ per axis) after each "
                        "resampling, so a cloud that collapsed on one point can follow its "
                        f"object again (default {MISSION.roughening_m:g}: none, the paper's)")
     p_mis.add_argument("--untempered", action="store_true",

@@ -61,7 +61,8 @@ class RadioPlanSettings:
     r_min_m
         Radius ``r_min`` (m, ≥ 0) of the void region, ground distance (eq. 44).
     p_void_min
-        ``P_vmin ∈ [0, 1)``: the void probability must exceed it at every pose.
+        ``P_vmin ∈ [0, 1)``: the void probability must exceed it at every pose; 0 means no
+        constraint (every path meets it, whatever its void probabilities).
     plan_particles
         Particles per label drawn from the belief for the look-ahead (1 to
         :data:`MAX_PLAN_PARTICLES`).

@@ -232,8 +232,10 @@ class Scorer:
               for p in parts), strict=True)))
 
     def feasible(self, nodes: Nodes) -> BoolArray:
-        """``(B,)`` whether every void probability so far exceeds ``P_vmin``."""
-        return np.asarray(nodes.min_void > self.settings.p_void_min, dtype=np.bool_)
+        """``(B,)`` whether every void probability so far exceeds ``P_vmin`` (all, when
+        ``P_vmin = 0``: no constraint)."""
+        p_min = self.settings.p_void_min
+        return np.asarray((nodes.min_void > p_min) | (p_min <= 0.0), dtype=np.bool_)
 
     def plan(self, nodes: Nodes, i: int) -> RadioPlan:
         """Node ``i`` (a complete sequence) as a plan."""

@@ -198,7 +198,7 @@ class _Flight:
         xy = state.x[:, :, ::2]
         void = void_probability(state.r, state.w, xy, self.path[:, :2],
                                 keep_out_radii(xy, state.r, plan))
-        if np.any(void <= plan.p_void_min):
+        if plan.p_void_min > 0.0 and np.any(void <= plan.p_void_min):
             self.path = self.path[:0]
             self.breach_replans += 1
 

@@ -3,6 +3,7 @@ are recomputed by brute force, and tampered plans are caught."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -11,8 +12,9 @@ import pytest
 from searchtrack.core.result import Status
 from searchtrack.models.radio import fly_heading
 from searchtrack.plan.radio import RadioPlan, RadioPlanProblem, check_plan, solve
+from searchtrack.plan.radio.validator import answer_problems
 
-from .helpers import problem, spread_belief, surrounded, tag_ahead
+from .helpers import POSE, belief, problem, spread_belief, surrounded, tag_ahead
 
 BACKENDS = ["exhaustive", "beam", "greedy", "straight", "auto"]
 
@@ -181,3 +183,36 @@ def test_updates_keep_particles_whose_weight_underflows() -> None:
     assert r2[0] == pytest.approx(1.0, abs=1e-12)
     assert _log_update(log_w, np.array([0.0]), np.zeros((1, 2)))[1][0] == 0.0
     assert _log_update(log_w, np.array([1.0]), np.zeros((1, 2)))[1][0] == 1.0
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_without_the_constraint_a_void_of_zero_is_feasible(backend: str) -> None:
+    """``P_vmin = 0`` is no constraint: with a certain object under the UAV (void probability 0
+    up to rounding, which the planner and the validator round differently) every backend's
+    plan is feasible, the validator agrees and finds nothing wrong."""
+    b = belief([POSE[:2].tolist(), [1300.0, 200.0], [200.0, 1300.0], [1300.0, 1300.0]],
+               [1.0, 0.8, 0.8, 0.8], spread_m=1.0)
+    p = problem(b, horizon=2, plan_particles=40, p_void_min=0.0)
+    res = solve(p, backend=backend, seed=3, time_limit_s=30.0)
+    assert res.plan is not None and res.plan.feasible and res.status is not Status.INFEASIBLE
+    assert res.plan.min_void < 1e-9
+    check = check_plan(p, res.plan, seed=3, any_heading=backend == "straight")
+    assert check.valid and check.meets_constraint
+    assert answer_problems(p, res, seed=3) == []
+
+
+def test_a_void_at_the_bound_is_a_tie_the_validator_lets_pass() -> None:
+    """A plan whose void probability equals ``P_vmin`` up to rounding may be called feasible
+    or not; a verdict that disagrees with voids clearly on one side is caught."""
+    b = belief([POSE[:2].tolist(), [1300.0, 200.0], [200.0, 1300.0], [1300.0, 1300.0]],
+               [1.0, 0.8, 0.8, 0.8], spread_m=1.0)
+    p = problem(b, horizon=2, plan_particles=40, p_void_min=0.5)
+    res = solve(p, backend="exhaustive", seed=3)
+    assert res.plan is not None and not res.plan.feasible
+    plan = res.plan
+    flipped = dataclasses.replace(
+        res, plan=RadioPlan(plan.headings, plan.path, plan.rewards, plan.void, True))
+    assert any("feasible" in s for s in answer_problems(p, flipped, seed=3))
+    tied = dataclasses.replace(p, settings=dataclasses.replace(
+        p.settings, p_void_min=max(0.0, float(plan.min_void)) + 1e-12))
+    assert not any("feasible" in s for s in answer_problems(tied, flipped, seed=3))
