@@ -14,8 +14,8 @@ $(STAMP): pyproject.toml
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
 	$(BIN)/python -m pip install -q -e .
-	# Compile the numba kernels into numba's on-disk cache now (about 30 s once), so the first
-	# solve answers at once instead of compiling inside it.
+	# Compile the numba kernels into numba's on-disk cache now (one process per core, about 50 s
+	# once on 2 cores), so the first solve answers at once instead of compiling inside it.
 	$(BIN)/searchtrack warm-up
 	touch $(STAMP)
 
