@@ -199,6 +199,12 @@ def source_pairs(
         values[k] = value
 
 
+_PAIR_WORK = 1 << 14
+"""Distance-block entries (pairs × block size) from which a source's pairs are solved on all of
+numba's threads: each pair's simplex sweeps its block many times, so far fewer elements than
+:data:`~searchtrack.core.kernel_threads.PARALLEL_WORK` pay for the threads."""
+
+
 def solve_sources(blocks: PairBlocks, pairs: IntArray, threshold: float,
                   deadline: Deadline) -> tuple[FloatArray, BoolArray]:
     """The pairs ``pairs`` (rows ``(tracker, measurement)``) that :func:`source_pairs` proves,
@@ -222,7 +228,7 @@ def solve_sources(blocks: PairBlocks, pairs: IntArray, threshold: float,
         targets, dist = blocks.source_block(k)
         got = np.empty(b - a)
         codes = np.empty(b - a, dtype=np.int8)
-        with threads_for((b - a) * dist.size):
+        with threads_for((b - a) * dist.size, least=_PAIR_WORK):
             source_pairs(np.ascontiguousarray(dist, dtype=np.float64), blocks.from_measurements,
                          normalised(blocks.src_sigs[k].weights),
                          np.ascontiguousarray(pairs[rows, dst_col], dtype=np.int64), nodes_all,

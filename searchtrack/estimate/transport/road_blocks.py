@@ -204,13 +204,19 @@ class PairBlocks:
         return chain_distances(self.metric, sources, targets, limit)
 
 
+_TABLE_WORK = 1 << 14
+"""Distances from which the junction-table pass runs on all of numba's threads: each takes four
+table reads and their sums, so fewer than
+:data:`~searchtrack.core.kernel_threads.PARALLEL_WORK` elements pay for the threads."""
+
+
 def table_distances(metric: RoadMetric, sources: IntArray, targets: IntArray) -> FloatArray:
     """:meth:`RoadMetric.distances` of a metric with a junction table, by one kernel pass (the
     same sums, in the same order)."""
     table = metric.junction_distances
     assert table is not None
     out = np.empty((sources.size, targets.size))
-    with threads_for(out.size):
+    with threads_for(out.size, least=_TABLE_WORK):
         kernels.table_rows(table, metric.end_a, metric.end_b, metric.off_a, metric.off_b,
                            metric.chain, np.ascontiguousarray(sources, np.int64),
                            np.ascontiguousarray(targets, np.int64), out)
