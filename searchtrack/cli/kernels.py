@@ -45,8 +45,8 @@ def warm_up_command(args: argparse.Namespace, console: Console) -> int:
     started = time.perf_counter()
     cold = [ks.name for ks in cold_sets(names)]
     jobs = args.jobs if args.jobs is not None else (os.cpu_count() or 1)
-    with console.status(f"{NOTICE}: {len(cold)} sets on {min(jobs, max(len(cold), 1))} "
-                        "processes" if cold else "loading the cached kernels"):
+    with console.status(f"{NOTICE}: {len(cold)} sets on {min(jobs, len(cold))} processes"
+                        if cold else "loading the cached kernels"):
         took = warm([KERNEL_SETS[n] for n in cold], jobs=jobs)
         took |= warm([KERNEL_SETS[n] for n in names if n not in took])
     for name in names:

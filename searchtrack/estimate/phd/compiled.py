@@ -151,8 +151,9 @@ def gated_corrections(x: FloatArray, prior: FloatArray, tags: IntArray,
         area = np.ascontiguousarray(sensor.area)
         cp = np.ones(1)
         inv_sum, zstar = 0.0, 0
+        work = x.shape[0] * max(k, 1)  # both passes sweep particles × measurements
         if k:
-            with threads_for(x.shape[0] * k):
+            with threads_for(work):
                 su, sux, sus, gz, gzx, gzs = gated.gate_sums(
                     x, out.weights, sensor.pd, area, z, qscale, qmin, norm, floor, lo, size,
                     shape, start, order, tags, n_slots)
@@ -167,7 +168,7 @@ def gated_corrections(x: FloatArray, prior: FloatArray, tags: IntArray,
                 groups = np.asarray(np.argmax(per_group, axis=1) - 1, dtype=np.int64)
             out.groups.append(groups)
             out.seeds.append(sensor.to_position(scan.pose, z))
-        with threads_for(x.shape[0] * max(k, 1)):
+        with threads_for(work):
             out.weights, sums, rz = gated.correct_particles(
                 x, out.weights, prior, sensor.pd, area, z, cp, qscale, qmin, norm, floor,
                 inv_sum, zstar, lo, size, shape, start, order, out.attributed, out.best_share,

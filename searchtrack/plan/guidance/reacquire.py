@@ -24,7 +24,7 @@ from searchtrack.core.result import Result
 from searchtrack.estimate.belief import NodePredictor, SparseNodePredictor
 from searchtrack.models.roads import RoadNetwork
 from searchtrack.plan.optw.instance import OPTWInstance
-from searchtrack.plan.optw.solve import checked, solve, warm_up
+from searchtrack.plan.optw.solve import solve, solve_ils_capped
 
 log = logging.getLogger("searchtrack.plan.guidance.reacquire")
 
@@ -218,11 +218,8 @@ def plan_reacquisition(
     if max_iterations is None:
         result = solve(instance, backend=backend, time_limit_s=time_limit_s, seed=seed)
     else:
-        from searchtrack.plan.optw.ils import solve_ils  # numba kernels: loaded on first use
-
-        warm_up("ils")
-        result = checked(instance, solve_ils(instance, time_limit_s=time_limit_s, seed=seed,
-                                             max_iterations=max_iterations))
+        result = solve_ils_capped(instance, time_limit_s=time_limit_s, seed=seed,
+                                  max_iterations=max_iterations)
     if result.plan is None or not result.plan:
         return (), result
     route = tuple(int(node_ids[v]) for v in result.plan[0] if v != instance.start)

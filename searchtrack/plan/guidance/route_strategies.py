@@ -71,7 +71,7 @@ from searchtrack.plan.guidance.strategies import (
     search_modes,
 )
 from searchtrack.plan.guidance.view import Guidance, Reacquisition
-from searchtrack.plan.optw.solve import checked, warm_up
+from searchtrack.plan.optw.solve import solve_ils_capped, warm_up
 
 log = logging.getLogger("searchtrack.plan.guidance.route_strategies")
 
@@ -107,11 +107,9 @@ def plan_search(problem: GuidanceProblem, uav: int, mass: FloatArray, claimed: l
     seed = int(rng.integers(0, MAX_SEED))
     if inst.n == 1:
         return ()
-    from searchtrack.plan.optw.ils import solve_ils  # numba kernels: loaded on first use
-
-    warm_up("ils")
-    result = checked(inst, solve_ils(inst, time_limit_s=max(1e-3, budget.remaining() / waiting),
-                                     seed=seed, max_iterations=cfg.search_iterations))
+    warm_up("ils")  # before the share is taken: a first compile does not eat the budget
+    result = solve_ils_capped(inst, time_limit_s=max(1e-3, budget.remaining() / waiting),
+                              seed=seed, max_iterations=cfg.search_iterations)
     nodes = () if not result.plan else tuple(int(node_ids[v]) for v in result.plan[0]
                                              if v != inst.start)
     log.debug("uav %d: %d candidate cells, %s search route of %d nodes (%.3g)", uav, inst.n - 1,

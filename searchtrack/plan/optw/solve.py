@@ -186,3 +186,15 @@ def answer_problems(instance: OPTWInstance, result: Result[Routes],
 def checked(instance: OPTWInstance, result: Result[Routes]) -> Result[Routes]:
     """``result`` if the validator accepts its plan and objective, else an ``ERROR`` result."""
     return BACKENDS.validated(instance, result)
+
+
+def solve_ils_capped(instance: OPTWInstance, *, time_limit_s: float, seed: int,
+                     max_iterations: int) -> Result[Routes]:
+    """The ILS within ``time_limit_s`` and at most ``max_iterations`` iterations (the same
+    answer on any machine that reaches the cap in time), its kernels readied first and its
+    answer checked by the validator as :func:`solve` checks every backend's."""
+    from searchtrack.plan.optw.ils import solve_ils
+
+    warm_up("ils")
+    return checked(instance, solve_ils(instance, time_limit_s=time_limit_s, seed=seed,
+                                       max_iterations=max_iterations))
