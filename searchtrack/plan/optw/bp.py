@@ -11,12 +11,16 @@
   exact pricing alone, so it is off by default.
 * **Bounds**: every completed pricing gives the Lagrangian bound ``Σ_i π_i + m · U`` (``U`` ≥ the
   best reduced profit of a route), valid for any duals of the right signs; a node's bound is the
-  least of them (rounded down for integer profits). Column generation stops at a node once the
-  rounded bound equals the rounded master value.
-* **Branching**: on a customer's fractional visit (forbidden / required; the largest
-  ``min(y, 1 − y) × profit``: on c103, c104, r105, c101 and pr02 it needed no more nodes than
-  the most fractional visit, and it closed pr02 at m = 2), then on a fractional arc (forbidden /
-  forced), best bound first. An integral master solution is an incumbent; the
+  least of them. With integral profits it is rounded down to a multiple of their greatest
+  common divisor (:func:`~searchtrack.plan.optw.instance.profit_step`; 10 on the Solomon c1
+  instances), since every plan collects such a multiple. Column generation stops at a node
+  once the rounded bound equals the rounded master value.
+* **Cuts**: limited-memory 3-subset-row cuts (:mod:`~searchtrack.plan.optw.bp_cuts`; Jepsen
+  et al. 2008, Pecin et al. 2017) separated once column generation has converged at the nodes
+  up to :attr:`Tuning.cut_depth`, their duals priced into the labels; with them the bound is
+  ``Σ_i π_i + Σ_c σ_c + m · U``.
+* **Branching** (:mod:`~searchtrack.plan.optw.bp_branching`): on a customer's fractional visit,
+  then on a fractional arc, best bound first. An integral master solution is an incumbent; the
   pool's columns are also solved as an integer program with CP-SAT after the root and
   periodically.
 
@@ -38,17 +42,26 @@ from numpy.typing import NDArray
 from searchtrack.core.deadline import Deadline, check_time_limit
 from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.result import Result, Status
+from searchtrack.plan.optw.bp_branching import branch
+from searchtrack.plan.optw.bp_cuts import separate
 from searchtrack.plan.optw.bp_master import LPSolution, Master, Path, Restrictions, pool_ip
 from searchtrack.plan.optw.bp_pricing import Pricer, droppable
-from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes
-from searchtrack.plan.optw.labelling_core import BIG, CAP_MAX, Core, build_cores, instance_route
+from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes, profit_step
+from searchtrack.plan.optw.labelling_core import (
+    BIG,
+    CAP_MAX,
+    Core,
+    build_cores,
+    core_path,
+    feasible_path,
+    instance_route,
+)
 from searchtrack.plan.optw.routes import idle_routes, initial_plan
 
 log = logging.getLogger("searchtrack.plan.optw.bp")
 
 BACKEND = "bp"
 _EPS = 1e-5  # least reduced profit of a new column
-_FRAC = 1e-6
 
 
 @dataclass(frozen=True)
@@ -64,6 +77,10 @@ class Tuning:
     ils_iterations: int = 20000  # the ILS stops here unless its time share ends first
     primal_s: float = 2.0  # CP-SAT on the column pool, after the root and every primal_every
     primal_every: int = 50
+    cuts_per_round: int = 20  # subset-row cuts separated at once (0: no cuts)
+    cuts_max: int = 120  # subset-row cuts in the master at most
+    cut_rounds: int = 8  # separation rounds per node
+    cut_depth: int = 0  # separate at nodes of at most this depth
 
 
 @dataclass(order=True)
@@ -84,7 +101,7 @@ class _Tree:
     deadline: Deadline
     tuning: Tuning
     seed: int
-    whole: bool
+    step: int  # every plan's profit is a multiple of it (0: profits not integral)
     value: float = -math.inf
     best: list[Path] = field(default_factory=list)
     stats: dict[str, float] = field(default_factory=dict)
@@ -93,14 +110,15 @@ class _Tree:
         self.stats[key] = self.stats.get(key, 0.0) + time.perf_counter() - since
 
     def rounded(self, bound: float) -> float:
-        return math.floor(bound + 1e-6) if self.whole else bound
+        s = self.step
+        return s * math.floor((bound + 1e-6) / s) if s else bound
 
     def pruned(self, bound: float) -> bool:
         """True when a node of this bound cannot beat the incumbent (or holds no plan)."""
         b = self.rounded(bound)
         if self.value == -math.inf:
             return b < -1e-6
-        return b <= self.value + (0.0 if self.whole else 1e-9 * max(1.0, abs(self.value)))
+        return b <= self.value + (0.0 if self.step else 1e-9 * max(1.0, abs(self.value)))
 
     def offer(self, paths: list[Path]) -> None:
         """Make ``paths`` (disjoint feasible routes) the incumbent if they collect more."""
@@ -138,8 +156,9 @@ class _Tree:
         self.tick("branching_s", t0)
         prof = np.zeros(self.fwd.n)
         prof[1:-1] = self.fwd.prof[1:-1]
-        centre: tuple[NDArray[np.float64], float] | None = None
+        centre: tuple[NDArray[np.float64], float, NDArray[np.float64]] | None = None
         centre_bound = math.inf
+        rounds = 0
         while True:
             if self.deadline.expired():
                 return None, False
@@ -151,28 +170,34 @@ class _Tree:
             self.stats["cg_iterations"] = self.stats.get("cg_iterations", 0.0) + 1
             if self.pruned(node.bound):
                 return None, True
-            if self.whole and self.rounded(node.bound) <= math.floor(lp.objective + 1e-6):
+            if self.step and self.rounded(node.bound) <= self.rounded(lp.objective):
+                if self.cut(node, lp, rounds):
+                    rounds, centre, centre_bound = rounds + 1, None, math.inf
+                    continue
                 return lp, True  # the rounded bound cannot fall further: branch here
             # the guided heuristic at the master's duals, then exact pricing at the smoothed
             # duals (Wentges 1997) and, if that mis-prices, at the master's duals
-            points = [(lp.pi, lp.mu, True)]
+            points = [(lp.pi, lp.mu, lp.sigma, True)]
             if centre is not None and t.smoothing > 0:
                 a = t.smoothing
                 points.insert(0, (a * centre[0] + (1 - a) * lp.pi,
-                                  a * centre[1] + (1 - a) * lp.mu, True))
+                                  a * centre[1] + (1 - a) * lp.mu,
+                                  a * centre[2] + (1 - a) * lp.sigma, True))
             if t.heuristic_cap > 0:
-                points.insert(0, (lp.pi, lp.mu, False))
+                points.insert(0, (lp.pi, lp.mu, lp.sigma, False))
             added, proven = 0, False
-            for pi, mu, exact in points:
-                paths, upper = self.price(dur, prof - pi, mu, drop, node.restr.forbidden, exact)
+            for pi, mu, sigma, exact in points:
+                paths, upper = self.price(dur, prof - pi, mu, sigma, drop, node.restr.forbidden,
+                                          exact)
                 if upper is not None:
-                    lag = float(pi[1:-1].sum()) + m.vehicles * upper
+                    lag = float(pi[1:-1].sum() + sigma.sum()) + m.vehicles * upper
                     node.bound = min(node.bound, lag)
                     if lag < centre_bound:
-                        centre_bound, centre = lag, (pi.copy(), upper)
+                        centre_bound, centre = lag, (pi.copy(), upper, sigma.copy())
                 gain = [self.path_profit(p) for p in paths]
                 good = [(p, c) for p, c in zip(paths, gain, strict=True)
-                        if c - float(lp.pi[list(p[1:-1])].sum()) - lp.mu > _EPS]
+                        if c - float(lp.pi[list(p[1:-1])].sum()) - lp.mu
+                        - m.cut_cost(p, lp.sigma) > _EPS]
                 added = m.add([p for p, _ in good], [c for _, c in good])
                 proven = upper is not None and pi is lp.pi and exact
                 if added:
@@ -180,10 +205,27 @@ class _Tree:
             if not added:
                 if not proven and not self.deadline.expired():
                     log.warning("pricing stalled at %s", node.restr)
+                if proven and self.cut(node, lp, rounds):
+                    rounds, centre, centre_bound = rounds + 1, None, math.inf
+                    continue
                 return (lp, True) if proven else (None if self.deadline.expired() else lp, False)
 
-    def price(self, dur: NDArray[np.int64], prof: NDArray[np.float64], mu: float, drop: bool,
-              forbidden: frozenset[int], exact: bool) -> tuple[list[Path], float | None]:
+    def cut(self, node: _Node, lp: LPSolution, rounds: int) -> bool:
+        """Add the most violated subset-row cuts of the node's master solution; True if any."""
+        t, m = self.tuning, self.master
+        room = min(t.cuts_per_round, t.cuts_max - len(m.cuts))
+        if room <= 0 or rounds >= t.cut_rounds or node.depth > t.cut_depth:
+            return False
+        t0 = time.perf_counter()
+        new = separate(m.paths, lp.values, {c.subset for c in m.cuts}, most=room)
+        added = m.add_cuts(new)
+        self.stats["cuts"] = self.stats.get("cuts", 0.0) + added
+        self.tick("cuts_s", t0)
+        return added > 0
+
+    def price(self, dur: NDArray[np.int64], prof: NDArray[np.float64], mu: float,
+              sigma: NDArray[np.float64], drop: bool, forbidden: frozenset[int],
+              exact: bool) -> tuple[list[Path], float | None]:
         """Columns above ``mu`` and, if proven, a bound on the best reduced profit + ``mu``."""
         t0 = time.perf_counter()
         t = self.tuning
@@ -196,47 +238,11 @@ class _Tree:
                     "heuristic_pricing_hits", 0.0) + 1
         else:
             got = self.pricer.price(dur, prof, mu, _EPS, drop=drop, forbidden=forbidden,
-                                    collect=t.collect, cap=CAP_MAX, deadline=self.deadline)
+                                    collect=t.collect, cap=CAP_MAX, deadline=self.deadline,
+                                    cuts=self.master.cuts, sigma=sigma)
             self.stats["exact_pricing_calls"] = self.stats.get("exact_pricing_calls", 0.0) + 1
         self.tick("pricing_s", t0)
         return got.paths, got.upper
-
-
-def _core_path(inst: OPTWInstance, where: dict[int, int], route: Route) -> Path | None:
-    inner = route[1:] if inst.end is None else route[1:-1]
-    if any(v not in where for v in inner):
-        return None
-    return (0, *(where[v] for v in inner), len(where) + 1)
-
-
-def _feasible(core: Core, path: Path) -> bool:
-    t = int(core.opn[core.src])
-    for a, b in itertools.pairwise(path):
-        if core.dur[a, b] >= BIG:
-            return False
-        t = max(int(core.opn[b]), t + int(core.dur[a, b]))
-        if t > core.cls[b]:
-            return False
-    return True
-
-
-def _branch(tree: _Tree, node: _Node, lp: LPSolution) -> list[Restrictions] | None:
-    """The two children of ``node``, or ``None`` when its master solution is integral."""
-    m = tree.master
-    if np.all(np.abs(lp.values - np.round(lp.values)) <= _FRAC):
-        return None
-    y = m.visits(lp.values)
-    # the customer whose fractional visit weighs most: min(y, 1 − y) × profit
-    score = np.minimum(y, 1.0 - y) * tree.fwd.prof
-    score[(y <= _FRAC) | (y >= 1 - _FRAC)] = -1.0
-    i = int(np.argmax(score))
-    if score[i] > 0:
-        return [node.restr.child(forbid=i), node.restr.child(require=i)]
-    x = {a: f for a, f in m.arc_flows(lp.values).items() if _FRAC < f < 1 - _FRAC}
-    if not x:
-        return None
-    a = min(x, key=lambda k: (abs(x[k] - 0.5), k))
-    return [node.restr.child(no_arc=a), node.restr.child(arc=a)]
 
 
 def solve_bp(instance: OPTWInstance, *, time_limit_s: float = 60.0, seed: int = 0,
@@ -277,10 +283,8 @@ def solve_bp(instance: OPTWInstance, *, time_limit_s: float = 60.0, seed: int = 
     empty_ok = bool(fwd.dur[fwd.src, fwd.snk] < BIG)
     total = float(fwd.prof.sum())
     master = Master(fwd.n, inst.vehicles, empty_ok, 100.0 * (total + 1.0))
-    profit = inst.profit
     pricer = Pricer(fwd, droppable(inst, orig), table_ng=t.table_ng, guide=t.heuristic_cap > 0)
-    tree = _Tree(inst, fwd, orig, master, pricer, deadline, t, seed,
-                 bool(np.all(profit == np.round(profit))))
+    tree = _Tree(inst, fwd, orig, master, pricer, deadline, t, seed, profit_step(fwd.prof))
     seeds: list[list[Route]] = [] if start is None else [list(start)]
     if fwd.n > 2:
         from searchtrack.plan.optw.ils import solve_ils
@@ -293,11 +297,11 @@ def solve_bp(instance: OPTWInstance, *, time_limit_s: float = 60.0, seed: int = 
         if first.plan is not None:
             seeds.append(list(first.plan))
     singles = [(0, c, fwd.n - 1) for c in range(1, fwd.n - 1)]
-    columns: list[Path] = [p for p in singles if _feasible(fwd, p)]
+    columns: list[Path] = [p for p in singles if feasible_path(fwd, p)]
     columns += [(0, fwd.n - 1)] if empty_ok else []
     for plan in seeds:
-        paths = [_core_path(inst, where, r) for r in plan]
-        good = [p for p in paths if p is not None and _feasible(fwd, p) and len(p) > 2]
+        paths = [core_path(inst, where, r) for r in plan]
+        good = [p for p in paths if p is not None and feasible_path(fwd, p) and len(p) > 2]
         columns += good
         if len(good) == inst.vehicles or empty_ok:
             tree.offer(good)
@@ -341,7 +345,7 @@ def _run(tree: _Tree, root: _Node, empty_ok: bool) -> Result[Routes]:
             current = None
             continue
         t0 = time.perf_counter()
-        kids = _branch(tree, current, lp)
+        kids = branch(tree.master, tree.fwd.prof, current.restr, lp)
         tree.tick("branching_s", t0)
         if kids is None:
             if lp.artificial <= 1e-6:

@@ -5,6 +5,7 @@ Set packing over route columns, as a linear program solved by OR-Tools GLOP::
     max  Σ_r c_r λ_r
     s.t. Σ_r a_ir λ_r ≤ 1   (= 1 when customer i is required by a branch)   duals π_i
          Σ_r λ_r      ≤ m   (= m when the empty route is infeasible)       dual  μ
+         Σ_r α_cr λ_r ≤ 1   for each subset-row cut c                      dual  σ_c
          λ ≥ 0
 
 Customers are the vertices ``1 … n − 2`` of the labelling core graph
@@ -15,7 +16,8 @@ the duals (``π_i ≥ −M``), so every Lagrangian bound computed from them stay
 
 Branching restricts the master by bounds only: a column a node forbids gets upper bound 0, a
 required customer's row gets lower bound 1. GLOP keeps its basis across these changes and across
-added columns.
+added columns. Subset-row cuts (:mod:`searchtrack.plan.optw.bp_cuts`) are rows added by
+:meth:`Master.add_cuts`, valid at every node.
 """
 
 from __future__ import annotations
@@ -29,6 +31,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 from ortools.linear_solver import linear_solver_pb2, pywraplp
+
+from searchtrack.plan.optw.bp_cuts import SubsetRowCut
 
 log = logging.getLogger("searchtrack.plan.optw.bp")
 
@@ -80,6 +84,7 @@ class LPSolution:
     values: NDArray[np.float64]
     pi: NDArray[np.float64]  # by core vertex (0 at src and snk)
     mu: float
+    sigma: NDArray[np.float64]  # by cut, ≥ 0
     artificial: float  # total artificial activity (> 0: the node looks infeasible)
 
 
@@ -106,6 +111,7 @@ class Master:
     paths: list[Path] = field(default_factory=list)
     profits: list[float] = field(default_factory=list)
     _known: dict[Path, int] = field(default_factory=dict)
+    cuts: list[SubsetRowCut] = field(default_factory=list)
     failures: int = field(default=0, init=False)
     """Solves GLOP reported numerically troubled (each repeated in a fresh solver)."""
 
@@ -130,6 +136,7 @@ class Master:
         self.fleet.SetCoefficient(self.fleet_slack, 1.0)
         self.objective.SetCoefficient(self.fleet_slack, -self.penalty)
         self.vars: list[pywraplp.Variable] = []
+        self.cut_rows: list[pywraplp.Constraint] = []
 
     @property
     def size(self) -> int:
@@ -151,6 +158,10 @@ class Master:
             for i in path[1:-1]:
                 self.rows[i].SetCoefficient(v, 1.0)
             self.fleet.SetCoefficient(v, 1.0)
+            for row, cut in zip(self.cut_rows, self.cuts, strict=True):
+                a = cut.coefficient(path)
+                if a:
+                    row.SetCoefficient(v, float(a))
             self.objective.SetCoefficient(v, float(c))
             self._known[path] = len(self.paths)
             self.paths.append(path)
@@ -158,6 +169,26 @@ class Master:
             self.vars.append(v)
             added += 1
         return added
+
+    def add_cuts(self, cuts: Iterable[SubsetRowCut]) -> int:
+        """Add the cuts (rows ``≤ 1`` over the pooled columns); return how many."""
+        s = self.solver
+        added = 0
+        for cut in cuts:
+            row = s.Constraint(-s.infinity(), 1.0)
+            for v, path in zip(self.vars, self.paths, strict=True):
+                a = cut.coefficient(path)
+                if a:
+                    row.SetCoefficient(v, float(a))
+            self.cuts.append(cut)
+            self.cut_rows.append(row)
+            added += 1
+        return added
+
+    def cut_cost(self, path: Path, sigma: NDArray[np.float64]) -> float:
+        """``Σ_c σ_c α_c(path)``: what the cuts take from the reduced profit of ``path``."""
+        return float(sum(sigma[c] * cut.coefficient(path)
+                         for c, cut in enumerate(self.cuts) if sigma[c] > 0.0))
 
     def restrict(self, node: Restrictions) -> None:
         """Bounds of the node ``node``: its forbidden columns at 0, its required rows at 1."""
@@ -200,7 +231,10 @@ class Master:
         pi = np.zeros(self.n)
         pi[1:-1] = [self.rows[i].dual_value() for i in range(1, self.n - 1)]
         art = sum(a.solution_value() for a in self.slack) + self.fleet_slack.solution_value()
-        return LPSolution(self.objective.Value(), values, pi, self.fleet.dual_value(), art)
+        sigma = np.maximum(np.array([r.dual_value() for r in self.cut_rows], dtype=np.float64),
+                           0.0)
+        return LPSolution(self.objective.Value(), values, pi, self.fleet.dual_value(), sigma,
+                          art)
 
     def _rebuild(self) -> pywraplp.Solver:
         """Move the RMP into a fresh GLOP (same rows, columns, bounds and objective) and
@@ -214,6 +248,7 @@ class Master:
         rows, columns = s.constraints(), s.variables()
         k = self.n - 2  # customer slacks, then the fleet slack, then the route columns
         self.rows, self.fleet = rows[:self.n], rows[self.n]
+        self.cut_rows = rows[self.n + 1:]
         self.slack, self.fleet_slack, self.vars = columns[:k], columns[k], columns[k + 1:]
         self.solver, self.objective = s, s.Objective()
         return s

@@ -31,12 +31,14 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 
 from searchtrack.core.deadline import Deadline
+from searchtrack.plan.optw.bp_cuts import SubsetRowCut, masks, outside_memory
 from searchtrack.plan.optw.bp_master import Path, Restrictions
 from searchtrack.plan.optw.instance import OPTWInstance
 from searchtrack.plan.optw.labelling_core import (
@@ -45,6 +47,7 @@ from searchtrack.plan.optw.labelling_core import (
     NG_SIZE,
     PATHS_PER_PASS,
     Core,
+    CutMasks,
     PassResult,
     base_ng,
     core_pair,
@@ -140,10 +143,10 @@ class Pricer:
 
     def _pass(self, core: Core, ng: NDArray[np.uint64], tab: NDArray[np.float64] | None,
               floor: float, gap: float, cap: int, collect: int, bprof: NDArray[np.float64],
-              deadline: Deadline) -> PassResult:
+              deadline: Deadline, cuts: CutMasks | None = None) -> PassResult:
         """One pass in collect mode, counted in the stats."""
         out = run_pass(core, ng, tab, lb=floor, gap=gap, cap=cap, deadline=deadline,
-                       collect=collect, bprof=bprof)
+                       collect=collect, bprof=bprof, cuts=cuts)
         self.stats["passes"] += 1
         self.stats["labels"] += float(out.labels)
         return out
@@ -168,7 +171,8 @@ class Pricer:
 
     def price(self, dur: NDArray[np.int64], prof: NDArray[np.float64], floor: float,
               gap: float, *, drop: bool, forbidden: frozenset[int], collect: int, cap: int,
-              deadline: Deadline) -> Priced:
+              deadline: Deadline, cuts: Sequence[SubsetRowCut] = (),
+              sigma: NDArray[np.float64] | None = None) -> Priced:
         """Elementary paths of ``Σ prof > floor + gap`` and a bound on the best one.
 
         Parameters
@@ -187,15 +191,23 @@ class Pricer:
             Most paths to return, most labels per pass.
         deadline
             When to stop.
+        cuts, sigma
+            The master's subset-row cuts and their duals: a path's value is then
+            ``Σ prof − Σ_c σ_c α_c(path)``. The completion tables come from passes without the
+            cuts (the costs of a path's prefix are among the whole path's, so those tables stay
+            bounds), and the passes that follow stay forward.
         """
         self.stats["pricing_calls"] += 1
         n = self.fwd.n
+        duals = np.zeros(len(cuts)) if sigma is None else sigma
         keep = np.ones(n, dtype=bool)
         if drop:
             keep[1:-1] = (prof[1:-1] > 0) | ~self.drop_ok[1:-1]
+            keep |= outside_memory(cuts, duals, n)
         for v in forbidden:
             keep[v] = False
         idx = np.flatnonzero(keep)
+        cm = masks(cuts, duals, idx)
         fwd, rev = self._cores(dur, prof, idx)
         full = fwd.n - 2 <= FULL_MEMORY
         ng = base_ng(fwd) | initial_ng(fwd, fwd.n if full else self.ng_size)
@@ -214,7 +226,7 @@ class Pricer:
         while True:
             core = fwd if direction == 0 else rev
             out = self._pass(core, ng, tables[1 - direction], floor, gap, cap, collect, bprof,
-                             deadline)
+                             deadline, cm)
             if self.guide and direction == 0 and out.code == DONE:
                 guide = np.full((self.fwd.n, out.own.shape[1]), -np.inf)
                 guide[idx] = out.table()
@@ -238,8 +250,9 @@ class Pricer:
                 return Priced(paths, values, upper)
             for s in sinks[np.argsort(-lp[sinks], kind="stable")[:PATHS_PER_PASS]]:
                 self._forbid(ng, idx, out.path(int(s)))
-            tables[direction] = out.table()
-            direction = 1 - direction
+            if cm is None:
+                tables[direction] = out.table()
+                direction = 1 - direction
 
     def _cores(self, dur: NDArray[np.int64], prof: NDArray[np.float64],
                idx: NDArray[np.intp]) -> tuple[Core, Core]:

@@ -339,3 +339,11 @@ def euclidean_ticks(
     diff = xy[:, None, :] - xy[None, :, :]
     dist = np.sqrt((diff * diff).sum(axis=2)) / speed
     return to_ticks("travel", dist, scale, rounding)
+
+
+def profit_step(profit: NDArray[np.float64]) -> int:
+    """The greatest common divisor of integral profits (1 when all are 0), 0 when some profit
+    is not integral: every plan collects a multiple of it, so a bound rounds down to one."""
+    if not np.all(profit == np.round(profit)):
+        return 0
+    return max(1, math.gcd(*np.abs(profit).astype(np.int64).tolist()))

@@ -17,6 +17,7 @@ the same graphs. This module holds that common part:
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -219,6 +220,22 @@ def forbid_cycles(ng: NDArray[np.uint64], path: list[int],
 
 
 @dataclass(frozen=True, eq=False)
+class CutMasks:
+    """Subset-row cuts as a labelling pass reads them: ``subset[v]`` and ``memory[v]`` are
+    ``(n, W)`` bitmasks of the cuts whose subset (memory) holds vertex ``v``, ``dual`` the cuts'
+    non-negative duals (``64 W`` entries, zero-padded)."""
+
+    subset: NDArray[np.uint64]
+    memory: NDArray[np.uint64]
+    dual: NDArray[np.float64]
+
+
+def _no_cuts(n: int) -> tuple[NDArray[np.uint64], NDArray[np.uint64], NDArray[np.float64]]:
+    none = np.zeros((n, 0), dtype=np.uint64)
+    return none, none, np.zeros(0)
+
+
+@dataclass(frozen=True, eq=False)
 class PassResult:
     """What one labelling pass found (see :func:`run_pass`).
 
@@ -256,7 +273,8 @@ class PassResult:
 
 def run_pass(core: Core, ng: NDArray[np.uint64], table: NDArray[np.float64] | None, *,
              lb: float, gap: float, cap: int, deadline: Deadline, ub: float = math.inf,
-             collect: int = 0, bprof: NDArray[np.float64] | None = None) -> PassResult:
+             collect: int = 0, bprof: NDArray[np.float64] | None = None,
+             cuts: CutMasks | None = None) -> PassResult:
     """One bounded labelling pass on ``core`` with ng-sets ``ng``.
 
     Parameters
@@ -281,6 +299,9 @@ def run_pass(core: Core, ng: NDArray[np.uint64], table: NDArray[np.float64] | No
     bprof
         Non-negative upper bounds on the profits (default ``core.prof``, which must then be
         non-negative).
+    cuts
+        Limited-memory subset-row cuts priced into the labels (default: none); ``bprof`` and
+        ``table`` must then bound the profits without the cuts' costs.
     """
     width = max(1, math.ceil((core.horizon + 1) / MAX_BUCKETS))
     buckets = core.horizon // width + 1
@@ -290,7 +311,29 @@ def run_pass(core: Core, ng: NDArray[np.uint64], table: NDArray[np.float64] | No
         np.zeros((core.n, buckets)) if table is None else table, table is not None,
         core.horizon, width, (core.horizon >> MAX_QUEUE_LOG2).bit_length(),
         lb, ub, gap, cap, deadline.end, SCAN, collect, core.prof if bprof is None else bprof,
+        *(_no_cuts(core.n) if cuts is None else (cuts.subset, cuts.memory, cuts.dual)),
     )
     code, lb_out, best, sinks, n_sinks, lv, lp, par, n_lab, own, pops, work, found, n_found = out
     return PassResult(int(code), float(lb_out), int(best), sinks[:n_sinks], found[:n_found], lv,
                       lp, par, int(n_lab), own, int(pops), int(work))
+
+
+def core_path(inst: OPTWInstance, where: dict[int, int], route: Route) -> tuple[int, ...] | None:
+    """The core path ``src … snk`` of an instance route (``where``: instance → core customer),
+    or ``None`` when it visits a customer that no feasible route can."""
+    inner = route[1:] if inst.end is None else route[1:-1]
+    if any(v not in where for v in inner):
+        return None
+    return (0, *(where[v] for v in inner), len(where) + 1)
+
+
+def feasible_path(core: Core, path: tuple[int, ...]) -> bool:
+    """True when the core path ``path`` keeps every window of ``core`` (waiting allowed)."""
+    t = int(core.opn[core.src])
+    for a, b in itertools.pairwise(path):
+        if core.dur[a, b] >= BIG:
+            return False
+        t = max(int(core.opn[b]), t + int(core.dur[a, b]))
+        if t > core.cls[b]:
+            return False
+    return True

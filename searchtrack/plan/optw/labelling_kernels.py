@@ -6,10 +6,12 @@ axis: the forward pass in service-start ticks, the backward pass on the reversed
 ``H − τ``. Both are the same forward labelling algorithm (Righini & Salani 2009, §3), so there
 is only one kernel.
 
-A label is ``(vertex, time, profit, mask)``: ``mask`` holds the vertices the label may not visit,
-the ng-memory (Baldacci, Mingozzi & Roberti 2011) joined with the vertices that can no longer be
-reached in time (Feillet et al. 2004). Label ``a`` dominates ``b`` at the same vertex when
-``time_a ≤ time_b``, ``profit_a ≥ profit_b`` and ``mask_a ⊆ mask_b``. Labels are expanded in
+A label is ``(vertex, time, profit, mask)``: ``mask`` holds the vertices the label may not
+visit, the ng-memory (Baldacci, Mingozzi & Roberti 2011) joined with the vertices that can no
+longer be reached in time (Feillet et al. 2004). Label ``a`` dominates ``b`` at the same vertex
+when ``time_a ≤ time_b``, ``profit_a ≥ profit_b`` and ``mask_a ⊆ mask_b`` (with subset-row cuts,
+a label also carries their states and ``profit_a`` must cover the cuts ``a`` may still pay for
+and ``b`` not). Labels are expanded in
 order of time from a bucket queue. A new label is compared with every live label at its vertex
 that has the same ng-memory (found through a hash table) and with the most recent others.
 """
@@ -46,6 +48,7 @@ _CHECK_EVERY = 64  # expanded labels between two clock reads
 def label_pass(  # type: ignore[no-untyped-def]
     dur, succ_ptr, succ, opn, cls, prof, ng, thr, cum, src, snk,
     tab, use_tab, horizon, width, qshift, lb, ub, gap, cap_max, deadline, scan, collect, bprof,
+    cut_s, cut_m, sig,
 ):
     """Run one labelling pass; see the module docstring.
 
@@ -88,6 +91,13 @@ def label_pass(  # type: ignore[no-untyped-def]
     bprof
         ``(N,)`` non-negative upper bounds on ``prof`` for the bound without a table (``prof``
         itself when profits are non-negative).
+    cut_s, cut_m, sig
+        Limited-memory subset-row cuts (Pecin et al. 2017): ``(N, C)`` bitmasks of the cuts whose
+        subset, and whose memory, hold each vertex, and ``sig[c] ≥ 0`` the dual of cut ``c``. A
+        label keeps a bit per cut, cleared on entering a vertex outside the cut's memory and
+        toggled on entering one of its subset; entering a subset vertex with the bit set costs
+        ``sig[c]``. ``C = 0``: no cuts. ``bprof`` and ``tab`` must bound profits without the
+        cuts' costs (the costs of a path's prefix are among the whole path's).
 
     Returns
     -------
@@ -111,6 +121,9 @@ def label_pass(  # type: ignore[no-untyped-def]
     qnx = np.empty(cap, dtype=np.int64)  # next label in the same time bucket
     alive = np.empty(cap, dtype=np.bool_)  # not dominated
     lm = np.zeros((cap, nw), dtype=np.uint64)
+    nc = cut_s.shape[1]
+    lc = np.zeros((cap, nc), dtype=np.uint64)  # subset-row cut states
+    state = np.zeros(nc, dtype=np.uint64)
     head = np.full(n, -1, dtype=np.int64)  # labels of each vertex
     qhead = np.full((horizon >> qshift) + 1, -1, dtype=np.int64)
     own = np.full(tab.shape, -np.inf)
@@ -178,6 +191,16 @@ def label_pass(  # type: ignore[no-untyped-def]
             if a > cls[j]:
                 continue
             p2 = p + prof[j]
+            for w in range(nc):
+                st = lc[lab, w] & cut_m[j, w]
+                state[w] = st ^ cut_s[j, w]
+                hit = st & cut_s[j, w]
+                c = w * 64
+                while hit:
+                    if hit & one:
+                        p2 -= sig[c]
+                    hit >>= one
+                    c += 1
             if j == snk:
                 bnd = p2
             else:
@@ -200,10 +223,11 @@ def label_pass(  # type: ignore[no-untyped-def]
                     if bnd < lb + gap:
                         continue
                 g = find_group(slots, gv, gkey, j, memo)
-                if g >= 0 and dominance(ghead, g, gnx, alive, lt, lp, lm, a, p2, scratch,
-                                         cap_max, work):
+                if g >= 0 and dominance(ghead, g, gnx, alive, lt, lp, lm, lc, sig, a, p2,
+                                         scratch, state, cap_max, work):
                     continue
-                if dominance(head, j, nxt, alive, lt, lp, lm, a, p2, scratch, scan, work):
+                if dominance(head, j, nxt, alive, lt, lp, lm, lc, sig, a, p2, scratch, state,
+                             scan, work):
                     continue
                 if g < 0:
                     slot = -1 - g
@@ -235,6 +259,7 @@ def label_pass(  # type: ignore[no-untyped-def]
                 alive = grow1(alive, cap)
                 lm = grow2(lm, cap)
                 lmem = grow2(lmem, cap)
+                lc = grow2(lc, cap)
                 gnx = grow1(gnx, cap)
             s = n_lab
             n_lab += 1
@@ -270,6 +295,8 @@ def label_pass(  # type: ignore[no-untyped-def]
             for w in range(nw):
                 lm[s, w] = scratch[w]
                 lmem[s, w] = memo[w]
+            for w in range(nc):
+                lc[s, w] = state[w]
             nxt[s] = head[j]
             head[j] = s
             gnx[s] = ghead[g]

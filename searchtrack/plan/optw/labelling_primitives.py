@@ -1,8 +1,8 @@
 """Numba building blocks of the OPTW labelling kernel
 (:mod:`searchtrack.plan.optw.labelling_kernels`): growable label arrays, all-pairs shortest
 durations, the out-of-reach counts (Feillet et al. 2004), the completion and outside-profit
-bounds, the elementarity check, label dominance, and the hash table that groups the labels of a
-vertex by their ng-memory (Baldacci, Mingozzi & Roberti 2011).
+bounds, the elementarity check, label dominance (with subset-row cut states), and the hash
+table that groups the labels of a vertex by their ng-memory (Baldacci, Mingozzi & Roberti 2011).
 """
 
 from __future__ import annotations
@@ -153,12 +153,33 @@ def is_elementary(par, lv, leaf, stamp, mark):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def dominance(head, h, nxt, alive, lt, lp, lm, t, p, mask, limit, work):  # type: ignore[no-untyped-def]
-    """Compare a new label ``(t, p, mask)`` with the first ``limit`` live labels of a list.
+def cut_penalty(a, b, sig):  # type: ignore[no-untyped-def]
+    """``Σ sig[c]`` over the cuts ``c`` whose state bit is set in ``a`` and not in ``b``."""
+    one = np.uint64(1)
+    total = 0.0
+    for w in range(a.shape[0]):
+        diff = a[w] & ~b[w]
+        c = w * 64
+        while diff:
+            if diff & one:
+                total += sig[c]
+            diff >>= one
+            c += 1
+    return total
+
+
+@njit(cache=True)
+def dominance(head, h, nxt, alive, lt, lp, lm, lc, sig, t, p, mask, state, limit, work):  # type: ignore[no-untyped-def]
+    """Compare a new label ``(t, p, mask, state)`` with the first ``limit`` live labels of a list.
 
     The list starts at ``head[h]`` and follows ``nxt``. Returns True when one of them dominates
     the new label; otherwise marks dead every label the new one dominates. Dead labels met on
     the way are unlinked. Equal labels count as dominating the newcomer.
+
+    ``lc`` and ``state`` are subset-row cut states (a bit per cut whose memory holds one visit
+    of its subset) and ``sig`` the cuts' duals: a label can still owe ``sig[c]`` for a cut in
+    state 1 that the other label has in state 0, so its profit must exceed the other's by their
+    sum (Jepsen et al. 2008; Pecin et al. 2017). With no cuts this is the plain rule.
     """
     nw = mask.shape[0]
     prev = -1
@@ -175,7 +196,7 @@ def dominance(head, h, nxt, alive, lt, lp, lm, t, p, mask, limit, work):  # type
                     if lm[x, w] & ~mask[w]:
                         sub = False
                         break
-                if sub:
+                if sub and (lc.shape[1] == 0 or lp[x] - cut_penalty(lc[x], state, sig) >= p):
                     return True
             if t <= lt[x] and p >= lp[x]:
                 sup = True
@@ -183,7 +204,7 @@ def dominance(head, h, nxt, alive, lt, lp, lm, t, p, mask, limit, work):  # type
                     if mask[w] & ~lm[x, w]:
                         sup = False
                         break
-                if sup:
+                if sup and (lc.shape[1] == 0 or p - cut_penalty(state, lc[x], sig) >= lp[x]):
                     alive[x] = False
         if not alive[x]:
             if prev < 0:

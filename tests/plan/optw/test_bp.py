@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from pathlib import Path
@@ -21,6 +22,7 @@ from tests.plan.optw.small import random_instance
 
 DATA = Path(__file__).resolve().parents[3] / "searchtrack" / "data" / "optw"
 FAST = Tuning(ils_max_s=0.02, primal_s=0.2)
+NO_CUTS = Tuning(ils_max_s=0.02, primal_s=0.2, cuts_per_round=0)
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -98,9 +100,9 @@ def grid_instance(seed: int, n: int, vehicles: int) -> OPTWInstance:
         tmax=float(rng.integers(40, 100)), vehicles=vehicles, name=f"grid-{seed}")
 
 
-def _check(inst: OPTWInstance, best: float) -> float:
+def _check(inst: OPTWInstance, best: float, tuning: Tuning = FAST) -> float:
     """Solve ``inst``, check the answer against ``best``; the number of nodes."""
-    res = solve_bp(inst, time_limit_s=20, tuning=FAST)
+    res = solve_bp(inst, time_limit_s=20, tuning=tuning)
     if best == -math.inf:
         assert res.status is Status.INFEASIBLE, res.message
         return res.stats["nodes"]
@@ -137,10 +139,25 @@ def test_random_non_metric(vehicles: int) -> None:
 @pytest.mark.parametrize("vehicles", [2, 3])
 def test_random_branching(vehicles: int) -> None:
     """Twelve customers, wide windows: some root LPs are fractional and the tree branches (on
-    customers and on arcs) to the optimum."""
-    nodes = [_check(inst, fast_brute(inst))
+    customers and on arcs) to the optimum; without cuts, which close some of these roots, and
+    with them."""
+    nodes = [_check(inst, fast_brute(inst), NO_CUTS)
              for inst in (grid_instance(seed, 13, vehicles) for seed in range(12))]
     assert max(nodes) > 1
+    for inst in (grid_instance(seed, 13, vehicles) for seed in range(12)):
+        _check(inst, fast_brute(inst))
+
+
+def test_profits_in_steps_round_the_bound() -> None:
+    """Profits all multiples of 10 (as on the Solomon c1 instances): bounds round down to a
+    multiple of 10, and every answer is still the brute-force optimum, proven."""
+    for seed in range(10):
+        base = grid_instance(seed, 13, 2 + seed % 2)
+        inst = dataclasses.replace(base, profit=10.0 * np.round(base.profit))
+        best = fast_brute(inst)
+        res = solve_bp(inst, time_limit_s=20, tuning=NO_CUTS)
+        assert res.status is Status.OPTIMAL and res.objective == pytest.approx(best)
+        assert res.stats["root_bound"] % 10 == 0 and res.stats["root_bound"] >= best
 
 
 @pytest.mark.parametrize("tuning", [

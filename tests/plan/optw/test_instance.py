@@ -93,3 +93,14 @@ def test_open_end_and_budget() -> None:
     assert inst.end is None and list(inst.customers) == [1, 2]
     assert inst.latest_finish == 50
     assert inst.with_vehicles(3).vehicles == 3
+
+
+def test_profit_step_is_the_gcd_of_integral_profits() -> None:
+    """The step every plan's profit is a multiple of: the gcd, 1 for all zeros, 0 for fractions."""
+    from searchtrack.plan.optw.instance import profit_step
+
+    assert profit_step(np.array([0.0, 10.0, 30.0, 20.0, 0.0])) == 10
+    assert profit_step(np.array([0.0, 6.0, 9.0])) == 3
+    assert profit_step(np.array([0.0, 7.0, 9.0])) == 1
+    assert profit_step(np.zeros(4)) == 1
+    assert profit_step(np.array([10.0, 20.5])) == 0
