@@ -3,6 +3,9 @@
 * **Master** (:mod:`~searchtrack.plan.optw.bp_master`): set packing over routes, solved as a
   linear program by GLOP, columns added incrementally; first columns from the ILS plan, the
   ``initial`` plan and the feasible single-customer routes.
+* **Plans** (:mod:`~searchtrack.plan.optw.bp_primal`): the ILS before the tree, and again from
+  the incumbent when the root leaves a gap (:attr:`Tuning.ils_again_share`); CP-SAT on the
+  pool's columns after the root and periodically; every integral master solution.
 * **Pricing** (:mod:`~searchtrack.plan.optw.bp_pricing`): the ng/DSSR labelling on reduced
   profits ``p_i − π_i``, exact at every call and returning up to 200 columns. Duals are smoothed
   towards the best Lagrangian point (Wentges 1997); a mis-priced round is repeated at the
@@ -20,9 +23,7 @@
   up to :attr:`Tuning.cut_depth`, their duals priced into the labels; with them the bound is
   ``Σ_i π_i + Σ_c σ_c + m · U``.
 * **Branching** (:mod:`~searchtrack.plan.optw.bp_branching`): on a customer's fractional visit,
-  then on a fractional arc, best bound first. An integral master solution is an incumbent; the
-  pool's columns are also solved as an integer program with CP-SAT after the root and
-  periodically.
+  then on a fractional arc, best bound first.
 
 A stopped solve reports its best plan with the largest bound of the open nodes.
 """
@@ -40,19 +41,19 @@ import numpy as np
 from numpy.typing import NDArray
 
 from searchtrack.core.deadline import Deadline, check_time_limit
-from searchtrack.core.interrupt import stop_requested
-from searchtrack.core.result import Result, Status
+from searchtrack.core.result import Result
 from searchtrack.plan.optw.bp_branching import branch
 from searchtrack.plan.optw.bp_cuts import separate
-from searchtrack.plan.optw.bp_master import LPSolution, Master, Path, Restrictions, pool_ip
+from searchtrack.plan.optw.bp_master import LPSolution, Master, Path, Restrictions
 from searchtrack.plan.optw.bp_pricing import Pricer, droppable
-from searchtrack.plan.optw.instance import OPTWInstance, Route, Routes, profit_step
+from searchtrack.plan.optw.bp_primal import ils_paths, plan_paths, pool_ip
+from searchtrack.plan.optw.bp_result import result
+from searchtrack.plan.optw.instance import OPTWInstance, Routes, profit_step
 from searchtrack.plan.optw.labelling_core import (
     BIG,
     CAP_MAX,
     Core,
     build_cores,
-    core_path,
     feasible_path,
     instance_route,
 )
@@ -60,7 +61,7 @@ from searchtrack.plan.optw.routes import idle_routes, initial_plan
 
 log = logging.getLogger("searchtrack.plan.optw.bp")
 
-BACKEND = "bp"
+
 _EPS = 1e-5  # least reduced profit of a new column
 
 
@@ -75,6 +76,9 @@ class Tuning:
     ils_share: float = 0.02  # of the time limit, at most ils_max_s
     ils_max_s: float = 1.5
     ils_iterations: int = 20000  # the ILS stops here unless its time share ends first
+    ils_again_share: float = 0.1  # of the limit (at most ils_again_max_s): the ILS from the
+    ils_again_max_s: float = 30.0  # incumbent once the root leaves a gap (0: never)
+    ils_again_iterations: int = 500000
     primal_s: float = 2.0  # CP-SAT on the column pool, after the root and every primal_every
     primal_every: int = 50
     cuts_per_round: int = 20  # subset-row cuts separated at once (0: no cuts)
@@ -142,6 +146,24 @@ class _Tree:
                              self.master.empty_ok, self.value, limit, self.seed, hint)
             if chosen is not None:
                 self.offer([self.master.paths[k] for k in chosen])
+        self.tick("heuristic_s", t0)
+
+    def again(self) -> None:
+        """The ILS from the incumbent, its plan offered (and its routes pooled)."""
+        t, d = self.tuning, self.deadline
+        seconds = min(t.ils_again_max_s, t.ils_again_share * (d.elapsed() + d.remaining()),
+                      0.5 * d.remaining())
+        if seconds < 0.05 or self.inst.customers.size == 0:
+            return
+        t0 = time.perf_counter()
+        routes = [instance_route(self.inst, self.orig, list(p)) for p in self.best if len(p) > 2]
+        start = tuple(routes) if 0 < len(routes) <= self.inst.vehicles else None
+        if start is not None and len(routes) < self.inst.vehicles:
+            start = start + idle_routes(self.inst)[len(routes):] if self.master.empty_ok else None
+        paths = ils_paths(self.inst, self.fwd, self.orig, seconds=seconds, seed=self.seed + 1,
+                          start=start, iterations=t.ils_again_iterations)
+        if paths is not None and (len(paths) == self.inst.vehicles or self.master.empty_ok):
+            self.offer(paths)
         self.tick("heuristic_s", t0)
 
     def column_generation(self, node: _Node) -> tuple[LPSolution | None, bool]:
@@ -279,29 +301,23 @@ def solve_bp(instance: OPTWInstance, *, time_limit_s: float = 60.0, seed: int = 
     inst, t = instance, tuning or Tuning()
     start = None if initial is None else initial_plan(inst, initial)
     fwd, _, orig = build_cores(inst)
-    where = {int(v): c for c, v in enumerate(orig[1:-1].tolist(), start=1)}
     empty_ok = bool(fwd.dur[fwd.src, fwd.snk] < BIG)
     total = float(fwd.prof.sum())
     master = Master(fwd.n, inst.vehicles, empty_ok, 100.0 * (total + 1.0))
     pricer = Pricer(fwd, droppable(inst, orig), table_ng=t.table_ng, guide=t.heuristic_cap > 0)
     tree = _Tree(inst, fwd, orig, master, pricer, deadline, t, seed, profit_step(fwd.prof))
-    seeds: list[list[Route]] = [] if start is None else [list(start)]
+    seeds = [] if start is None else [plan_paths(inst, fwd, orig, start)]
     if fwd.n > 2:
-        from searchtrack.plan.optw.ils import solve_ils
-
         t0 = time.perf_counter()
         share = max(0.02, min(t.ils_max_s, t.ils_share * time_limit_s))
-        first = solve_ils(inst, time_limit_s=share, seed=seed, initial=start,
-                          max_iterations=t.ils_iterations)
+        first = ils_paths(inst, fwd, orig, seconds=share, seed=seed, start=start,
+                          iterations=t.ils_iterations)
         tree.tick("heuristic_s", t0)
-        if first.plan is not None:
-            seeds.append(list(first.plan))
+        seeds += [] if first is None else [first]
     singles = [(0, c, fwd.n - 1) for c in range(1, fwd.n - 1)]
     columns: list[Path] = [p for p in singles if feasible_path(fwd, p)]
     columns += [(0, fwd.n - 1)] if empty_ok else []
-    for plan in seeds:
-        paths = [core_path(inst, where, r) for r in plan]
-        good = [p for p in paths if p is not None and feasible_path(fwd, p) and len(p) > 2]
+    for good in seeds:
         columns += good
         if len(good) == inst.vehicles or empty_ok:
             tree.offer(good)
@@ -341,6 +357,8 @@ def _run(tree: _Tree, root: _Node, empty_ok: bool) -> Result[Routes]:
             continue
         if nodes == 1 or nodes % t.primal_every == 0:
             tree.primal()
+        if nodes == 1 and not tree.pruned(current.bound):
+            tree.again()
         if tree.pruned(current.bound):
             current = None
             continue
@@ -362,34 +380,4 @@ def _run(tree: _Tree, root: _Node, empty_ok: bool) -> Result[Routes]:
         current = None
     open_bounds = [n.bound for n in heap] + stuck
     open_bounds += [] if current is None else [current.bound]
-    return _result(tree, nodes, open_bounds, empty_ok)
-
-
-def _result(tree: _Tree, nodes: int, open_bounds: list[float], empty_ok: bool) -> Result[Routes]:
-    inst, deadline, m = tree.inst, tree.deadline, tree.master
-    pricing_s = tree.stats.get("pricing_s", 0.0)
-    calls = tree.pricer.stats["pricing_calls"]
-    stats = {**tree.stats, **{f"pricing_{k}": v for k, v in tree.pricer.stats.items()
-                              if k != "pricing_calls"},
-             "nodes": float(nodes), "columns": float(m.size), "lp_failures": float(m.failures),
-             "pricing_calls": calls, "pricing_per_s": calls / pricing_s if pricing_s else 0.0}
-    open_bounds = [b for b in open_bounds if not tree.pruned(b)]
-    plan: Routes | None = None
-    if tree.best or tree.value > -math.inf:
-        routes = [instance_route(inst, tree.orig, list(p)) for p in tree.best if len(p) > 2]
-        plan = tuple(routes) + idle_routes(inst)[len(routes):] if empty_ok else tuple(routes)
-    elapsed = deadline.elapsed()
-    if not open_bounds:
-        if plan is None:
-            return Result(Status.INFEASIBLE, None, None, elapsed, BACKEND, None,
-                          message=f"no {inst.vehicles} routes exist", stats=stats)
-        return Result(Status.OPTIMAL, tree.value, tree.value, elapsed, BACKEND, plan,
-                      message=f"proven optimal; {nodes} nodes", stats=stats)
-    bound = max(tree.rounded(b) for b in open_bounds)
-    why = ("stopped on request" if stop_requested() else "time limit" if deadline.expired()
-           else "nodes left open by failed master LPs")
-    if plan is None:
-        return Result(Status.NO_SOLUTION, None, float(bound), elapsed, BACKEND, None,
-                      message=why, stats=stats)
-    return Result(Status.FEASIBLE, tree.value, float(max(bound, tree.value)), elapsed, BACKEND,
-                  plan, message=f"{why}; {nodes} nodes", stats=stats)
+    return result(tree, nodes, open_bounds, empty_ok)

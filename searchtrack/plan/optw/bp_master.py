@@ -25,7 +25,7 @@ from __future__ import annotations
 import itertools
 import logging
 import time
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -269,54 +269,3 @@ class Master:
             for a in itertools.pairwise(path):
                 x[a] = x.get(a, 0.0) + float(values[k])
         return x
-
-
-def pool_ip(paths: Sequence[Path], profits: Sequence[float], vehicles: int, empty_ok: bool,
-            floor: float, time_limit_s: float, seed: int,
-            hint: Sequence[int] = ()) -> list[int] | None:
-    """The best set of at most ``m`` disjoint pool columns (exactly ``m`` when the empty route is
-    infeasible), by CP-SAT within ``time_limit_s``; ``None`` when none beats ``floor``.
-
-    The restricted master's columns as an integer program: a cheap primal heuristic that often
-    closes the gap of a branch-and-price on its own.
-    """
-    from ortools.sat.python import cp_model
-
-    from searchtrack.core.interrupt import watch
-
-    p = np.asarray(profits, dtype=np.float64)
-    whole = bool(np.all(p == np.round(p)))
-    scale = 1.0 if whole else 1e6 / max(1.0, float(p.max(initial=1.0)))
-    weights = np.round(p * scale).astype(np.int64).tolist()
-    model = cp_model.CpModel()
-    x = [model.new_bool_var("") for _ in paths]
-    cover: dict[int, list[cp_model.IntVar]] = {}
-    for var, path in zip(x, paths, strict=True):
-        for i in path[1:-1]:
-            cover.setdefault(i, []).append(var)
-    for vs in cover.values():
-        if len(vs) > 1:
-            model.add_at_most_one(vs)
-    if empty_ok:
-        model.add(sum(x) <= vehicles)
-    else:
-        model.add(sum(x) == vehicles)
-    model.maximize(cp_model.LinearExpr.weighted_sum(x, weights))
-    for k in hint:
-        model.add_hint(x[k], True)
-    solver = cp_model.CpSolver()
-    # deterministic time units (about seconds), so that a seed fixes the answer; the wall
-    # clock only guards against a slow machine
-    solver.parameters.max_deterministic_time = max(0.01, time_limit_s)
-    solver.parameters.max_time_in_seconds = max(0.01, 2.0 * time_limit_s)
-    solver.parameters.num_workers = 1
-    solver.parameters.random_seed = seed
-    solver.parameters.catch_sigint_signal = False
-    with watch(solver.stop_search):
-        status = solver.solve(model)
-    if status not in (cp_model.OPTIMAL, cp_model.FEASIBLE):
-        return None
-    chosen = [k for k, var in enumerate(x) if solver.value(var)]
-    if float(p[chosen].sum()) <= floor:
-        return None
-    return chosen

@@ -1,11 +1,11 @@
-"""The branch-and-price master: LP duals, branching bounds, artificial rows, pool IP."""
+"""The branch-and-price master: LP duals, branching bounds, artificial rows, cut rows."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from searchtrack.plan.optw.bp_master import Master, Restrictions, pool_ip
+from searchtrack.plan.optw.bp_master import Master, Restrictions
 
 # core graph of two customers: source 0, customers 1 and 2, sink 3
 PATHS = [(0, 1, 3), (0, 2, 3), (0, 1, 2, 3), (0, 3)]
@@ -95,18 +95,6 @@ def test_arc_flows_and_visits() -> None:
     assert m.arc_flows(values)[(0, 1)] == pytest.approx(1.0)
 
 
-@pytest.mark.parametrize(("vehicles", "empty_ok", "best"), [(1, True, 7.0), (2, True, 8.0),
-                                                            (3, False, None)])
-def test_pool_ip_packs_disjoint_columns(vehicles: int, empty_ok: bool, best: float | None) -> None:
-    """CP-SAT on the pool picks the best disjoint columns, or none when m cannot be met."""
-    chosen = pool_ip(PATHS[:3], PROFITS[:3], vehicles, empty_ok, -1.0, 5.0, 0)
-    if best is None:
-        assert chosen is None
-        return
-    assert chosen is not None and sum(PROFITS[k] for k in chosen) == best
-    assert pool_ip(PATHS[:3], PROFITS[:3], vehicles, empty_ok, best, 5.0, 0) is None
-
-
 class _Troubled:
     """A GLOP stand-in whose first solve reports numerical trouble."""
 
@@ -140,3 +128,23 @@ def test_a_troubled_solve_is_repeated_in_a_fresh_solver() -> None:
     m.restrict(Restrictions())
     lp = m.solve(10.0)
     assert lp is not None and lp.objective == pytest.approx(9.0)  # (0, 2, 1, 3) and the empty route
+
+
+def test_cut_rows_take_the_coefficients_and_give_duals() -> None:
+    """A subset-row cut on {1, 2, 3} over three pair routes at ½ each: the LP obeys it, gives it
+    a non-negative dual, and later columns get their coefficients too."""
+    from searchtrack.plan.optw.bp_cuts import SubsetRowCut
+
+    m = Master(5, 3, True, penalty=1e3)
+    m.add([(0, 1, 2, 4), (0, 2, 3, 4), (0, 1, 3, 4)], [2.0, 2.0, 2.0])
+    first = m.solve(10.0)
+    assert first is not None and first.objective == pytest.approx(3.0)  # each at ½
+    cut = SubsetRowCut(frozenset({1, 2, 3}), frozenset({1, 2, 3}))
+    assert m.add_cuts([cut]) == 1
+    lp = m.solve(10.0)
+    assert lp is not None and lp.objective == pytest.approx(2.0)
+    assert lp.sigma.shape == (1,) and lp.sigma[0] >= 0
+    m.add([(0, 3, 1, 4)], [2.5])
+    assert m.cut_cost((0, 3, 1, 4), np.array([1.5])) == 1.5
+    last = m.solve(10.0)
+    assert last is not None and last.objective == pytest.approx(2.5)
