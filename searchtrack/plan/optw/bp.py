@@ -96,7 +96,9 @@ class _Node:
 
 
 @dataclass
-class _Tree:
+class Tree:
+    """The state of one branch-and-price run: instance, master, pricer, incumbent, stats."""
+
     inst: OPTWInstance
     fwd: Core
     orig: NDArray[np.int64]
@@ -305,7 +307,7 @@ def solve_bp(instance: OPTWInstance, *, time_limit_s: float = 60.0, seed: int = 
     total = float(fwd.prof.sum())
     master = Master(fwd.n, inst.vehicles, empty_ok, 100.0 * (total + 1.0))
     pricer = Pricer(fwd, droppable(inst, orig), table_ng=t.table_ng, guide=t.heuristic_cap > 0)
-    tree = _Tree(inst, fwd, orig, master, pricer, deadline, t, seed, profit_step(fwd.prof))
+    tree = Tree(inst, fwd, orig, master, pricer, deadline, t, seed, profit_step(fwd.prof))
     seeds = [] if start is None else [plan_paths(inst, fwd, orig, start)]
     if fwd.n > 2:
         t0 = time.perf_counter()
@@ -326,7 +328,7 @@ def solve_bp(instance: OPTWInstance, *, time_limit_s: float = 60.0, seed: int = 
     return _run(tree, root, empty_ok)
 
 
-def _run(tree: _Tree, root: _Node, empty_ok: bool) -> Result[Routes]:
+def _run(tree: Tree, root: _Node, empty_ok: bool) -> Result[Routes]:
     deadline, t = tree.deadline, tree.tuning
     heap: list[_Node] = [root]
     counter = itertools.count(1)

@@ -13,12 +13,12 @@ from searchtrack.plan.optw.labelling_core import instance_route
 from searchtrack.plan.optw.routes import idle_routes
 
 if TYPE_CHECKING:
-    from searchtrack.plan.optw.bp import _Tree
+    from searchtrack.plan.optw.bp import Tree
 
 BACKEND = "bp"
 
 
-def result(tree: _Tree, nodes: int, open_bounds: list[float], empty_ok: bool) -> Result[Routes]:
+def result(tree: Tree, nodes: int, open_bounds: list[float], empty_ok: bool) -> Result[Routes]:
     """The run's answer: ``OPTIMAL`` when no open node can beat the incumbent, else the best
     plan with the largest rounded bound of the open nodes, and the run's statistics."""
     inst, deadline, m = tree.inst, tree.deadline, tree.master
