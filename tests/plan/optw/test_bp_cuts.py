@@ -10,7 +10,7 @@ import pytest
 
 from searchtrack.core.deadline import Deadline
 from searchtrack.core.result import Status
-from searchtrack.plan.optw import OPTWInstance, validate
+from searchtrack.plan.optw import OPTWInstance, bp_pricing, validate
 from searchtrack.plan.optw.bp import Tuning, solve_bp
 from searchtrack.plan.optw.bp_cuts import SubsetRowCut, masks, outside_memory, separate
 from searchtrack.plan.optw.bp_pricing import Pricer, droppable
@@ -127,18 +127,22 @@ def _random_cuts(rng: np.random.Generator, n: int, k: int) -> list[SubsetRowCut]
 
 
 @pytest.mark.parametrize("name", sorted(single_vehicle_cases()))
-@pytest.mark.parametrize("drop", [True, False])
-def test_pricing_with_cuts_is_exact(name: str, drop: bool) -> None:
+@pytest.mark.parametrize(("drop", "relaxed"), [(True, False), (False, False), (False, True)])
+def test_pricing_with_cuts_is_exact(name: str, drop: bool, relaxed: bool,
+                                    monkeypatch: pytest.MonkeyPatch) -> None:
     """With random cuts and duals, every column's value is its reduced profit less its cuts'
     duals, a column is found whenever some route beats the floor, and the bound covers the best
-    route, all checked on every elementary route."""
+    route, all checked on every elementary route. ``relaxed``: one-customer ng-sets even on these
+    small graphs, so that relaxed paths have cycles and the passes repeat."""
+    if relaxed:
+        monkeypatch.setattr(bp_pricing, "FULL_MEMORY", 0)
     inst = single_vehicle_cases()[name]
     fwd, _, orig = build_cores(inst)
     if fwd.n <= 5:
         return
     routes = _routes(fwd)
-    rng = np.random.default_rng(len(name) + 7 * drop)
-    pricer = Pricer(fwd, droppable(inst, orig))
+    rng = np.random.default_rng(len(name) + 7 * drop + 13 * relaxed)
+    pricer = Pricer(fwd, droppable(inst, orig), ng_size=1 if relaxed else 8)
     for trial in range(6):
         pi = np.zeros(fwd.n)
         pi[1:-1] = rng.uniform(0, 1.2, fwd.n - 2) * fwd.prof[1:-1]
