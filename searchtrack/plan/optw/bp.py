@@ -127,7 +127,11 @@ class Tree:
         return b <= self.value + (0.0 if self.step else 1e-9 * max(1.0, abs(self.value)))
 
     def offer(self, paths: list[Path]) -> None:
-        """Make ``paths`` (disjoint feasible routes) the incumbent if they collect more."""
+        """Pool ``paths`` (disjoint feasible routes) and make them the incumbent if they collect
+        more; ignored unless they are a whole plan (``m`` routes, or fewer when the empty route
+        is feasible)."""
+        if len(paths) != self.inst.vehicles and not self.master.empty_ok:
+            return
         profits = [self.path_profit(p) for p in paths]
         self.master.add(paths, profits)
         value = float(sum(profits))
@@ -158,15 +162,22 @@ class Tree:
         if seconds < 0.05 or self.inst.customers.size == 0:
             return
         t0 = time.perf_counter()
-        routes = [instance_route(self.inst, self.orig, list(p)) for p in self.best if len(p) > 2]
-        start = tuple(routes) if 0 < len(routes) <= self.inst.vehicles else None
-        if start is not None and len(routes) < self.inst.vehicles:
-            start = start + idle_routes(self.inst)[len(routes):] if self.master.empty_ok else None
+        start = self.plan() if any(len(p) > 2 for p in self.best) else None
         paths = ils_paths(self.inst, self.fwd, self.orig, seconds=seconds, seed=self.seed + 1,
                           start=start, iterations=t.ils_again_iterations)
-        if paths is not None and (len(paths) == self.inst.vehicles or self.master.empty_ok):
+        if paths is not None:
             self.offer(paths)
         self.tick("heuristic_s", t0)
+
+    def plan(self) -> Routes | None:
+        """The incumbent as instance routes (idle routes added when the empty route is
+        feasible); ``None`` before the first one."""
+        if not self.best and self.value == -math.inf:
+            return None
+        routes = [instance_route(self.inst, self.orig, list(p)) for p in self.best if len(p) > 2]
+        if self.master.empty_ok:
+            return tuple(routes) + idle_routes(self.inst)[len(routes):]
+        return tuple(routes)
 
     def column_generation(self, node: _Node) -> tuple[LPSolution | None, bool]:
         """Solve the node's master by column generation and tighten ``node.bound``; the last
@@ -321,14 +332,13 @@ def solve_bp(instance: OPTWInstance, *, time_limit_s: float = 60.0, seed: int = 
     columns += [(0, fwd.n - 1)] if empty_ok else []
     for good in seeds:
         columns += good
-        if len(good) == inst.vehicles or empty_ok:
-            tree.offer(good)
+        tree.offer(good)
     master.add(columns, [tree.path_profit(p) for p in columns])
     root = _Node((-math.inf, 0, 0), total, 0, Restrictions())
-    return _run(tree, root, empty_ok)
+    return _run(tree, root)
 
 
-def _run(tree: Tree, root: _Node, empty_ok: bool) -> Result[Routes]:
+def _run(tree: Tree, root: _Node) -> Result[Routes]:
     deadline, t = tree.deadline, tree.tuning
     heap: list[_Node] = [root]
     counter = itertools.count(1)
@@ -382,4 +392,4 @@ def _run(tree: Tree, root: _Node, empty_ok: bool) -> Result[Routes]:
         current = None
     open_bounds = [n.bound for n in heap] + stuck
     open_bounds += [] if current is None else [current.bound]
-    return result(tree, nodes, open_bounds, empty_ok)
+    return result(tree, nodes, open_bounds)

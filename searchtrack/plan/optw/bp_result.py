@@ -3,14 +3,11 @@
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 from searchtrack.core.interrupt import stop_requested
 from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw.instance import Routes
-from searchtrack.plan.optw.labelling_core import instance_route
-from searchtrack.plan.optw.routes import idle_routes
 
 if TYPE_CHECKING:
     from searchtrack.plan.optw.bp import Tree
@@ -18,7 +15,7 @@ if TYPE_CHECKING:
 BACKEND = "bp"
 
 
-def result(tree: Tree, nodes: int, open_bounds: list[float], empty_ok: bool) -> Result[Routes]:
+def result(tree: Tree, nodes: int, open_bounds: list[float]) -> Result[Routes]:
     """The run's answer: ``OPTIMAL`` when no open node can beat the incumbent, else the best
     plan with the largest rounded bound of the open nodes, and the run's statistics."""
     inst, deadline, m = tree.inst, tree.deadline, tree.master
@@ -29,10 +26,7 @@ def result(tree: Tree, nodes: int, open_bounds: list[float], empty_ok: bool) -> 
              "nodes": float(nodes), "columns": float(m.size), "lp_failures": float(m.failures),
              "pricing_calls": calls, "pricing_per_s": calls / pricing_s if pricing_s else 0.0}
     open_bounds = [b for b in open_bounds if not tree.pruned(b)]
-    plan: Routes | None = None
-    if tree.best or tree.value > -math.inf:
-        routes = [instance_route(inst, tree.orig, list(p)) for p in tree.best if len(p) > 2]
-        plan = tuple(routes) + idle_routes(inst)[len(routes):] if empty_ok else tuple(routes)
+    plan = tree.plan()
     elapsed = deadline.elapsed()
     if not open_bounds:
         if plan is None:
