@@ -7,7 +7,9 @@
   the incumbent when the root leaves a gap (:attr:`Tuning.ils_again_share`); CP-SAT on the
   pool's columns after the root and periodically; every integral master solution.
 * **Pricing** (:mod:`~searchtrack.plan.optw.bp_pricing`): the ng/DSSR labelling on reduced
-  profits ``p_i − π_i``, exact at every call and returning up to 200 columns. Duals are smoothed
+  profits ``p_i − π_i``, exact at every call and returning up to 200 columns; by default
+  bidirectional (:attr:`Tuning.bidirectional`: half passes joined at a split time that follows
+  the label counts, the best columns of each call returned). Duals are smoothed
   towards the best Lagrangian point (Wentges 1997); a mis-priced round is repeated at the
   master's own duals. A guided heuristic pass (:attr:`Tuning.heuristic_cap`) can run first; on
   the Solomon instances it found columns but more iterations, and more labels overall, than
@@ -72,6 +74,7 @@ class Tuning:
     smoothing: float = 0.5  # Wentges α (0: off)
     heuristic_cap: int = 0  # labels of a guided (heuristic) pricing pass (0: off)
     table_ng: int | None = 4  # ng-size of the completion-table pass of exact pricing
+    bidirectional: bool = True  # exact pricing by half passes joined at the split time
     collect: int = 200  # most columns per pricing call
     ils_share: float = 0.02  # of the time limit, at most ils_max_s
     ils_max_s: float = 1.5
@@ -317,7 +320,8 @@ def solve_bp(instance: OPTWInstance, *, time_limit_s: float = 60.0, seed: int = 
     empty_ok = bool(fwd.dur[fwd.src, fwd.snk] < BIG)
     total = float(fwd.prof.sum())
     master = Master(fwd.n, inst.vehicles, empty_ok, 100.0 * (total + 1.0))
-    pricer = Pricer(fwd, droppable(inst, orig), table_ng=t.table_ng, guide=t.heuristic_cap > 0)
+    pricer = Pricer(fwd, droppable(inst, orig), table_ng=t.table_ng, guide=t.heuristic_cap > 0,
+                    bidirectional=t.bidirectional)
     tree = Tree(inst, fwd, orig, master, pricer, deadline, t, seed, profit_step(fwd.prof))
     seeds = [] if start is None else [plan_paths(inst, fwd, orig, start)]
     if fwd.n > 2:

@@ -19,6 +19,14 @@ stays fixed and every elementary path above it is returned as a column.
   labels, whose profit table is a valid completion bound for the forward pass that follows
   (bounded DP, Righini & Salani 2009 §4). Without it the first pass could prune only with the
   total profit left, and pricing took about 1.4× the labels on Solomon r103 and c103.
+* **Bidirectional pricing** (:attr:`Pricer.bidirectional`): instead of the table pass and a
+  whole forward pass, a forward pass of the labels that start service by the half-way time
+  ``t_m`` and a backward pass of those whose latest start is after it, joined over the arcs
+  (:mod:`searchtrack.plan.optw.labelling_join`; Righini & Salani 2006). Paths are half as
+  long, so far fewer labels grow on instances whose routes visit many customers. The split
+  moves after each call towards the half that made fewer labels (a dynamic half-way point,
+  Tilk et al. 2017). Every finished call returns the ``collect`` best columns, not the first
+  ones, and a bound.
 * **DSSR across iterations.** Cycles forbidden by one pricing call stay forbidden (the learned
   ng-memory is kept for the whole tree): ng-sets only ever grow, so every later pass is a tighter
   relaxation that is still valid.
@@ -55,9 +63,12 @@ from searchtrack.plan.optw.labelling_core import (
     initial_ng,
     run_pass,
 )
+from searchtrack.plan.optw.labelling_join import backward_stop, join, split_time
 from searchtrack.plan.optw.labelling_kernels import DONE
 
 log = logging.getLogger("searchtrack.plan.optw.bp_pricing")
+
+SPLIT_STEP = 0.1  #: how far one call's label imbalance moves the split (share of the way)
 
 
 def droppable(inst: OPTWInstance, orig: NDArray[np.int64]) -> NDArray[np.bool_]:
@@ -111,6 +122,8 @@ class Pricer:
     ng_size: int = NG_SIZE
     table_ng: int | None = 4  # ng-size of the table pass that starts exact pricing (None: off)
     guide: bool = False  # keep forward tables for :meth:`guided`
+    bidirectional: bool = False  # half passes joined at a time split instead of whole passes
+    split: float = 0.5  # the split's share of the way from departure to the sink's latest arrival
     memory: NDArray[np.bool_] = field(init=False)
     stats: dict[str, float] = field(default_factory=lambda: dict.fromkeys(
         ("pricing_calls", "passes", "labels"), 0.0))
@@ -143,10 +156,11 @@ class Pricer:
 
     def _pass(self, core: Core, ng: NDArray[np.uint64], tab: NDArray[np.float64] | None,
               floor: float, gap: float, cap: int, collect: int, bprof: NDArray[np.float64],
-              deadline: Deadline, cuts: CutMasks | None = None) -> PassResult:
+              deadline: Deadline, cuts: CutMasks | None = None,
+              tstop: int | None = None) -> PassResult:
         """One pass in collect mode, counted in the stats."""
         out = run_pass(core, ng, tab, lb=floor, gap=gap, cap=cap, deadline=deadline,
-                       collect=collect, bprof=bprof, cuts=cuts)
+                       collect=collect, bprof=bprof, cuts=cuts, tstop=tstop)
         self.stats["passes"] += 1
         self.stats["labels"] += float(out.labels)
         return out
@@ -213,6 +227,9 @@ class Pricer:
         ng = base_ng(fwd) | initial_ng(fwd, fwd.n if full else self.ng_size)
         ng |= _pack(self.memory[np.ix_(idx, idx)])
         bprof = np.maximum(fwd.prof, 0.0)
+        if self.bidirectional:
+            return self._bidirectional(fwd, rev, ng, idx, floor, gap, cap, collect, bprof,
+                                       deadline, cm)
         tables: list[NDArray[np.float64] | None] = [None, None]
         if self.table_ng is not None:
             # a cheap backward pass on small ng-sets: its profit table bounds every completion
@@ -253,6 +270,46 @@ class Pricer:
             if cm is None:
                 tables[direction] = out.table()
                 direction = 1 - direction
+
+    def _bidirectional(self, fwd: Core, rev: Core, ng: NDArray[np.uint64],
+                       idx: NDArray[np.intp], floor: float, gap: float, cap: int, collect: int,
+                       bprof: NDArray[np.float64], deadline: Deadline,
+                       cm: CutMasks | None) -> Priced:
+        """Exact pricing by half passes joined at the split time
+        (:mod:`~searchtrack.plan.optw.labelling_join`), forbidding the cycles of the best
+        relaxed paths until an elementary one reaches the floor or none does. Every finished
+        call gives a bound; the ``collect`` best columns are returned."""
+        tm = split_time(fwd, self.split)
+        sig = None if cm is None else cm.dual
+        every = 1 << 62
+        while True:
+            f = self._pass(fwd, ng, None, floor, gap, cap, every, bprof, deadline, cm, tm)
+            found = [(float(f.lp[s]), f.path(s)) for s in f.found.tolist()]
+            b = None
+            if f.code == DONE:
+                b = self._pass(rev, ng, None, floor, gap, cap, every, bprof, deadline, cm,
+                               backward_stop(fwd, tm))
+            if b is not None and b.code == DONE:
+                j = join(fwd, f, b, tm, target=floor + gap, keep=collect, deadline=deadline,
+                         sig=sig)
+                # move the split towards the half that made fewer labels (Tilk et al. 2017)
+                lean = (b.labels - f.labels) / max(1, b.labels + f.labels)
+                self.split = min(0.9, max(0.1, self.split + SPLIT_STEP * lean))
+                self.stats["joins"] = self.stats.get("joins", 0.0) + 1
+                found += zip(j.values, j.paths, strict=True)
+            found.sort(key=lambda r: -r[0])
+            paths = [tuple(int(idx[v]) for v in p) for _, p in found[:collect]]
+            values = [v for v, _ in found[:collect]]
+            if b is None or b.code != DONE or j.code != DONE:
+                return Priced(paths, values, None)
+            relaxed = sorted(((float(f.lp[s]), f.path(s)) for s in f.sinks.tolist()),
+                             key=lambda r: -r[0])
+            upper = max([floor + gap, j.upper, *(v for v, _ in found), *(v for v, _ in relaxed)])
+            loops = [p for _, p in relaxed[:PATHS_PER_PASS]] + j.relaxed[:PATHS_PER_PASS]
+            if paths or not loops:
+                return Priced(paths, values, upper)
+            for p in loops:
+                self._forbid(ng, idx, p)
 
     def _cores(self, dur: NDArray[np.int64], prof: NDArray[np.float64],
                idx: NDArray[np.intp]) -> tuple[Core, Core]:

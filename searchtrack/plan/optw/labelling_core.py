@@ -254,6 +254,10 @@ class PassResult:
     own: NDArray[np.float64]  #: this pass's profit table, bucket by bucket
     pops: int  #: labels expanded
     work: int  #: labels visited by dominance checks
+    lt: NDArray[np.int64]  #: each label's time
+    lmem: NDArray[np.uint64]  #: each label's ng-memory (its own vertex included)
+    lc: NDArray[np.uint64]  #: each label's subset-row cut states
+    alive: NDArray[np.bool_]  #: False for the labels found dominated
 
     def path(self, leaf: int) -> list[int]:
         """The core path (in this pass's direction) of the label ``leaf``."""
@@ -274,7 +278,7 @@ class PassResult:
 def run_pass(core: Core, ng: NDArray[np.uint64], table: NDArray[np.float64] | None, *,
              lb: float, gap: float, cap: int, deadline: Deadline, ub: float = math.inf,
              collect: int = 0, bprof: NDArray[np.float64] | None = None,
-             cuts: CutMasks | None = None) -> PassResult:
+             cuts: CutMasks | None = None, tstop: int | None = None) -> PassResult:
     """One bounded labelling pass on ``core`` with ng-sets ``ng``.
 
     Parameters
@@ -302,6 +306,9 @@ def run_pass(core: Core, ng: NDArray[np.uint64], table: NDArray[np.float64] | No
     cuts
         Limited-memory subset-row cuts priced into the labels (default: none); ``bprof`` and
         ``table`` must then bound the profits without the cuts' costs.
+    tstop
+        Make no label whose time exceeds ``tstop`` (default: no limit), as the half passes of
+        bidirectional labelling do.
     """
     width = max(1, math.ceil((core.horizon + 1) / MAX_BUCKETS))
     buckets = core.horizon // width + 1
@@ -312,10 +319,12 @@ def run_pass(core: Core, ng: NDArray[np.uint64], table: NDArray[np.float64] | No
         core.horizon, width, (core.horizon >> MAX_QUEUE_LOG2).bit_length(),
         lb, ub, gap, cap, deadline.end, SCAN, collect, core.prof if bprof is None else bprof,
         *(_no_cuts(core.n) if cuts is None else (cuts.subset, cuts.memory, cuts.dual)),
+        core.horizon + 1 if tstop is None else tstop,
     )
-    code, lb_out, best, sinks, n_sinks, lv, lp, par, n_lab, own, pops, work, found, n_found = out
+    (code, lb_out, best, sinks, n_sinks, lv, lp, par, n_lab, own, pops, work, found, n_found,
+     lt, lmem, lc, alive) = out
     return PassResult(int(code), float(lb_out), int(best), sinks[:n_sinks], found[:n_found], lv,
-                      lp, par, int(n_lab), own, int(pops), int(work))
+                      lp, par, int(n_lab), own, int(pops), int(work), lt, lmem, lc, alive)
 
 
 def core_path(inst: OPTWInstance, where: dict[int, int], route: Route) -> tuple[int, ...] | None:

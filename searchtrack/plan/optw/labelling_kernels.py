@@ -48,7 +48,7 @@ _CHECK_EVERY = 64  # expanded labels between two clock reads
 def label_pass(  # type: ignore[no-untyped-def]
     dur, succ_ptr, succ, opn, cls, prof, ng, thr, cum, src, snk,
     tab, use_tab, horizon, width, qshift, lb, ub, gap, cap_max, deadline, scan, collect, bprof,
-    cut_s, cut_m, sig,
+    cut_s, cut_m, sig, tstop,
 ):
     """Run one labelling pass; see the module docstring.
 
@@ -98,16 +98,22 @@ def label_pass(  # type: ignore[no-untyped-def]
         toggled on entering one of its subset; entering a subset vertex with the bit set costs
         ``sig[c]``. ``C = 0``: no cuts. ``bprof`` and ``tab`` must bound profits without the
         cuts' costs (the costs of a path's prefix are among the whole path's).
+    tstop
+        Labels (sink labels included) whose time would exceed ``tstop`` are not made: the
+        half-way limit of bidirectional labelling (the horizon or more: no limit).
 
     Returns
     -------
     tuple
         ``(status, lb, best, sinks, n_sinks, lv, lp, par, n_labels, own, pops, work, found,
-        n_found)``: ``best`` the sink label of the best elementary path that beat the given
-        ``lb`` (−1 if none), ``sinks[:n_sinks]`` sink labels of non-elementary paths that
-        reached ``lb + gap`` when found, ``own`` this pass's profit table (same bucketing as
-        ``tab``), ``pops`` the labels expanded, ``work`` the labels visited by dominance checks,
-        ``found[:n_found]`` the sink labels of the elementary paths collected (collect mode).
+        n_found, lt, lmem, lc, alive)``: ``best`` the sink label of the best elementary path
+        that beat the given ``lb`` (−1 if none), ``sinks[:n_sinks]`` sink labels of
+        non-elementary paths that reached ``lb + gap`` when found, ``own`` this pass's profit
+        table (same bucketing as ``tab``), ``pops`` the labels expanded, ``work`` the labels
+        visited by dominance checks, ``found[:n_found]`` the sink labels of the elementary
+        paths collected (collect mode);
+        ``lt``, ``lmem``, ``lc`` and ``alive`` each label's time, ng-memory (own vertex
+        included), cut states and whether it is undominated.
     """
     n = dur.shape[0]
     nw = ng.shape[1]
@@ -188,7 +194,7 @@ def label_pass(  # type: ignore[no-untyped-def]
             a = t + dur[v, j]
             if a < opn[j]:
                 a = opn[j]
-            if a > cls[j]:
+            if a > cls[j] or a > tstop:
                 continue
             p2 = p + prof[j]
             for w in range(nc):
@@ -311,7 +317,7 @@ def label_pass(  # type: ignore[no-untyped-def]
         if status != DONE or lb + gap > ub:
             break
     return (status, lb, best, sinks, n_sinks, lv, lp, par, n_lab, own, pops, work[0], found,
-            n_found)
+            n_found, lt, lmem, lc, alive)
 
 
 follow_callees(__name__, globals())

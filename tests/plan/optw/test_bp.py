@@ -161,13 +161,15 @@ def test_profits_in_steps_round_the_bound() -> None:
 
 
 @pytest.mark.parametrize("tuning", [
-    Tuning(ils_max_s=0.02, primal_s=0.0, heuristic_cap=1 << 14),
-    Tuning(ils_max_s=0.02, primal_s=0.0, smoothing=0.0, table_ng=None),
+    Tuning(ils_max_s=0.02, primal_s=0.0, heuristic_cap=1 << 14, bidirectional=False),
+    Tuning(ils_max_s=0.02, primal_s=0.0, smoothing=0.0, table_ng=None, bidirectional=False),
+    Tuning(ils_max_s=0.02, primal_s=0.0, bidirectional=False),
     Tuning(ils_max_s=0.02, primal_s=0.0, smoothing=0.9, collect=1),
-], ids=["guided", "plain", "one-column"])
+], ids=["guided", "plain", "whole-passes", "one-column"])
 def test_tuning_variants_agree(tuning: Tuning) -> None:
-    """Guided heuristic pricing, no smoothing or table pass, one column per call: same optima."""
-    for seed in (0, 1, 8):
+    """Guided heuristic pricing, no smoothing or table pass, whole (one-direction) passes, one
+    column per call: same optima."""
+    for seed in (0, 1, 8, 11, 12):
         inst = grid_instance(seed, 13, 2)
         res = solve_bp(inst, time_limit_s=20, tuning=tuning)
         assert res.status is Status.OPTIMAL and res.objective == pytest.approx(fast_brute(inst))

@@ -128,7 +128,8 @@ def _random_cuts(rng: np.random.Generator, n: int, k: int) -> list[SubsetRowCut]
 
 @pytest.mark.parametrize("name", sorted(single_vehicle_cases()))
 @pytest.mark.parametrize(("drop", "relaxed"), [(True, False), (False, False), (False, True)])
-def test_pricing_with_cuts_is_exact(name: str, drop: bool, relaxed: bool,
+@pytest.mark.parametrize("bidirectional", [False, True])
+def test_pricing_with_cuts_is_exact(name: str, drop: bool, relaxed: bool, bidirectional: bool,
                                     monkeypatch: pytest.MonkeyPatch) -> None:
     """With random cuts and duals, every column's value is its reduced profit less its cuts'
     duals, a column is found whenever some route beats the floor, and the bound covers the best
@@ -142,7 +143,8 @@ def test_pricing_with_cuts_is_exact(name: str, drop: bool, relaxed: bool,
         return
     routes = _routes(fwd)
     rng = np.random.default_rng(len(name) + 7 * drop + 13 * relaxed)
-    pricer = Pricer(fwd, droppable(inst, orig), ng_size=1 if relaxed else 8)
+    pricer = Pricer(fwd, droppable(inst, orig), ng_size=1 if relaxed else 8,
+                    bidirectional=bidirectional)
     for trial in range(6):
         pi = np.zeros(fwd.n)
         pi[1:-1] = rng.uniform(0, 1.2, fwd.n - 2) * fwd.prof[1:-1]
@@ -158,7 +160,7 @@ def test_pricing_with_cuts_is_exact(name: str, drop: bool, relaxed: bool,
         best = max((value(p) for p in routes), default=-math.inf)
         floor = best - rng.uniform(-1, 3) if trial else -1.0
         got = pricer.price(fwd.dur, prof, floor, 1e-6, drop=drop, forbidden=frozenset(),
-                           collect=50, cap=CAP_MAX, deadline=Deadline(30.0), cuts=cuts,
+                           collect=10**4, cap=CAP_MAX, deadline=Deadline(30.0), cuts=cuts,
                            sigma=sigma)
         assert got.upper is not None and got.upper >= best - 1e-9
         assert bool(got.paths) == (best > floor + 1e-6)

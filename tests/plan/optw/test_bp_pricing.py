@@ -37,7 +37,8 @@ def test_droppable_needs_the_triangle_inequality() -> None:
 
 @pytest.mark.parametrize("name", sorted(single_vehicle_cases()))
 @pytest.mark.parametrize("drop", [True, False])
-def test_pricing_is_exact(name: str, drop: bool) -> None:
+@pytest.mark.parametrize("bidirectional", [False, True])
+def test_pricing_is_exact(name: str, drop: bool, bidirectional: bool) -> None:
     """Columns are feasible routes of the claimed reduced profit above the floor, one is found
     whenever some route beats the floor, and the bound covers the best route."""
     inst = single_vehicle_cases()[name]
@@ -48,7 +49,7 @@ def test_pricing_is_exact(name: str, drop: bool) -> None:
     customers = [int(c) for c in inst.customers]
     sets = feasible_sets(inst)
     rng = np.random.default_rng(len(name))
-    pricer = Pricer(fwd, droppable(inst, orig))
+    pricer = Pricer(fwd, droppable(inst, orig), bidirectional=bidirectional)
     for trial in range(6):
         pi = np.zeros(fwd.n)
         pi[1:-1] = rng.uniform(0, 1.5, fwd.n - 2) * fwd.prof[1:-1]
@@ -58,7 +59,7 @@ def test_pricing_is_exact(name: str, drop: bool) -> None:
         best = max(value.values(), default=-math.inf)
         floor = best - rng.uniform(-1, 3) if trial else -1.0
         got = pricer.price(fwd.dur, prof, floor, 1e-6, drop=drop, forbidden=frozenset(),
-                           collect=50, cap=CAP_MAX, deadline=Deadline(30.0))
+                           collect=10**4, cap=CAP_MAX, deadline=Deadline(30.0))
         assert got.upper is not None and got.upper >= best - 1e-9
         assert bool(got.paths) == (best > floor + 1e-6)
         for path, val in zip(got.paths, got.values, strict=True):
@@ -69,11 +70,12 @@ def test_pricing_is_exact(name: str, drop: bool) -> None:
             assert val > floor
 
 
-def test_pricing_honours_forbidden_customers_and_arcs() -> None:
+@pytest.mark.parametrize("bidirectional", [False, True])
+def test_pricing_honours_forbidden_customers_and_arcs(bidirectional: bool) -> None:
     """No column visits a forbidden customer or uses a forbidden arc."""
     inst = catalogue()["euclid-m1"]
     fwd, _, orig = build_cores(inst)
-    pricer = Pricer(fwd, droppable(inst, orig))
+    pricer = Pricer(fwd, droppable(inst, orig), bidirectional=bidirectional)
     node = Restrictions(forbidden=frozenset({1}), no_arcs=frozenset({(0, 2)}),
                         arcs=frozenset({(3, 4)}))
     dur = pricer.node_dur(node)
