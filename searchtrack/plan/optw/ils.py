@@ -77,8 +77,8 @@ def _routes(inst: OPTWInstance, sol: Arrays) -> Routes:
 @dataclass(frozen=True)
 class Tuning:
     """Search parameters (defaults tuned on the Solomon and Cordeau OPTW benchmarks, m = 1, and on
-    the Cordeau TOPTW benchmark, m = 1 to 4, for ``split`` and ``k_max``; ``w_route``,
-    ``relocate`` and ``elite`` are off by default).
+    the Cordeau TOPTW benchmark, m = 1 to 4, for ``split`` and ``k_max``, m = 4 for ``replace``;
+    ``w_route``, ``relocate`` and ``elite`` are off by default).
 
     Parameters
     ----------
@@ -113,6 +113,9 @@ class Tuning:
     split
         The segment ruin removes ``ceil(k / vehicles)`` visits from each route (else ``k`` from
         each, which with several vehicles wipes out most of the plan).
+    replace
+        In the local search, also swap visits for unvisited customers of more profit in their
+        place (:func:`searchtrack.plan.optw.ils_moves.replace`).
     elite
         With more than 1, keep this many distinct solutions (the best and the ends of cycles,
         ranked by profit then time) and restart each cycle from a random one of them instead of
@@ -139,6 +142,7 @@ class Tuning:
     relocate: bool = False
     split: bool = True
     elite: int = 0
+    replace: bool = True
 
     def array(self) -> NDArray[np.float64]:
         """Parameters in the order of the ``ils_search.P_*`` indices."""
@@ -146,7 +150,8 @@ class Tuning:
                          self.p_equal, self.alpha_lo, self.alpha_hi, self.noise,
                          self.w_segment, self.w_random, self.w_related, self.w_target,
                          self.w_fit, float(self.local_search), self.w_route, float(self.k_max),
-                         float(self.relocate), float(self.split), float(self.elite)],
+                         float(self.relocate), float(self.split), float(self.elite),
+                         float(self.replace)],
                         dtype=np.float64)
 
 
@@ -281,7 +286,7 @@ def _solve(
     K.insert_greedy(ins, cur, rng, 2.0, 0.0)
     seq = np.zeros(nc + 2, dtype=np.int64)
     if tuning.local_search:
-        KS.local_search(ins, cur, rng, seq, tuning.relocate)
+        KS.local_search(ins, cur, rng, seq, tuning.relocate, tuning.replace)
     best = _empty(inst, nc + 2, sink)
     work = _empty(inst, nc + 2, sink)
     K.copy_sol(best, cur)

@@ -1,10 +1,11 @@
 """Numba search loop of the OPTW ILS: ruin operators, route reordering, acceptance, restarts.
 
 One iteration copies the current solution, ruins it (removes some visits, chosen by one of six
-operators, the route ruin and the inter-route relocation of :mod:`searchtrack.plan.optw.ils_moves`
-included), recreates it with the randomised greedy insertion of
-:mod:`searchtrack.plan.optw.ils_kernels`, improves it by reordering routes and inserting again,
-and accepts it by simulated annealing on the profit (ties broken by time). The temperature falls
+operators, the route ruin of :mod:`searchtrack.plan.optw.ils_moves` included), recreates it with
+the randomised greedy insertion of :mod:`searchtrack.plan.optw.ils_kernels`, improves it by
+reordering routes, moving visits between routes (optional), replacing visits by unvisited
+customers of more profit (both in :mod:`searchtrack.plan.optw.ils_moves`) and inserting again, and
+accepts it by simulated annealing on the profit (ties broken by time). The temperature falls
 geometrically over cycles of growing length; each cycle restarts from the best solution (or from
 one of an elite pool that the caller keeps). Only the routes that ruin and recreate changed are
 reordered: the others are already locally optimal. Same array layout as the kernels module.
@@ -31,7 +32,7 @@ from searchtrack.plan.optw.ils_kernels import (
     time_of,
     visited_list,
 )
-from searchtrack.plan.optw.ils_moves import relocate, ruin_route
+from searchtrack.plan.optw.ils_moves import relocate, replace, ruin_route
 
 # indices into the integer control array ``ctl``
 C_ITER, C_SINCE_BEST, C_CYCLE_IT, C_CYCLE_LEN, C_RESTARTS = 0, 1, 2, 3, 4
@@ -40,7 +41,7 @@ F_BEST_P, F_BEST_T, F_CUR_P, F_CUR_T, F_TEMP, F_T0 = 0, 1, 2, 3, 4, 5
 # indices into the parameter array ``par`` (see ``ils.Tuning``)
 (P_KFRAC, P_T0, P_T1, P_CYCLE0, P_GROW, P_EQUAL, P_ALO, P_AHI, P_NOISE,
  P_WSEG, P_WRAND, P_WREL, P_WTARGET, P_WFIT, P_LS, P_WROUTE, P_KMAX, P_RELOC, P_SPLIT,
- P_ELITE) = range(20)
+ P_ELITE, P_REPLACE) = range(21)
 
 
 @njit(cache=True)
@@ -260,14 +261,15 @@ def reorder(ins, sol, r, seq):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def local_search(ins, sol, rng, seq, inter=False):  # type: ignore[no-untyped-def]
-    """Alternate reordering of every route (and, with ``inter``, moves between routes) and
-    greedy insertion until neither helps."""
-    improve_routes(ins, sol, rng, seq, np.ones(sol[1].shape[0], dtype=np.bool_), inter)
+def local_search(ins, sol, rng, seq, inter=False, swap=False):  # type: ignore[no-untyped-def]
+    """Alternate reordering of every route (and, with ``inter``, moves between routes; with
+    ``swap``, replacements of visits by unvisited customers of more profit) and greedy insertion
+    until none helps."""
+    improve_routes(ins, sol, rng, seq, np.ones(sol[1].shape[0], dtype=np.bool_), inter, swap)
 
 
 @njit(cache=True)
-def improve_routes(ins, sol, rng, seq, dirty, inter):  # type: ignore[no-untyped-def]
+def improve_routes(ins, sol, rng, seq, dirty, inter, swap=False):  # type: ignore[no-untyped-def]
     """:func:`local_search` reordering only the routes flagged in ``dirty`` and those the other
     moves change (the others are already reordered); clears ``dirty``."""
     ln = sol[1]
@@ -284,10 +286,16 @@ def improve_routes(ins, sol, rng, seq, dirty, inter):  # type: ignore[no-untyped
             pending = True
             continue  # reorder the routes it changed, then look again
         if not pending:
+            if swap and replace(ins, sol, dirty) > 0:
+                pending = True
+                continue  # reorder the routes it changed, then insert again
             return
         pending = False
         lens[:] = ln
         if insert_greedy(ins, sol, rng, 2.0, 0.0) == 0:
+            if swap and replace(ins, sol, dirty) > 0:
+                pending = True
+                continue
             return
         for r in range(m):
             dirty[r] = ln[r] != lens[r]
@@ -318,6 +326,7 @@ def run_search(ins, cur, best, work, rng, ctl, fst, par, n_iter, buf, mark, key,
     wsum = (par[P_WSEG] + par[P_WRAND] + par[P_WREL] + par[P_WTARGET] + par[P_WFIT]
             + par[P_WROUTE])
     inter = par[P_RELOC] > 0.0
+    swap = par[P_REPLACE] > 0.0
     dirty = np.zeros(cur[1].shape[0], dtype=np.bool_)
     for _ in range(n_iter):
         copy_sol(work, cur)
@@ -343,7 +352,7 @@ def run_search(ins, cur, best, work, rng, ctl, fst, par, n_iter, buf, mark, key,
         insert_greedy(ins, work, rng, alpha, par[P_NOISE])
         if par[P_LS] > 0.0:  # the routes ruin and recreate left alone are already reordered
             changed_routes(work, cur, dirty)
-            improve_routes(ins, work, rng, seq, dirty, inter)
+            improve_routes(ins, work, rng, seq, dirty, inter, swap)
         pw = profit_of(ins, work)
         tw = time_of(work)
         accept = better(pw, tw, fst[F_CUR_P], fst[F_CUR_T])

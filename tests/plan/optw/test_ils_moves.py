@@ -15,7 +15,7 @@ from searchtrack.plan.optw import ils_kernels as K
 from searchtrack.plan.optw import ils_moves as KM
 from searchtrack.plan.optw import ils_search as KS
 from searchtrack.plan.optw.ils import Tuning, _solve, solve_ils, warm_up
-from tests.plan.optw.test_ils import random_instance
+from tests.plan.optw.test_ils import brute_force, random_instance
 from tests.plan.optw.test_ils_search import (
     Arrays,
     _consistent,
@@ -141,21 +141,23 @@ def test_ruin_route_empties_exactly_one_route(seed: int) -> None:
     assert after[changed[0]] == (0, 0) and len(before[changed[0]]) > 2
 
 
+@pytest.mark.parametrize("swap", [False, True])
 @pytest.mark.parametrize("seed", range(4))
-def test_partial_local_search_equals_the_full_one(seed: int) -> None:
-    """On a reordered plan, reordering only the routes a ruin changed gives the full result."""
+def test_partial_local_search_equals_the_full_one(seed: int, swap: bool) -> None:
+    """On a reordered plan, reordering only the routes a ruin changed gives the full result
+    (with and without replacements)."""
     inst = _instance(seed, n=18, vehicles=3, horizon=40)
     ins, sol = _filled(inst)
     seq = np.zeros(inst.n + 1, dtype=np.int64)
-    KS.local_search(ins, sol, _rng(0), seq)
+    KS.local_search(ins, sol, _rng(0), seq, False, swap)
     ref = tuple(a.copy() for a in sol)
     KM.ruin_route(ins, sol, _rng(seed))
     full = tuple(a.copy() for a in sol)
     dirty = np.zeros(inst.vehicles, dtype=np.bool_)
     KS.changed_routes(sol, ref, dirty)
     assert dirty.sum() == 1
-    KS.improve_routes(ins, sol, _rng(0), seq, dirty, False)
-    KS.local_search(ins, full, _rng(0), seq)
+    KS.improve_routes(ins, sol, _rng(0), seq, dirty, False, swap)
+    KS.local_search(ins, full, _rng(0), seq, False, swap)
     for x, y in zip(sol, full, strict=True):
         np.testing.assert_array_equal(x, y)
     assert not dirty.any()
@@ -199,3 +201,74 @@ def test_elite_restarts_are_valid_and_deterministic(seed: int) -> None:
     check = validate(inst, a.plan)
     assert check.feasible, check.violations
     assert check.profit == pytest.approx(a.objective)
+
+
+def _swaps_left(inst: OPTWInstance, routes: tuple[tuple[int, ...], ...]) -> list[tuple[int, int]]:
+    """Every (visit, unvisited customer of more profit) whose in-place swap the validator
+    accepts."""
+    visited = set(_visits(routes))
+    left = []
+    for r, route in enumerate(routes):
+        for q in range(1, len(route) - 1):
+            for u in (int(g) for g in inst.customers if int(g) not in visited):
+                if inst.profit[u] <= inst.profit[route[q]]:
+                    continue
+                plan = list(routes)
+                plan[r] = (*route[:q], u, *route[q + 1:])
+                if validate(inst, plan).feasible:
+                    left.append((route[q], u))
+    return left
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_replace_gains_profit_and_leaves_no_swap(seed: int) -> None:
+    """Replacement keeps the plan valid with as many visits, adds the profit it claims, flags the
+    routes it changed, and leaves no in-place swap for more profit that the validator accepts."""
+    inst = _instance(seed, n=18, vehicles=1 + seed % 3, horizon=30)
+    ins, sol = _filled(inst)
+    buf = np.zeros(inst.n + 1, dtype=np.int64)
+    mark = np.zeros(inst.n + 1, dtype=np.bool_)
+    KS.ruin_random(ins, sol, _rng(seed), 3, buf, mark)
+    before = _consistent(inst, sol)
+    dirty = np.zeros(inst.vehicles, dtype=np.bool_)
+    moves = KM.replace(ins, sol, dirty)
+    after = _consistent(inst, sol)
+    assert len(_visits(after)) == len(_visits(before))
+    assert validate(inst, after).profit >= validate(inst, before).profit + moves
+    assert all(dirty[r] for r in range(inst.vehicles) if before[r] != after[r])
+    assert not _swaps_left(inst, after)
+
+
+def test_replace_takes_the_richer_customer_in_place() -> None:
+    """Customer 2 (profit 5) sits where customer 1 (profit 1) is visited: the swap is made."""
+    xy = np.array([[0, 0], [0, 10], [0, 11]])
+    travel = np.abs(xy[:, None, :] - xy[None, :, :]).sum(axis=2)
+    inst = OPTWInstance(travel=travel, service=[0, 0, 0], profit=[0, 1, 5],
+                        open=[0, 0, 0], close=[22, 22, 22])
+    ins, sol = _pack(inst)
+    sol[0][0, :3] = [0, 1, inst.n]
+    sol[1][0] = 3
+    sol[5][1] = 0
+    K.schedule(ins, sol, 0)
+    dirty = np.zeros(1, dtype=np.bool_)
+    assert KM.replace(ins, sol, dirty) == 1
+    assert _consistent(inst, sol) == ((0, 2, 0),) and dirty.all()
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_search_with_replacement_is_valid_optimal_and_deterministic(seed: int) -> None:
+    """With replacement the search stays valid and deterministic on random non-metric
+    instances, and on tiny ones reaches (never exceeds) the brute-force optimum."""
+    tuning = Tuning(replace=True)
+    inst = random_instance(seed, 20, vehicles=1 + seed % 3)
+    a = _solve(inst, 60.0, seed, None, 300, tuning)
+    b = _solve(inst, 60.0, seed, None, 300, tuning)
+    assert a.plan == b.plan
+    assert a.plan is not None and a.objective is not None
+    check = validate(inst, a.plan)
+    assert check.feasible, check.violations
+    assert check.profit == pytest.approx(a.objective)
+    tiny = random_instance(500 + seed, 9, vehicles=1 + seed % 2, horizon=20.0)
+    res = _solve(tiny, 60.0, seed, None, 300, tuning)
+    assert res.plan is not None and validate(tiny, res.plan).feasible
+    assert res.objective == pytest.approx(brute_force(tiny))
