@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-_BIG = np.int64(1) << np.int64(60)
+BIG = np.int64(1) << np.int64(60)  #: larger than any time or shift
 
 
 # --------------------------------------------------------------------------- random numbers
@@ -109,7 +109,7 @@ def best_in_routes(ins, sol, g, r0, r1):  # type: ignore[no-untyped-def]
     sg = S[g]
     br = -1
     bp = -1
-    bd = _BIG
+    bd = BIG
     need = og + sg
     for r in range(r0, r1):
         # latest service starts st + ms are non-decreasing along a route: skip the positions
@@ -242,13 +242,13 @@ def insert_greedy(ins, sol, rng, alpha, noise):  # type: ignore[no-untyped-def]
         bi = -1
         br = -1
         bp = -1
-        bd = _BIG
+        bd = BIG
         i = 0
         while i < na:
             g = alive[i]
             r = -1
             p = -1
-            d = _BIG
+            d = BIG
             for q in range(m):
                 if cver[g, q] != ver[q]:
                     _, cpos[g, q], cdel[g, q] = best_in_routes(ins, sol, g, q, q + 1)

@@ -25,7 +25,7 @@ from numba import njit
 
 from searchtrack.core.kernel_cache import follow_callees
 from searchtrack.plan.optw.ils_kernels import (
-    _BIG,
+    BIG,
     best_in_routes,
     insert_at,
     rand_int,
@@ -152,7 +152,7 @@ def replace(ins, sol, dirty):  # type: ignore[no-untyped-def]
                 uc[nu] = C[g]
                 nu += 1
         bg = 0.0
-        bd = _BIG
+        bd = BIG
         br = -1
         bq = -1
         bu = -1
