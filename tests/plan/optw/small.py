@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from searchtrack.plan.optw import OPTWInstance
+from searchtrack.plan.optw.labelling_core import BIG, Core
 from tests.plan.optw.catalogue import catalogue
 
 # travel 0 → 2 direct takes 8 but 0 → 1 → 2 only 2 + 1 + 3 = 6 (no triangle inequality);
@@ -50,3 +51,25 @@ def single_vehicle_cases() -> dict[str, OPTWInstance]:
     """The catalogue's one-vehicle instances and six random non-metric ones, by name."""
     base = {k: v for k, v in catalogue().items() if k.endswith("m1")}
     return {**base, **{f"random-{s}": random_instance(s) for s in range(6)}}
+
+
+def elementary_paths(core: Core) -> list[tuple[int, ...]]:
+    """Every elementary feasible path ``src … snk`` of a core graph, by depth-first search over
+    service starts (waiting allowed)."""
+    out: list[tuple[int, ...]] = []
+
+    def grow(path: tuple[int, ...], t: int) -> None:
+        v = path[-1]
+        for w in range(1, core.n):
+            if w in path or core.dur[v, w] >= BIG:
+                continue
+            a = max(int(core.opn[w]), t + int(core.dur[v, w]))
+            if a > core.cls[w]:
+                continue
+            if w == core.snk:
+                out.append((*path, w))
+            else:
+                grow((*path, w), a)
+
+    grow((core.src,), int(core.opn[core.src]))
+    return out

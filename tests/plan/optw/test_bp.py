@@ -169,7 +169,7 @@ def test_profits_in_steps_round_the_bound() -> None:
 def test_tuning_variants_agree(tuning: Tuning) -> None:
     """Guided heuristic pricing, no smoothing or table pass, whole (one-direction) passes, one
     column per call: same optima."""
-    for seed in (0, 1, 8, 11, 12):
+    for seed in (0, 1, 8):
         inst = grid_instance(seed, 13, 2)
         res = solve_bp(inst, time_limit_s=20, tuning=tuning)
         assert res.status is Status.OPTIMAL and res.objective == pytest.approx(fast_brute(inst))

@@ -15,9 +15,9 @@ from searchtrack.plan.optw.bp import Tuning, solve_bp
 from searchtrack.plan.optw.bp_cuts import SubsetRowCut, masks, outside_memory, separate
 from searchtrack.plan.optw.bp_pricing import Pricer, droppable
 from searchtrack.plan.optw.labelling import warm_up
-from searchtrack.plan.optw.labelling_core import CAP_MAX, Core, build_cores
+from searchtrack.plan.optw.labelling_core import CAP_MAX, build_cores
 from tests.plan.optw.catalogue import brute_force, catalogue
-from tests.plan.optw.small import random_instance, single_vehicle_cases
+from tests.plan.optw.small import elementary_paths, random_instance, single_vehicle_cases
 from tests.plan.optw.test_bp import fast_brute, grid_instance
 
 EVERYWHERE = Tuning(ils_max_s=0.02, primal_s=0.2, cuts_per_round=30, cuts_max=400,
@@ -96,27 +96,6 @@ def test_masks_keep_positive_duals_only() -> None:
         True, True, False, False, False, True]
 
 
-def _routes(core: Core) -> list[tuple[int, ...]]:
-    """Every elementary feasible core path, by depth-first search over service starts."""
-    out: list[tuple[int, ...]] = []
-
-    def grow(path: tuple[int, ...], t: int) -> None:
-        v = path[-1]
-        for w in range(1, core.n):
-            if w in path or core.dur[v, w] >= 1 << 40:
-                continue
-            a = max(int(core.opn[w]), t + int(core.dur[v, w]))
-            if a > core.cls[w]:
-                continue
-            if w == core.snk:
-                out.append((*path, w))
-            else:
-                grow((*path, w), a)
-
-    grow((core.src,), int(core.opn[core.src]))
-    return out
-
-
 def _random_cuts(rng: np.random.Generator, n: int, k: int) -> list[SubsetRowCut]:
     cuts = []
     for _ in range(k):
@@ -141,7 +120,7 @@ def test_pricing_with_cuts_is_exact(name: str, drop: bool, relaxed: bool, bidire
     fwd, _, orig = build_cores(inst)
     if fwd.n <= 5:
         return
-    routes = _routes(fwd)
+    routes = elementary_paths(fwd)
     rng = np.random.default_rng(len(name) + 7 * drop + 13 * relaxed)
     pricer = Pricer(fwd, droppable(inst, orig), ng_size=1 if relaxed else 8,
                     bidirectional=bidirectional)

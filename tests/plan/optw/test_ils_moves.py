@@ -167,8 +167,13 @@ def test_partial_local_search_equals_the_full_one(seed: int, swap: bool) -> None
 def test_search_with_the_team_moves_is_valid_and_deterministic(seed: int) -> None:
     """Route ruin and relocation on random non-metric team instances: valid plans, profit as
     validated, and the same plan for the same seed."""
+    _valid_and_deterministic(seed, Tuning(w_route=1.0, relocate=True, k_max=6, split=True))
+
+
+def _valid_and_deterministic(seed: int, tuning: Tuning) -> None:
+    """The search on a random non-metric team instance: a valid plan of the validated profit,
+    the same for the same seed."""
     inst = random_instance(seed, 20, vehicles=1 + seed % 3)
-    tuning = Tuning(w_route=1.0, relocate=True, k_max=6, split=True)
     a = _solve(inst, 60.0, seed, None, 300, tuning)
     b = _solve(inst, 60.0, seed, None, 300, tuning)
     assert a.plan == b.plan
@@ -260,14 +265,7 @@ def test_search_with_replacement_is_valid_optimal_and_deterministic(seed: int) -
     """With replacement the search stays valid and deterministic on random non-metric
     instances, and on tiny ones reaches (never exceeds) the brute-force optimum."""
     tuning = Tuning(replace=True)
-    inst = random_instance(seed, 20, vehicles=1 + seed % 3)
-    a = _solve(inst, 60.0, seed, None, 300, tuning)
-    b = _solve(inst, 60.0, seed, None, 300, tuning)
-    assert a.plan == b.plan
-    assert a.plan is not None and a.objective is not None
-    check = validate(inst, a.plan)
-    assert check.feasible, check.violations
-    assert check.profit == pytest.approx(a.objective)
+    _valid_and_deterministic(seed, tuning)
     tiny = random_instance(500 + seed, 9, vehicles=1 + seed % 2, horizon=20.0)
     res = _solve(tiny, 60.0, seed, None, 300, tuning)
     assert res.plan is not None and validate(tiny, res.plan).feasible

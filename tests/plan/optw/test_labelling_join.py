@@ -12,9 +12,7 @@ import pytest
 from searchtrack.core.deadline import Deadline
 from searchtrack.plan.optw.instance import OPTWInstance
 from searchtrack.plan.optw.labelling_core import (
-    BIG,
     CAP_MAX,
-    Core,
     base_ng,
     build_cores,
     initial_ng,
@@ -22,14 +20,14 @@ from searchtrack.plan.optw.labelling_core import (
 )
 from searchtrack.plan.optw.labelling_join import Joined, backward_stop, join, split_time
 from searchtrack.plan.optw.labelling_kernels import DONE
-from tests.plan.optw.small import random_instance
+from tests.plan.optw.small import elementary_paths, random_instance
 
 
 def _wide(seed: int) -> OPTWInstance:
-    """Eleven customers on a square with wide windows: routes of five to eight customers, so
-    that most paths cross the split."""
+    """Ten customers on a square with wide windows: routes of several customers, so that most
+    paths cross the split."""
     rng = np.random.default_rng(seed)
-    n = 12
+    n = 11
     xy = rng.uniform(0, 20, size=(n, 2))
     travel = np.ceil(np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1)))
     opn = rng.integers(0, 40, size=n)
@@ -39,26 +37,6 @@ def _wide(seed: int) -> OPTWInstance:
     return OPTWInstance(travel=travel.astype(int), service=rng.integers(1, 5, size=n),
                         profit=rng.integers(1, 9, size=n).astype(float), open=opn, close=close,
                         tmax=int(rng.integers(60, 120)), name=f"wide-{seed}")
-
-
-def _paths(core: Core) -> list[tuple[int, ...]]:
-    """Every elementary feasible core path, by depth-first search over service starts."""
-    out: list[tuple[int, ...]] = []
-
-    def grow(path: tuple[int, ...], t: int) -> None:
-        v = path[-1]
-        for w in range(1, core.n):
-            if w in path or core.dur[v, w] >= BIG:
-                continue
-            a = max(int(core.opn[w]), t + int(core.dur[v, w]))
-            if a <= core.cls[w]:
-                if w == core.snk:
-                    out.append((*path, w))
-                else:
-                    grow((*path, w), a)
-
-    grow((core.src,), int(core.opn[core.src]))
-    return out
 
 
 def _bidirectional(inst: OPTWInstance, prof: np.ndarray, floor: float, keep: int,
@@ -90,7 +68,7 @@ def test_joins_reach_the_best_path_once(seed: int) -> None:
     path beats the floor; the best value found and the join's bound cover the best path."""
     inst = _wide(seed) if seed % 2 else random_instance(seed)
     fwd, _, _ = build_cores(inst)
-    every = _paths(fwd)
+    every = elementary_paths(fwd)
     rng = np.random.default_rng(seed)
     for trial in range(5):
         prof = fwd.prof - np.r_[0, rng.uniform(0, 1.3, fwd.n - 2) * fwd.prof[1:-1], 0]
@@ -115,7 +93,7 @@ def test_any_split_gives_the_same_best(seed: int) -> None:
     inst = _wide(seed)
     fwd, _, _ = build_cores(inst)
     dep, end = int(fwd.opn[fwd.src]), int(fwd.cls[fwd.snk])
-    best = max(float(fwd.prof[list(p)].sum()) for p in _paths(fwd))
+    best = max(float(fwd.prof[list(p)].sum()) for p in elementary_paths(fwd))
     for share in (0.0, 0.25, 0.5, 0.75, 1.0):
         got, _ = _bidirectional(inst, fwd.prof.copy(), -1.0, keep=1 << 20,
                                 tm=dep + int(share * (end - dep)))
