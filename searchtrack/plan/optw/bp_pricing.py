@@ -209,7 +209,8 @@ class Pricer:
             The master's subset-row cuts and their duals: a path's value is then
             ``Σ prof − Σ_c σ_c α_c(path)``. The completion tables come from passes without the
             cuts (the costs of a path's prefix are among the whole path's, so those tables stay
-            bounds), and the passes that follow stay forward.
+            bounds), and the passes that follow stay forward. Bidirectional, both halves carry
+            the cut states and the join pays for the pair of visits it completes.
         """
         self.stats["pricing_calls"] += 1
         n = self.fwd.n
