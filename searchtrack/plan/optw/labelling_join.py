@@ -39,7 +39,7 @@ from searchtrack.core.deadline import Deadline
 from searchtrack.core.kernel_cache import follow_callees
 from searchtrack.plan.optw.labelling_core import Core, PassResult
 from searchtrack.plan.optw.labelling_kernels import DONE, TIMEOUT
-from searchtrack.plan.optw.labelling_primitives import clock
+from searchtrack.plan.optw.labelling_primitives import clock, cut_shared, is_elementary
 
 RELAXED_MAX = 4096  #: relaxed joins kept (the best are the ones whose cycles get forbidden)
 
@@ -64,25 +64,6 @@ def _by_vertex(bv, bp, balive, nb, n):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def _elementary(fv, fpar, f, bv, bpar, b, stamp, mark):  # type: ignore[no-untyped-def]
-    """True when the joined path of forward label ``f`` and backward label ``b`` visits no
-    vertex twice."""
-    x = f
-    while x >= 0:
-        if stamp[fv[x]] == mark:
-            return False
-        stamp[fv[x]] = mark
-        x = fpar[x]
-    x = b
-    while x >= 0:
-        if stamp[bv[x]] == mark:
-            return False
-        stamp[bv[x]] = mark
-        x = bpar[x]
-    return True
-
-
-@njit(cache=True)
 def join_kernel(  # type: ignore[no-untyped-def]
     dur, succ_ptr, succ, opn, horizon, tm,
     fv, ft, fp, fmem, fc, falive, fpar, nf,
@@ -98,8 +79,6 @@ def join_kernel(  # type: ignore[no-untyped-def]
     """
     n = dur.shape[0]
     nw = fmem.shape[1]
-    nc = fc.shape[1]
-    one = np.uint64(1)
     ptr, lab = _by_vertex(bv, bp, balive, nb, n)
     top = np.full(n, -np.inf)
     for v in range(n):
@@ -150,21 +129,15 @@ def join_kernel(  # type: ignore[no-untyped-def]
                         break
                 if clash:
                     continue
-                value = p + bp[b]
-                for w in range(nc):
-                    both = fc[f, w] & bc[b, w]
-                    c = w * 64
-                    while both:
-                        if both & one:
-                            value -= sig[c]
-                        both >>= one
-                        c += 1
+                # less the pair of visits of a cut's subset that the join completes
+                value = p + bp[b] - cut_shared(fc[f], bc[b], sig)
                 if value < bar:
                     continue
                 if value > upper:
                     upper = value
-                mark += 1
-                if _elementary(fv, fpar, f, bv, bpar, b, stamp, mark):
+                mark += 1  # one mark for both halves: no vertex twice in the joined path
+                if (is_elementary(fpar, fv, f, stamp, mark)
+                        and is_elementary(bpar, bv, b, stamp, mark)):
                     if n_found < keep:
                         slot = n_found
                         n_found += 1

@@ -33,6 +33,7 @@ from searchtrack.plan.optw.labelling_primitives import (
     outside_tables,
     profit_outside,
     rehash,
+    sig_of,
     unreach_count,
 )
 
@@ -200,13 +201,7 @@ def label_pass(  # type: ignore[no-untyped-def]
             for w in range(nc):
                 st = lc[lab, w] & cut_m[j, w]
                 state[w] = st ^ cut_s[j, w]
-                hit = st & cut_s[j, w]
-                c = w * 64
-                while hit:
-                    if hit & one:
-                        p2 -= sig[c]
-                    hit >>= one
-                    c += 1
+                p2 -= sig_of(st & cut_s[j, w], w * 64, sig)
             if j == snk:
                 bnd = p2
             else:

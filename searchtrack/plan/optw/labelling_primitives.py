@@ -153,18 +153,33 @@ def is_elementary(par, lv, leaf, stamp, mark):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def cut_penalty(a, b, sig):  # type: ignore[no-untyped-def]
-    """``Σ sig[c]`` over the cuts ``c`` whose state bit is set in ``a`` and not in ``b``."""
+def sig_of(bits, c, sig):  # type: ignore[no-untyped-def]
+    """``Σ sig[c + k]`` over the set bits ``k`` of the 64-bit word ``bits``."""
     one = np.uint64(1)
     total = 0.0
+    while bits:
+        if bits & one:
+            total += sig[c]
+        bits >>= one
+        c += 1
+    return total
+
+
+@njit(cache=True)
+def cut_penalty(a, b, sig):  # type: ignore[no-untyped-def]
+    """``Σ sig[c]`` over the cuts ``c`` whose state bit is set in ``a`` and not in ``b``."""
+    total = 0.0
     for w in range(a.shape[0]):
-        diff = a[w] & ~b[w]
-        c = w * 64
-        while diff:
-            if diff & one:
-                total += sig[c]
-            diff >>= one
-            c += 1
+        total += sig_of(a[w] & ~b[w], w * 64, sig)
+    return total
+
+
+@njit(cache=True)
+def cut_shared(a, b, sig):  # type: ignore[no-untyped-def]
+    """``Σ sig[c]`` over the cuts ``c`` whose state bit is set in both ``a`` and ``b``."""
+    total = 0.0
+    for w in range(a.shape[0]):
+        total += sig_of(a[w] & b[w], w * 64, sig)
     return total
 
 
