@@ -72,8 +72,8 @@ class Tuning:
     """Knobs of the branch-and-price (defaults: the measured best)."""
 
     smoothing: float = 0.5  # Wentges α (0: off)
-    heuristic_cap: int = 0  # labels of a guided (heuristic) pricing pass (0: off)
-    table_ng: int | None = 4  # ng-size of the completion-table pass of exact pricing
+    heuristic_cap: int = 0  # labels of a guided pricing pass (0: off; needs whole passes)
+    table_ng: int | None = 4  # ng-size of the completion-table pass (whole passes only)
     bidirectional: bool = True  # exact pricing by half passes joined at the split time
     collect: int = 200  # most columns per pricing call
     ils_share: float = 0.02  # of the time limit, at most ils_max_s
