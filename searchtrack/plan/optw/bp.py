@@ -50,6 +50,7 @@ from searchtrack.plan.optw.bp_master import LPSolution, Master, Path, Restrictio
 from searchtrack.plan.optw.bp_pricing import Pricer, droppable
 from searchtrack.plan.optw.bp_primal import ils_paths, plan_paths, pool_ip
 from searchtrack.plan.optw.bp_result import result
+from searchtrack.plan.optw.bp_tuning import Tuning
 from searchtrack.plan.optw.instance import OPTWInstance, Routes, profit_step
 from searchtrack.plan.optw.labelling_core import (
     BIG,
@@ -61,33 +62,12 @@ from searchtrack.plan.optw.labelling_core import (
 )
 from searchtrack.plan.optw.routes import idle_routes, initial_plan
 
+__all__ = ["Tree", "Tuning", "solve_bp"]
+
 log = logging.getLogger("searchtrack.plan.optw.bp")
 
 
 _EPS = 1e-5  # least reduced profit of a new column
-
-
-@dataclass(frozen=True)
-class Tuning:
-    """Knobs of the branch-and-price (defaults: the measured best)."""
-
-    smoothing: float = 0.5  # Wentges α (0: off)
-    heuristic_cap: int = 0  # labels of a guided pricing pass (0: off; needs whole passes)
-    table_ng: int | None = 4  # ng-size of the completion-table pass (whole passes only)
-    bidirectional: bool = True  # exact pricing by half passes joined at the split time
-    collect: int = 200  # most columns per pricing call
-    ils_share: float = 0.02  # of the time limit, at most ils_max_s
-    ils_max_s: float = 1.5
-    ils_iterations: int = 20000  # the ILS stops here unless its time share ends first
-    ils_again_share: float = 0.1  # of the limit (at most ils_again_max_s): the ILS from the
-    ils_again_max_s: float = 30.0  # incumbent once the root leaves a gap (0: never)
-    ils_again_iterations: int = 500000
-    primal_s: float = 2.0  # CP-SAT on the column pool, after the root and every primal_every
-    primal_every: int = 50
-    cuts_per_round: int = 20  # subset-row cuts separated at once (0: no cuts)
-    cuts_max: int = 120  # subset-row cuts in the master at most
-    cut_rounds: int = 8  # separation rounds per node
-    cut_depth: int = 0  # separate at nodes of at most this depth
 
 
 @dataclass(order=True)
