@@ -191,3 +191,18 @@ def test_single_vehicle_bkv_agrees_with_proven_optima() -> None:
         assert bkv <= opt, (r["instance"], bkv, opt)
         if r["proven"] == "yes":
             assert bkv == opt, r["instance"]
+
+
+def test_bounds_csv_lists_only_bounds_below_the_list() -> None:
+    """``benchmarks/toptw_bounds.csv``: unique rows of shipped instances, each an integer bound
+    strictly below the listed best known value (the point of the file), its backend named."""
+    bkv = {(r["instance"], int(r["vehicles"])): int(r["best_known"]) for r in _bkv_rows()}
+    with (REPO / "benchmarks" / "toptw_bounds.csv").open(encoding="utf-8") as fh:
+        rows = list(csv.DictReader(fh))
+    assert rows
+    keys = [(r["instance"], int(r["vehicles"])) for r in rows]
+    assert len(keys) == len(set(keys))
+    for r, key in zip(rows, keys, strict=True):
+        assert r["bound"].isdigit() and int(r["bound"]) < bkv[key], r
+        assert r["optimal"] in {"yes", "no"} and r["backend"] in {"labelling", "bp"}, r
+        assert float(r["time_limit_s"]) > 0 and r["command"].strip(), r
