@@ -20,6 +20,7 @@ from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw import ils_kernels as K
 from searchtrack.plan.optw import ils_search as KS
+from searchtrack.plan.optw.ils_pool import Recombiner, pack_routes
 from searchtrack.plan.optw.instance import OPTWInstance, Routes
 from searchtrack.plan.optw.reach import Reach, reach
 
@@ -77,8 +78,8 @@ def _routes(inst: OPTWInstance, sol: Arrays) -> Routes:
 @dataclass(frozen=True)
 class Tuning:
     """Search parameters (defaults tuned on the Solomon and Cordeau OPTW benchmarks, m = 1, and on
-    the Cordeau TOPTW benchmark, m = 1 to 4, for ``split`` and ``k_max``, m = 4 for ``replace``;
-    ``w_route``, ``relocate`` and ``elite`` are off by default).
+    the Cordeau TOPTW benchmark, m = 1 to 4, for ``split`` and ``k_max``, m = 4 for ``replace``,
+    m = 2 to 4 for the route pool; ``w_route``, ``relocate`` and ``elite`` are off by default).
 
     Parameters
     ----------
@@ -120,6 +121,15 @@ class Tuning:
         With more than 1, keep this many distinct solutions (the best and the ends of cycles,
         ranked by profit then time) and restart each cycle from a random one of them instead of
         the best.
+    pool
+        With more than one vehicle, recombine routes (Hu & Lim 2014;
+        :mod:`searchtrack.plan.optw.ils_pool`): pool the routes of local optima within this
+        fraction of the best profit (0: off) and pack the best disjoint ones into a plan.
+    pool_size, pack_every, pack_nodes
+        At most ``pool_size`` pooled routes; a packing each time ``pack_every`` are new, and at
+        the end, of at most ``pack_nodes`` branch-and-bound nodes.
+    pack_s
+        Seconds kept for the last packing (at most 5 % of the time limit).
     """
 
     k_frac: float = 0.5
@@ -143,6 +153,11 @@ class Tuning:
     split: bool = True
     elite: int = 0
     replace: bool = True
+    pool: float = 0.03
+    pool_size: int = 2000
+    pack_every: int = 100
+    pack_nodes: int = 100_000
+    pack_s: float = 0.02
 
     def array(self) -> NDArray[np.float64]:
         """Parameters in the order of the ``ils_search.P_*`` indices."""
@@ -151,7 +166,7 @@ class Tuning:
                          self.w_segment, self.w_random, self.w_related, self.w_target,
                          self.w_fit, float(self.local_search), self.w_route, float(self.k_max),
                          float(self.relocate), float(self.split), float(self.elite),
-                         float(self.replace)],
+                         float(self.replace), self.pool],
                         dtype=np.float64)
 
 
@@ -307,13 +322,20 @@ def _solve(
     first = float(fst[KS.F_BEST_P])
     batch = 1
     pool: list[tuple[float, float, Arrays]] = []
-    while nc and fst[KS.F_BEST_P] < complete and not deadline.expired():
+    rec = Recombiner(ins, (cur, best, work), (fst, ctl, rng, seq), tuning.pool,
+                     tuning.pool_size, tuning.pack_every, tuning.pack_nodes,
+                     (tuning.relocate, tuning.replace))
+    par[KS.P_POOL] = tuning.pool if rec.pool is not None else 0.0  # one vehicle: nothing to mix
+    reserve = 0.0 if rec.pool is None else min(tuning.pack_s, 0.05 * deadline.remaining())
+    while nc and fst[KS.F_BEST_P] < complete and deadline.remaining() > reserve:
         done = int(ctl[KS.C_ITER])
         if max_iterations is not None and done >= max_iterations:
             break
         k = batch if max_iterations is None else min(batch, max_iterations - done)
         t0 = time.perf_counter()
-        KS.run_search(ins, cur, best, work, rng, ctl, fst, par, k, buf, mark, key, vst, seq)
+        KS.run_search(ins, cur, best, work, rng, ctl, fst, par, k, buf, mark, key, vst, seq,
+                      rec.rbuf, rec.seen)
+        rec.after_batch(deadline.end - reserve)
         if tuning.elite > 1 and ctl[KS.C_CYCLE_IT] == 0:
             _restart_elite(pool, tuning.elite, cur, best, fst, rng)
         dt = time.perf_counter() - t0
@@ -321,6 +343,8 @@ def _solve(
             batch *= 2
         elif dt > _BATCH_S and batch > 1:
             batch //= 2
+    if fst[KS.F_BEST_P] < complete:
+        rec.finish(deadline.end - reserve / 2)
     plan = _routes(inst, best)
     profit = float(K.profit_of(ins, best))
     status = Status.OPTIMAL if profit >= complete else Status.FEASIBLE
@@ -329,6 +353,7 @@ def _solve(
         "best_iteration": float(ctl[KS.C_ITER] - ctl[KS.C_SINCE_BEST]),
         "restarts": float(ctl[KS.C_RESTARTS]),
         "construction_profit": first,
+        "packings": float(rec.packings), "packing_gains": float(rec.gains),
     }
     log.debug("ils %s: profit %g after %d iterations", inst.name, profit, ctl[KS.C_ITER])
     return Result(
@@ -370,3 +395,5 @@ def warm_up() -> None:
         xy, [0, 1, 2, 3], np.zeros(4), np.zeros(4), [10.0, 1.5, 1.5, 1.5], decimals=1
     )
     solve_ils(tiny, time_limit_s=60.0, max_iterations=5)
+    pack_routes(np.ones((1, 1), dtype=np.uint64), np.ones(1), np.ones(1, dtype=np.int64), 2,
+                0.0, 0, 10)

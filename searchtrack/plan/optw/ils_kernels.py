@@ -327,3 +327,59 @@ def better(pa, ta, pb, tb):  # type: ignore[no-untyped-def]
     if pa > pb + eps:
         return True
     return pa >= pb - eps and ta < tb
+
+
+# --------------------------------------------------------------------------- route pool
+@njit(cache=True)
+def route_key(rt, r, n):  # type: ignore[no-untyped-def]
+    """Order-free 62-bit key of the customer set of route ``r`` (its first ``n`` positions): a
+    sum of splitmix64 hashes, so the same customers in another order share a key."""
+    h = np.uint64(0)
+    for p in range(1, n - 1):
+        z = np.uint64(rt[r, p] + 1) * np.uint64(0x9E3779B97F4A7C15)
+        z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+        z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+        h += z ^ (z >> np.uint64(31))
+    return np.int64(h >> np.uint64(2))
+
+
+@njit(cache=True)
+def stage_routes(sol, old, rbuf, seen, ctl, c_staged, c_seen):  # type: ignore[no-untyped-def]
+    """Copy the routes of ``sol`` that differ from those of ``old`` into the rows of ``rbuf``
+    from ``ctl[c_staged]`` on, as ``(key, visits, arrival at the sink, customers…)``, unless the
+    open-addressing table ``seen`` (rows ``(key + 1, arrival)``, ``ctl[c_seen]`` in use; cleared
+    when half full) holds the same customers with no later arrival."""
+    rt, ln, arr = sol[0], sol[1], sol[2]
+    mask = seen.shape[0] - 1
+    for r in range(ln.shape[0]):
+        n = ln[r]
+        if n <= 2:
+            continue
+        same = n == old[1][r]
+        p = 1
+        while same and p < n - 1:
+            same = rt[r, p] == old[0][r, p]
+            p += 1
+        if same:
+            continue
+        key = route_key(rt, r, n)
+        a = arr[r, n - 1]
+        h = key & mask
+        while seen[h, 0] != 0 and seen[h, 0] != key + 1:
+            h = (h + 1) & mask
+        if seen[h, 0] != 0 and seen[h, 1] <= a:
+            continue
+        if seen[h, 0] == 0:
+            if 2 * ctl[c_seen] >= seen.shape[0]:
+                seen[:, 0] = 0
+                ctl[c_seen] = 0
+                h = key & mask
+            seen[h, 0] = key + 1
+            ctl[c_seen] += 1
+        seen[h, 1] = a
+        k = ctl[c_staged]
+        rbuf[k, 0] = key
+        rbuf[k, 1] = n - 2
+        rbuf[k, 2] = a
+        rbuf[k, 3 : n + 1] = rt[r, 1 : n - 1]
+        ctl[c_staged] = k + 1

@@ -29,19 +29,20 @@ from searchtrack.plan.optw.ils_kernels import (
     remove_marked,
     remove_range,
     schedule,
+    stage_routes,
     time_of,
     visited_list,
 )
 from searchtrack.plan.optw.ils_moves import relocate, replace, ruin_route
 
 # indices into the integer control array ``ctl``
-C_ITER, C_SINCE_BEST, C_CYCLE_IT, C_CYCLE_LEN, C_RESTARTS = 0, 1, 2, 3, 4
+C_ITER, C_SINCE_BEST, C_CYCLE_IT, C_CYCLE_LEN, C_RESTARTS, C_STAGED, C_SEEN = range(7)
 # indices into the float state array ``fst``
 F_BEST_P, F_BEST_T, F_CUR_P, F_CUR_T, F_TEMP, F_T0 = 0, 1, 2, 3, 4, 5
 # indices into the parameter array ``par`` (see ``ils.Tuning``)
 (P_KFRAC, P_T0, P_T1, P_CYCLE0, P_GROW, P_EQUAL, P_ALO, P_AHI, P_NOISE,
  P_WSEG, P_WRAND, P_WREL, P_WTARGET, P_WFIT, P_LS, P_WROUTE, P_KMAX, P_RELOC, P_SPLIT,
- P_ELITE, P_REPLACE) = range(21)
+ P_ELITE, P_REPLACE, P_POOL) = range(22)
 
 
 @njit(cache=True)
@@ -315,13 +316,15 @@ def changed_routes(a, b, dirty):  # type: ignore[no-untyped-def]
 
 
 @njit(cache=True)
-def run_search(ins, cur, best, work, rng, ctl, fst, par, n_iter, buf, mark, key, vst, seq):  # type: ignore[no-untyped-def]
+def run_search(ins, cur, best, work, rng, ctl, fst, par, n_iter, buf, mark, key, vst, seq,  # type: ignore[no-untyped-def]
+               rbuf, seen):
     """Run ``n_iter`` ruin-and-recreate iterations with local search from the current solution.
 
     All search state (solutions, counters, temperature, random state) lives in the arrays, so a
     search resumed call after call gives identical results whatever the batch sizes. With an
     elite pool (``par[P_ELITE] > 1``) it returns at the end of a cycle, before restarting: the
-    caller sets ``cur``.
+    caller sets ``cur``. With ``par[P_POOL] > 0`` it stages routes of local optima that close to
+    the best profit in ``rbuf`` (``stage_routes``) and returns before ``rbuf`` can overflow.
     """
     wsum = (par[P_WSEG] + par[P_WRAND] + par[P_WREL] + par[P_WTARGET] + par[P_WFIT]
             + par[P_WROUTE])
@@ -329,6 +332,8 @@ def run_search(ins, cur, best, work, rng, ctl, fst, par, n_iter, buf, mark, key,
     swap = par[P_REPLACE] > 0.0
     dirty = np.zeros(cur[1].shape[0], dtype=np.bool_)
     for _ in range(n_iter):
+        if par[P_POOL] > 0.0 and ctl[C_STAGED] + cur[1].shape[0] > rbuf.shape[0]:
+            return  # the caller drains the staged routes
         copy_sol(work, cur)
         nv = visited_list(work, buf)
         kmax = max(int(par[P_KFRAC] * nv), min(nv, 4))  # short routes: up to all visits
@@ -355,6 +360,8 @@ def run_search(ins, cur, best, work, rng, ctl, fst, par, n_iter, buf, mark, key,
             improve_routes(ins, work, rng, seq, dirty, inter, swap)
         pw = profit_of(ins, work)
         tw = time_of(work)
+        if par[P_POOL] > 0.0 and pw >= (1.0 - par[P_POOL]) * fst[F_BEST_P]:
+            stage_routes(work, cur, rbuf, seen, ctl, C_STAGED, C_SEEN)
         accept = better(pw, tw, fst[F_CUR_P], fst[F_CUR_T])
         if not accept:
             d = pw - fst[F_CUR_P]

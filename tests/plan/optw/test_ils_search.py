@@ -8,6 +8,7 @@ visits never forces a repair and every customer is a candidate.
 from __future__ import annotations
 
 import itertools
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -243,14 +244,16 @@ def _search_state(inst: OPTWInstance, tuning: Tuning) -> dict[str, object]:
     ctl[KS.C_CYCLE_LEN] = tuning.cycle0
     buf, mark, key, vst = _scratch(inst)
     return {"ins": ins, "cur": cur, "best": best, "work": work, "rng": _rng(7), "ctl": ctl,
-            "fst": fst, "par": tuning.array(), "buf": buf, "mark": mark, "key": key, "vst": vst,
-            "seq": np.zeros(inst.n + 1, dtype=np.int64)}
+            "fst": fst, "par": replace(tuning, pool=0.0).array(), "buf": buf, "mark": mark,
+            "key": key, "vst": vst, "seq": np.zeros(inst.n + 1, dtype=np.int64),
+            "rbuf": np.zeros((0, 3), dtype=np.int64), "seen": np.zeros((1, 2), dtype=np.int64)}
 
 
 def _run(s: dict[str, object], n_iter: int) -> None:
     """``n_iter`` more iterations on the state ``s``."""
     KS.run_search(s["ins"], s["cur"], s["best"], s["work"], s["rng"], s["ctl"], s["fst"],
-                  s["par"], n_iter, s["buf"], s["mark"], s["key"], s["vst"], s["seq"])
+                  s["par"], n_iter, s["buf"], s["mark"], s["key"], s["vst"], s["seq"], s["rbuf"],
+                  s["seen"])
 
 
 def test_run_search_is_the_same_in_one_call_or_in_batches() -> None:
