@@ -10,7 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from searchtrack.plan.optw import OPTWInstance, read_optw, validate
+from searchtrack.core.result import Result
+from searchtrack.plan.optw import OPTWInstance, Routes, read_optw, validate
 from searchtrack.plan.optw import ils_kernels as K
 from searchtrack.plan.optw import ils_moves as KM
 from searchtrack.plan.optw import ils_search as KS
@@ -170,17 +171,23 @@ def test_search_with_the_team_moves_is_valid_and_deterministic(seed: int) -> Non
     _valid_and_deterministic(seed, Tuning(w_route=1.0, relocate=True, k_max=6, split=True))
 
 
-def _valid_and_deterministic(seed: int, tuning: Tuning) -> None:
-    """The search on a random non-metric team instance: a valid plan of the validated profit,
-    the same for the same seed."""
-    inst = random_instance(seed, 20, vehicles=1 + seed % 3)
-    a = _solve(inst, 60.0, seed, None, 300, tuning)
-    b = _solve(inst, 60.0, seed, None, 300, tuning)
+def valid_and_deterministic(inst: OPTWInstance, seed: int, tuning: Tuning,
+                            iterations: int = 300) -> Result[Routes]:
+    """The search run twice on ``inst``: the same plan for the same seed, valid, of the
+    validated profit; the first run is returned for further checks."""
+    a = _solve(inst, 60.0, seed, None, iterations, tuning)
+    b = _solve(inst, 60.0, seed, None, iterations, tuning)
     assert a.plan == b.plan
     assert a.plan is not None and a.objective is not None
     check = validate(inst, a.plan)
     assert check.feasible, check.violations
     assert check.profit == pytest.approx(a.objective)
+    return a
+
+
+def _valid_and_deterministic(seed: int, tuning: Tuning) -> None:
+    """:func:`valid_and_deterministic` on a random non-metric team instance."""
+    valid_and_deterministic(random_instance(seed, 20, vehicles=1 + seed % 3), seed, tuning)
 
 
 def test_team_search_honours_the_time_limit() -> None:
@@ -197,15 +204,8 @@ def test_elite_restarts_are_valid_and_deterministic(seed: int) -> None:
     """Cycles restarting from an elite pool (short cycles, so many restarts): valid plans, profit
     as validated, and the same plan for the same seed."""
     inst = random_instance(seed, 20, vehicles=1 + seed % 3)
-    tuning = Tuning(elite=3, cycle0=10, grow=1.2)
-    a = _solve(inst, 60.0, seed, None, 300, tuning)
-    b = _solve(inst, 60.0, seed, None, 300, tuning)
-    assert a.plan == b.plan
+    a = valid_and_deterministic(inst, seed, Tuning(elite=3, cycle0=10, grow=1.2))
     assert a.stats["restarts"] > 3
-    assert a.plan is not None and a.objective is not None
-    check = validate(inst, a.plan)
-    assert check.feasible, check.violations
-    assert check.profit == pytest.approx(a.objective)
 
 
 def _swaps_left(inst: OPTWInstance, routes: tuple[tuple[int, ...], ...]) -> list[tuple[int, int]]:

@@ -15,6 +15,7 @@ from searchtrack.plan.optw import ils_search as KS
 from searchtrack.plan.optw import read_optw, validate
 from searchtrack.plan.optw.ils import Tuning, _solve, solve_ils, warm_up
 from tests.plan.optw.test_ils import random_instance
+from tests.plan.optw.test_ils_moves import valid_and_deterministic
 from tests.plan.optw.test_ils_search import _consistent, _filled, _instance, _rng
 
 CORDEAU = Path(__file__).parents[3] / "searchtrack" / "data" / "optw" / "cordeau"
@@ -131,15 +132,8 @@ def test_search_with_recombination_is_valid_and_deterministic(seed: int) -> None
     """Frequent packings on random non-metric team instances: valid plans, profit as validated,
     and the same plan for the same seed."""
     inst = random_instance(seed, 24, vehicles=2 + seed % 3)
-    tuning = Tuning(pool=0.5, pack_every=3)
-    a = _solve(inst, 60.0, seed, None, 2000, tuning)
-    b = _solve(inst, 60.0, seed, None, 2000, tuning)
-    assert a.plan == b.plan
+    a = valid_and_deterministic(inst, seed, Tuning(pool=0.5, pack_every=3), 2000)
     assert a.stats["packings"] >= 2
-    assert a.plan is not None and a.objective is not None
-    check = validate(inst, a.plan)
-    assert check.feasible, check.violations
-    assert check.profit == pytest.approx(a.objective)
 
 
 def test_recombining_search_honours_the_time_limit() -> None:
