@@ -324,7 +324,7 @@ def _solve(
     pool: list[tuple[float, float, Arrays]] = []
     rec = Recombiner(ins, (cur, best, work), (fst, ctl, rng, seq), tuning.pool,
                      tuning.pool_size, tuning.pack_every, tuning.pack_nodes,
-                     (tuning.relocate, tuning.replace))
+                     (tuning.relocate, tuning.replace), tuning.pack_s)
     par[KS.P_POOL] = tuning.pool if rec.pool is not None else 0.0  # one vehicle: nothing to mix
     reserve = 0.0 if rec.pool is None else min(tuning.pack_s, 0.05 * deadline.remaining())
     while nc and fst[KS.F_BEST_P] < complete and deadline.remaining() > reserve:
