@@ -15,6 +15,7 @@ EXEMPT = {
     "estimate/transport/simplex_kernels.py": "numba kernels, tested through simplex.py's tests",
     "models/particle_models.py": "protocols only; each implementation's tests check it fits",
     "plan/optw/ils_kernels.py": "numba kernels, tested through ils.py's tests",
+    "plan/optw/labelling_expand.py": "numba kernel, tested through labelling_core.py's tests",
     "plan/optw/labelling_kernels.py": "numba kernels, tested through labelling.py's tests",
     "plan/optw/labelling_primitives.py": "numba kernels, tested through labelling.py's tests",
 }

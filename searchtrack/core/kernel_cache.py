@@ -27,6 +27,11 @@ from searchtrack.core.files import write_text_atomic
 
 log = logging.getLogger(__name__)
 
+#: ``njit`` options for a hot kernel that allocates nothing and gets every array from its caller:
+#: compiled without numba's runtime, it skips the atomic reference-count updates numba makes on
+#: each array handed to a helper, which can cost a loop most of its time.
+NO_REFCOUNTS: dict[str, Any] = {"_nrt": False}
+
 
 def _kernels(namespace: Mapping[str, object]) -> Iterator[CPUDispatcher]:
     """The numba dispatchers a namespace holds, directly or as attributes of modules in it."""

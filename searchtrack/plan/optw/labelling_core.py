@@ -38,6 +38,7 @@ FULL_MEMORY = 16  #: up to this many customers, labels remember every visit
 CAP_MAX = 1 << 22  #: labels per pass (about 100 bytes each)
 PATHS_PER_PASS = 20  #: non-elementary paths whose cycles one pass forbids
 SCAN = 256  #: other-memory labels a new label is compared with
+ROOM = 1 << 15  #: labels a pass's store starts with (it grows as needed)
 
 
 @dataclass(frozen=True, eq=False)
@@ -278,7 +279,8 @@ class PassResult:
 def run_pass(core: Core, ng: NDArray[np.uint64], table: NDArray[np.float64] | None, *,
              lb: float, gap: float, cap: int, deadline: Deadline, ub: float = math.inf,
              collect: int = 0, bprof: NDArray[np.float64] | None = None,
-             cuts: CutMasks | None = None, tstop: int | None = None) -> PassResult:
+             cuts: CutMasks | None = None, tstop: int | None = None,
+             room: int = ROOM) -> PassResult:
     """One bounded labelling pass on ``core`` with ng-sets ``ng``.
 
     Parameters
@@ -309,6 +311,8 @@ def run_pass(core: Core, ng: NDArray[np.uint64], table: NDArray[np.float64] | No
     tstop
         Make no label whose time exceeds ``tstop`` (default: no limit), as the half passes of
         bidirectional labelling do.
+    room
+        Labels the store starts with; it grows as needed, and the result does not depend on it.
     """
     width = max(1, math.ceil((core.horizon + 1) / MAX_BUCKETS))
     buckets = core.horizon // width + 1
@@ -319,7 +323,7 @@ def run_pass(core: Core, ng: NDArray[np.uint64], table: NDArray[np.float64] | No
         core.horizon, width, (core.horizon >> MAX_QUEUE_LOG2).bit_length(),
         lb, ub, gap, cap, deadline.end, SCAN, collect, core.prof if bprof is None else bprof,
         *(_no_cuts(core.n) if cuts is None else (cuts.subset, cuts.memory, cuts.dual)),
-        core.horizon + 1 if tstop is None else tstop,
+        core.horizon + 1 if tstop is None else tstop, room,
     )
     (code, lb_out, best, sinks, n_sinks, lv, lp, par, n_lab, own, pops, work, found, n_found,
      lt, lmem, lc, alive) = out

@@ -12,8 +12,11 @@ longer be reached in time (Feillet et al. 2004). Label ``a`` dominates ``b`` at 
 when ``time_a ≤ time_b``, ``profit_a ≥ profit_b`` and ``mask_a ⊆ mask_b`` (with subset-row cuts,
 a label also carries their states and ``profit_a`` must cover the cuts ``a`` may still pay for
 and ``b`` not). Labels are expanded in
-order of time from a bucket queue. A new label is compared with every live label at its vertex
-that has the same ng-memory (found through a hash table) and with the most recent others.
+order of time from a bucket queue (:mod:`searchtrack.plan.optw.labelling_expand`). A new label
+is compared with the labels at its vertex that have the same ng-memory (found through a hash
+table and kept as a time-sorted front, see :mod:`searchtrack.plan.optw.labelling_fronts`) and
+with the most recent others. The kernel allocates the label store and grows it whenever the
+expansion loop runs out of room.
 """
 
 from __future__ import annotations
@@ -22,34 +25,42 @@ import numpy as np
 from numba import njit
 
 from searchtrack.core.kernel_cache import follow_callees
+from searchtrack.plan.optw.labelling_expand import (
+    BEST,
+    CUR,
+    DONE,
+    ENOUGH,
+    FULL,
+    N_FOUND,
+    N_GROUPS,
+    N_LAB,
+    N_SINKS,
+    POPS,
+    ROOM,
+    STATE,
+    STATUS,
+    TIMEOUT,
+    USED,
+    Q,
+    expand,
+)
+from searchtrack.plan.optw.labelling_fronts import front_room
 from searchtrack.plan.optw.labelling_primitives import (
-    clock,
-    completion,
-    dominance,
-    find_group,
     grow1,
     grow2,
-    is_elementary,
     outside_tables,
-    profit_outside,
     rehash,
-    sig_of,
     unreach_count,
 )
 
-DONE = 0  # the pass finished: every label was expanded or pruned
-TIMEOUT = 1  # the deadline passed
-FULL = 2  # the label store reached its capacity
-ENOUGH = 3  # collect mode: the asked number of elementary paths was found
-
-_CHECK_EVERY = 64  # expanded labels between two clock reads
+__all__ = ["DONE", "ENOUGH", "FULL", "TIMEOUT", "label_pass"]
 
 
 @njit(cache=True)
 def label_pass(  # type: ignore[no-untyped-def]
     dur, succ_ptr, succ, opn, cls, prof, ng, thr, cum, src, snk,
     tab, use_tab, horizon, width, qshift, lb, ub, gap, cap_max, deadline, scan, collect, bprof,
-    cut_s, cut_m, sig, tstop,
+    cut_s, cut_m, sig, tstop, room,
 ):
     """Run one labelling pass; see the module docstring.
 
@@ -83,8 +94,8 @@ def label_pass(  # type: ignore[no-untyped-def]
     deadline
         ``time.perf_counter()`` value at which to stop.
     scan
-        A new label is compared with every label at its vertex with the same ng-memory, and
-        with the ``scan`` most recent other labels there.
+        A new label is compared with the front of the labels at its vertex with the same
+        ng-memory, and with the ``scan`` most recent other labels there.
     collect
         0: search for the best path (each elementary path found raises ``lb``). ``K > 0``
         (pricing mode): keep ``lb`` fixed and collect the elementary paths reaching ``lb + gap``
@@ -102,6 +113,9 @@ def label_pass(  # type: ignore[no-untyped-def]
     tstop
         Labels (sink labels included) whose time would exceed ``tstop`` are not made: the
         half-way limit of bidirectional labelling (the horizon or more: no limit).
+    room
+        Labels the store starts with (it doubles when full, up to ``cap_max``); the other
+        growing arrays start in proportion. The result does not depend on it.
 
     Returns
     -------
@@ -118,7 +132,9 @@ def label_pass(  # type: ignore[no-untyped-def]
     """
     n = dur.shape[0]
     nw = ng.shape[1]
-    cap = min(1 << 15, cap_max)
+    nc = cut_s.shape[1]
+    cap = max(1, min(room, cap_max))
+    few = max(2, room >> 4)  # groups, and half the pool entries, to start with
     lv = np.empty(cap, dtype=np.int64)  # vertex
     lt = np.empty(cap, dtype=np.int64)  # time
     lp = np.empty(cap, dtype=np.float64)  # profit
@@ -127,31 +143,29 @@ def label_pass(  # type: ignore[no-untyped-def]
     nxt = np.empty(cap, dtype=np.int64)  # next label at the same vertex
     qnx = np.empty(cap, dtype=np.int64)  # next label in the same time bucket
     alive = np.empty(cap, dtype=np.bool_)  # not dominated
-    lm = np.zeros((cap, nw), dtype=np.uint64)
-    nc = cut_s.shape[1]
+    lm = np.zeros((cap, nw), dtype=np.uint64)  # mask: ng-memory and out-of-reach customers
+    lmem = np.zeros((cap, nw), dtype=np.uint64)  # ng-memory part of the mask
     lc = np.zeros((cap, nc), dtype=np.uint64)  # subset-row cut states
-    state = np.zeros(nc, dtype=np.uint64)
     head = np.full(n, -1, dtype=np.int64)  # labels of each vertex
     qhead = np.full((horizon >> qshift) + 1, -1, dtype=np.int64)
     own = np.full(tab.shape, -np.inf)
-    sinks = np.empty(64, dtype=np.int64)
-    n_sinks = 0
-    found = np.empty(64, dtype=np.int64)
-    n_found = 0
+    sinks = np.empty(max(1, room >> 9), dtype=np.int64)
+    found = np.empty(max(1, room >> 9), dtype=np.int64)
     stamp = np.zeros(n, dtype=np.int64)
-    mark = 0
-    best = -1
-    one = np.uint64(1)
-    scratch = np.zeros(nw, dtype=np.uint64)
-    memo = np.zeros(nw, dtype=np.uint64)
-    lmem = np.zeros((cap, nw), dtype=np.uint64)  # ng-memory part of the mask
-    gnx = np.empty(cap, dtype=np.int64)  # next label of the same group
-    # groups: the labels of one vertex with one ng-memory, found through a hash table
-    slots = np.full(1 << 12, -1, dtype=np.int64)
-    gv = np.empty(1 << 11, dtype=np.int64)
-    gkey = np.zeros((1 << 11, nw), dtype=np.uint64)
-    ghead = np.empty(1 << 11, dtype=np.int64)
-    n_groups = 0
+    # groups: the labels of one vertex with one ng-memory, found through a hash table, each
+    # with a time-sorted front in the pool ``ft``, ``fp``, ``fl`` (see labelling_fronts)
+    size = 4
+    while size < 2 * few:
+        size *= 2
+    slots = np.full(size, -1, dtype=np.int64)
+    gv = np.empty(few, dtype=np.int64)
+    gkey = np.zeros((few, nw), dtype=np.uint64)
+    gstart = np.empty(few, dtype=np.int64)
+    glen = np.empty(few, dtype=np.int64)
+    gcap = np.empty(few, dtype=np.int64)
+    ft = np.empty(8 * few, dtype=np.int64)
+    fp = np.empty(8 * few, dtype=np.float64)
+    fl = np.empty(8 * few, dtype=np.int64)
     work = np.zeros(1, dtype=np.int64)  # labels visited by dominance checks
     outside, ngp, ngl = outside_tables(cum, ng, bprof)
 
@@ -169,150 +183,57 @@ def label_pass(  # type: ignore[no-untyped-def]
         lm[0, w] = cum[src, r, w]
     head[src] = 0
     qhead[t0 >> qshift] = 0
-    n_lab = 1
-    pops = 0
-    status = DONE
-    q = t0 >> qshift
-    while q < qhead.shape[0]:
-        lab = qhead[q]
-        if lab < 0:
-            q += 1
-            continue
-        qhead[q] = qnx[lab]
-        if not alive[lab] or lbnd[lab] < lb + gap:
-            continue
-        pops += 1
-        if pops % _CHECK_EVERY == 0 and clock() > deadline:
-            status = TIMEOUT
-            break
-        v = lv[lab]
-        t = lt[lab]
-        p = lp[lab]
-        for e in range(succ_ptr[v], succ_ptr[v + 1]):
-            j = succ[e]
-            if j != snk and (lm[lab, j >> 6] >> np.uint64(j & 63)) & one:
-                continue
-            a = t + dur[v, j]
-            if a < opn[j]:
-                a = opn[j]
-            if a > cls[j] or a > tstop:
-                continue
-            p2 = p + prof[j]
-            for w in range(nc):
-                st = lc[lab, w] & cut_m[j, w]
-                state[w] = st ^ cut_s[j, w]
-                p2 -= sig_of(st & cut_s[j, w], w * 64, sig)
-            if j == snk:
-                bnd = p2
-            else:
-                bnd = np.inf
-                if use_tab:
-                    bnd = p2 + completion(tab, j, a, horizon, width, prof)
-            if bnd < lb + gap:
-                continue
-            g = -1
-            if j != snk:
-                r = unreach_count(thr, j, a)
-                for w in range(nw):
-                    memo[w] = lmem[lab, w] & ng[j, w]
-                memo[j >> 6] |= one << np.uint64(j & 63)
-                for w in range(nw):
-                    scratch[w] = memo[w] | cum[j, r, w]
-                if not use_tab:
-                    # without a table: at most the customers neither remembered nor out of reach
-                    bnd = p2 + profit_outside(outside, ngp, ngl, cum, j, r, memo, bprof)
-                    if bnd < lb + gap:
-                        continue
-                g = find_group(slots, gv, gkey, j, memo)
-                if g >= 0 and dominance(ghead, g, gnx, alive, lt, lp, lm, lc, sig, a, p2,
-                                         scratch, state, cap_max, work):
-                    continue
-                if dominance(head, j, nxt, alive, lt, lp, lm, lc, sig, a, p2, scratch, state,
-                             scan, work):
-                    continue
-                if g < 0:
-                    slot = -1 - g
-                    if n_groups == gv.shape[0]:
-                        gv = grow1(gv, 2 * n_groups)
-                        ghead = grow1(ghead, 2 * n_groups)
-                        gkey = grow2(gkey, 2 * n_groups)
-                    g = n_groups
-                    n_groups += 1
-                    gv[g] = j
-                    ghead[g] = -1
-                    for w in range(nw):
-                        gkey[g, w] = memo[w]
-                    slots[slot] = g
-                    if 2 * n_groups > slots.shape[0]:
-                        slots = rehash(slots, gv, gkey, n_groups)
-            if n_lab >= cap:
-                if cap >= cap_max:
-                    status = FULL
-                    break
-                cap = min(2 * cap, cap_max)
-                lv = grow1(lv, cap)
-                lt = grow1(lt, cap)
-                lp = grow1(lp, cap)
-                lbnd = grow1(lbnd, cap)
-                par = grow1(par, cap)
-                nxt = grow1(nxt, cap)
-                qnx = grow1(qnx, cap)
-                alive = grow1(alive, cap)
-                lm = grow2(lm, cap)
-                lmem = grow2(lmem, cap)
-                lc = grow2(lc, cap)
-                gnx = grow1(gnx, cap)
-            s = n_lab
-            n_lab += 1
-            lv[s] = j
-            lt[s] = a
-            lp[s] = p2
-            lbnd[s] = bnd
-            par[s] = lab
-            if j == snk:
-                alive[s] = False
-                mark += 1
-                if is_elementary(par, lv, s, stamp, mark):
-                    if collect > 0:
-                        if n_found == found.shape[0]:
-                            found = grow1(found, 2 * n_found)
-                        found[n_found] = s
-                        n_found += 1
-                        if n_found >= collect:
-                            status = ENOUGH
-                            break
-                        continue
-                    lb = p2
-                    best = s
-                    if lb + gap > ub:
-                        break
-                else:
-                    if n_sinks == sinks.shape[0]:
-                        sinks = grow1(sinks, 2 * n_sinks)
-                    sinks[n_sinks] = s
-                    n_sinks += 1
-                continue
-            alive[s] = True
-            for w in range(nw):
-                lm[s, w] = scratch[w]
-                lmem[s, w] = memo[w]
-            for w in range(nc):
-                lc[s, w] = state[w]
-            nxt[s] = head[j]
-            head[j] = s
-            gnx[s] = ghead[g]
-            ghead[g] = s
-            qnx[s] = qhead[a >> qshift]
-            qhead[a >> qshift] = s
-            k = a // width
-            if k >= own.shape[1]:
-                k = own.shape[1] - 1
-            if p2 > own[j, k]:
-                own[j, k] = p2
-        if status != DONE or lb + gap > ub:
-            break
-    return (status, lb, best, sinks, n_sinks, lv, lp, par, n_lab, own, pops, work[0], found,
-            n_found, lt, lmem, lc, alive)
+    st = np.zeros(STATE, dtype=np.int64)
+    st[Q] = t0 >> qshift
+    st[N_LAB] = 1
+    st[BEST] = -1
+    st[CUR] = -1
+    lbv = np.array([lb])
+    state = np.zeros(nc, dtype=np.uint64)
+    scratch = np.zeros(nw, dtype=np.uint64)
+    memo = np.zeros(nw, dtype=np.uint64)
+    while expand(dur, succ_ptr, succ, opn, cls, prof, ng, thr, cum, snk, tab, use_tab, horizon,
+                 width, qshift, ub, gap, cap_max, deadline, scan, collect, bprof, cut_s, cut_m,
+                 sig, tstop, outside, ngp, ngl, lv, lt, lp, lbnd, par, nxt, qnx, alive, lm, lmem,
+                 lc, head, qhead, own, sinks, found, stamp, slots, gv, gkey, gstart, glen, gcap,
+                 ft, fp, fl, st, lbv, work, state, scratch, memo) == ROOM:
+        if st[N_LAB] >= lv.shape[0]:
+            cap = min(2 * lv.shape[0], cap_max)
+            lv = grow1(lv, cap)
+            lt = grow1(lt, cap)
+            lp = grow1(lp, cap)
+            lbnd = grow1(lbnd, cap)
+            par = grow1(par, cap)
+            nxt = grow1(nxt, cap)
+            qnx = grow1(qnx, cap)
+            alive = grow1(alive, cap)
+            lm = grow2(lm, cap)
+            lmem = grow2(lmem, cap)
+            lc = grow2(lc, cap)
+        if st[N_SINKS] >= sinks.shape[0]:
+            sinks = grow1(sinks, 2 * sinks.shape[0])
+        if st[N_FOUND] >= found.shape[0]:
+            found = grow1(found, 2 * found.shape[0])
+        if st[N_GROUPS] >= gv.shape[0]:
+            size = 2 * gv.shape[0]
+            gv = grow1(gv, size)
+            gstart = grow1(gstart, size)
+            glen = grow1(glen, size)
+            gcap = grow1(gcap, size)
+            gkey = grow2(gkey, size)
+        if 2 * (st[N_GROUPS] + 1) > slots.shape[0]:
+            slots = rehash(slots, gv, gkey, st[N_GROUPS])
+        # room for the largest segment move (the expansion asks again when that is short)
+        need = st[USED] + front_room(int(gcap[: st[N_GROUPS]].max()) if st[N_GROUPS] else 0)
+        if need > ft.shape[0]:
+            size = 2 * ft.shape[0]
+            while size < need:
+                size *= 2
+            ft = grow1(ft, size)
+            fp = grow1(fp, size)
+            fl = grow1(fl, size)
+    return (st[STATUS], lbv[0], st[BEST], sinks, st[N_SINKS], lv, lp, par, st[N_LAB], own,
+            st[POPS], work[0], found, st[N_FOUND], lt, lmem, lc, alive)
 
 
 follow_callees(__name__, globals())

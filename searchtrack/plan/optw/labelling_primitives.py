@@ -55,7 +55,7 @@ def shortest_paths(dur, big):  # type: ignore[no-untyped-def]
     return sp
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def unreach_count(thr, v, t):  # type: ignore[no-untyped-def]
     """Number of entries of the sorted row ``thr[v]`` below ``t`` (vertices out of reach)."""
     lo = 0
@@ -69,7 +69,7 @@ def unreach_count(thr, v, t):  # type: ignore[no-untyped-def]
     return lo
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def completion(tab, v, t, horizon, width, prof):  # type: ignore[no-untyped-def]
     """Upper bound on the profit still collectable after serving ``v`` at time ``t``.
 
@@ -124,7 +124,7 @@ def outside_tables(cum, ng, prof):  # type: ignore[no-untyped-def]
     return outside, ngp, ngl
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def profit_outside(outside, ngp, ngl, cum, j, r, memo, prof):  # type: ignore[no-untyped-def]
     """Total profit of the customers neither in ``memo`` (the ng-memory at ``j``) nor among the
     ``r`` out of reach from ``j`` (the customers ``1 … N − 2`` not in the label's mask)."""
@@ -139,7 +139,7 @@ def profit_outside(outside, ngp, ngl, cum, j, r, memo, prof):  # type: ignore[no
     return total
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def is_elementary(par, lv, leaf, stamp, mark):  # type: ignore[no-untyped-def]
     """True when the path ending at label ``leaf`` visits no vertex twice."""
     x = leaf
@@ -152,7 +152,7 @@ def is_elementary(par, lv, leaf, stamp, mark):  # type: ignore[no-untyped-def]
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def sig_of(bits, c, sig):  # type: ignore[no-untyped-def]
     """``Σ sig[c + k]`` over the set bits ``k`` of the 64-bit word ``bits``."""
     one = np.uint64(1)
@@ -165,12 +165,17 @@ def sig_of(bits, c, sig):  # type: ignore[no-untyped-def]
     return total
 
 
-@njit(cache=True)
-def cut_penalty(a, b, sig):  # type: ignore[no-untyped-def]
-    """``Σ sig[c]`` over the cuts ``c`` whose state bit is set in ``a`` and not in ``b``."""
+@njit(cache=True, inline="always")
+def cut_penalty(lc, x, state, sig, owed_by_x):  # type: ignore[no-untyped-def]
+    """``Σ sig[c]`` over the cuts ``c`` set in label ``x``'s states ``lc[x]`` and not in
+    ``state`` (``owed_by_x``), or set in ``state`` and not in ``lc[x]``.
+
+    Reads ``lc`` by index (a row view would cost reference counting in the hot loop).
+    """
     total = 0.0
-    for w in range(a.shape[0]):
-        total += sig_of(a[w] & ~b[w], w * 64, sig)
+    for w in range(state.shape[0]):
+        bits = lc[x, w] & ~state[w] if owed_by_x else state[w] & ~lc[x, w]
+        total += sig_of(bits, w * 64, sig)
     return total
 
 
@@ -183,7 +188,7 @@ def cut_shared(a, b, sig):  # type: ignore[no-untyped-def]
     return total
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def dominance(head, h, nxt, alive, lt, lp, lm, lc, sig, t, p, mask, state, limit, work):  # type: ignore[no-untyped-def]
     """Compare a new label ``(t, p, mask, state)`` with the first ``limit`` live labels of a list.
 
@@ -211,7 +216,7 @@ def dominance(head, h, nxt, alive, lt, lp, lm, lc, sig, t, p, mask, state, limit
                     if lm[x, w] & ~mask[w]:
                         sub = False
                         break
-                if sub and (lc.shape[1] == 0 or lp[x] - cut_penalty(lc[x], state, sig) >= p):
+                if sub and (lc.shape[1] == 0 or lp[x] - cut_penalty(lc, x, state, sig, True) >= p):
                     return True
             if t <= lt[x] and p >= lp[x]:
                 sup = True
@@ -219,7 +224,7 @@ def dominance(head, h, nxt, alive, lt, lp, lm, lc, sig, t, p, mask, state, limit
                     if mask[w] & ~lm[x, w]:
                         sup = False
                         break
-                if sup and (lc.shape[1] == 0 or p - cut_penalty(state, lc[x], sig) >= lp[x]):
+                if sup and (lc.shape[1] == 0 or p - cut_penalty(lc, x, state, sig, False) >= lp[x]):
                     alive[x] = False
         if not alive[x]:
             if prev < 0:
@@ -232,7 +237,7 @@ def dominance(head, h, nxt, alive, lt, lp, lm, lc, sig, t, p, mask, state, limit
     return False
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _hash(v, key):  # type: ignore[no-untyped-def]
     h = np.uint64(v) * np.uint64(0x9E3779B97F4A7C15)
     for w in range(key.shape[0]):
@@ -241,7 +246,7 @@ def _hash(v, key):  # type: ignore[no-untyped-def]
     return h
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def find_group(slots, gv, gkey, v, key):  # type: ignore[no-untyped-def]
     """Group of ``(v, key)``, or ``-1 − slot`` with the free slot where it would go."""
     m = np.uint64(slots.shape[0] - 1)

@@ -1,0 +1,72 @@
+"""Time-sorted label fronts: on random streams of labels over several groups sharing one pool,
+the dominance answers, the labels marked dead and each group's kept labels match a brute-force
+list, with and without subset-row cut states."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from searchtrack.plan.optw.labelling_fronts import front_dominated, front_insert, front_room
+
+
+def _owed(a: int, b: int, sig: np.ndarray) -> float:
+    """``Σ sig[c]`` over the cut bits set in ``a`` and not in ``b``."""
+    return float(sum(sig[c] for c in range(64) if (a & ~b) >> c & 1))
+
+
+def _dominates(x: tuple[int, float, int], y: tuple[int, float, int], sig: np.ndarray) -> bool:
+    """Label ``x = (time, profit, cut state)`` dominates ``y`` within one group."""
+    return x[0] <= y[0] and x[1] - _owed(x[2], y[2], sig) >= y[1]
+
+
+@pytest.mark.parametrize("cuts", [False, True])
+@pytest.mark.parametrize("seed", range(6))
+def test_fronts_match_a_brute_force_list(seed: int, cuts: bool) -> None:
+    rng = np.random.default_rng(seed)
+    groups, n = 3, 400
+    sig = np.zeros(64)
+    sig[:4] = rng.uniform(0.0, 3.0, size=4)
+    lc = np.zeros((n, 1 if cuts else 0), dtype=np.uint64)
+    alive = np.zeros(n, dtype=np.bool_)
+    gstart = np.zeros(groups, dtype=np.int64)
+    glen = np.zeros(groups, dtype=np.int64)
+    gcap = np.zeros(groups, dtype=np.int64)
+    size = 8 * n
+    ft = np.zeros(size, dtype=np.int64)
+    fp = np.zeros(size)
+    fl = np.zeros(size, dtype=np.int64)
+    work = np.zeros(1, dtype=np.int64)
+    kept: list[list[int]] = [[] for _ in range(groups)]
+    label: list[tuple[int, float, int]] = []
+    used = 0
+    for s in range(n):
+        g = int(rng.integers(groups))
+        t = int(rng.integers(0, 60))
+        p = float(rng.integers(0, 40))  # ties in time and profit are frequent
+        bits = int(rng.integers(0, 16)) if cuts else 0
+        label.append((t, p, bits))
+        state = np.array([bits] if cuts else [], dtype=np.uint64)
+        if cuts:
+            lc[s, 0] = bits
+        expect = any(_dominates(label[x], label[s], sig) for x in kept[g])
+        got = front_dominated(ft, fp, fl, lc, sig, gstart[g], glen[g], t, p, state, work)
+        assert got == expect
+        if got:
+            continue
+        if glen[g] >= gcap[g]:
+            assert used + front_room(gcap[g]) <= size
+        alive[s] = True
+        used = front_insert(ft, fp, fl, gstart, glen, gcap, g, used, alive, lc, sig, t, p, s,
+                            state, work)
+        killed = [x for x in kept[g] if _dominates(label[s], label[x], sig)]
+        assert not alive[killed].any() and alive[[x for x in kept[g] if x not in killed]].all()
+        kept[g] = [x for x in kept[g] if x not in killed] + [s]
+        seg = slice(gstart[g], gstart[g] + glen[g])
+        assert sorted(fl[seg].tolist()) == sorted(kept[g])
+        assert np.all(np.diff(ft[seg]) >= 0)  # sorted by time
+        if not cuts:  # a Pareto front: times and profits both strictly increasing
+            assert np.all(np.diff(ft[seg]) > 0) and np.all(np.diff(fp[seg]) > 0)
+        assert np.array_equal(ft[seg], [label[x][0] for x in fl[seg]])
+        assert np.array_equal(fp[seg], [label[x][1] for x in fl[seg]])
+    assert sum(len(k) for k in kept) >= groups  # the stream kept labels in every group
