@@ -37,7 +37,6 @@ NG_SIZE = 8  #: nearest customers each customer remembers by default
 FULL_MEMORY = 16  #: up to this many customers, labels remember every visit
 CAP_MAX = 1 << 22  #: labels per pass (about 100 bytes each)
 PATHS_PER_PASS = 20  #: non-elementary paths whose cycles one pass forbids
-SCAN = 256  #: other-memory labels a new label is compared with
 ROOM = 1 << 15  #: labels a pass's store starts with (it grows as needed)
 
 
@@ -48,7 +47,9 @@ class Core:
     Vertex 0 is the source, ``n − 1`` the sink, ``1 … n − 2`` the customers some route can visit
     (instance vertex ``orig[c]``). ``dur[i, j]`` is service at ``i`` plus travel to ``j`` in ticks
     (:data:`BIG` when no feasible route uses the arc), ``sp`` the shortest such durations over
-    any path; ``[opn, cls]`` the window on the service start.
+    any path; ``[opn, cls]`` the window on the service start. Customer ``c`` is out of reach
+    from ``v`` after time ``gone[v, c]``; ``thr`` and ``cum`` hold the same by vertex, in order
+    (see :func:`searchtrack.plan.optw.labelling_kernels.label_pass`).
     """
 
     dur: NDArray[np.int64]
@@ -60,6 +61,7 @@ class Core:
     prof: NDArray[np.float64]
     thr: NDArray[np.int64]
     cum: NDArray[np.uint64]
+    gone: NDArray[np.int64]
     src: int
     snk: int
     horizon: int
@@ -90,7 +92,9 @@ def _finish(dur: NDArray[np.int64], sp: NDArray[np.int64], opn: NDArray[np.int64
     onehot[customers - 1, customers >> 6] = np.uint64(1) << (customers & 63).astype(np.uint64)
     cum = np.zeros((n, customers.size + 1, nw), dtype=np.uint64)
     cum[:, 1:] = np.bitwise_or.accumulate(onehot[order], axis=1)
-    return Core(dur, sp, succ_ptr, succ, opn, cls, prof, thr, cum, src, snk, horizon)
+    gone = np.full((n, n), BIG, dtype=np.int64)
+    gone[:, customers] = thr_all
+    return Core(dur, sp, succ_ptr, succ, opn, cls, prof, thr, cum, gone, src, snk, horizon)
 
 
 def core_pair(dur: NDArray[np.int64], opn: NDArray[np.int64], cls: NDArray[np.int64],
@@ -318,10 +322,10 @@ def run_pass(core: Core, ng: NDArray[np.uint64], table: NDArray[np.float64] | No
     buckets = core.horizon // width + 1
     out = K.label_pass(
         core.dur, core.succ_ptr, core.succ, core.opn, core.cls, core.prof, ng,
-        core.thr, core.cum, core.src, core.snk,
+        core.thr, core.cum, core.gone, core.src, core.snk,
         np.zeros((core.n, buckets)) if table is None else table, table is not None,
         core.horizon, width, (core.horizon >> MAX_QUEUE_LOG2).bit_length(),
-        lb, ub, gap, cap, deadline.end, SCAN, collect, core.prof if bprof is None else bprof,
+        lb, ub, gap, cap, deadline.end, collect, core.prof if bprof is None else bprof,
         *(_no_cuts(core.n) if cuts is None else (cuts.subset, cuts.memory, cuts.dual)),
         core.horizon + 1 if tstop is None else tstop, room,
     )

@@ -15,11 +15,15 @@ import numpy as np
 from numba import njit
 
 from searchtrack.core.kernel_cache import NO_REFCOUNTS, follow_callees
-from searchtrack.plan.optw.labelling_fronts import front_dominated, front_insert, front_room
+from searchtrack.plan.optw.labelling_fronts import (
+    front_dominated,
+    front_kill,
+    front_put,
+    front_room,
+)
 from searchtrack.plan.optw.labelling_primitives import (
     clock,
     completion,
-    dominance,
     find_group,
     is_elementary,
     profit_outside,
@@ -42,11 +46,12 @@ _CHECK_EVERY = 64  # expanded labels between two clock reads
 
 @njit(cache=True, **NO_REFCOUNTS)
 def expand(  # type: ignore[no-untyped-def]
-    dur, succ_ptr, succ, opn, cls, prof, ng, thr, cum, snk, tab, use_tab, horizon, width,
-    qshift, ub, gap, cap_max, deadline, scan, collect, bprof, cut_s, cut_m, sig, tstop,
+    dur, succ_ptr, succ, opn, cls, prof, ng, thr, cum, gone, snk, tab, use_tab, horizon, width,
+    qshift, ub, gap, cap_max, deadline, collect, bprof, cut_s, cut_m, sig, tstop,
     outside, ngp, ngl,
-    lv, lt, lp, lbnd, par, nxt, qnx, alive, lm, lmem, lc, head, qhead, own, sinks, found, stamp,
-    slots, gv, gkey, gstart, glen, gcap, ft, fp, fl, st, lbv, work, state, scratch, memo,
+    lv, lt, lp, lbnd, par, qnx, alive, lm, lmem, lc, qhead, own, sinks, found, stamp,
+    slots, gv, gkey, gstart, glen, gcap, vhead, gnext, ft, fp, fl, st, lbv, work, state, scratch,
+    memo,
 ):
     """Run the expansion loop from the state ``st`` (and best profit ``lbv[0]``) until the pass
     ends (``st[STATUS]`` and the return value: DONE, TIMEOUT, FULL or ENOUGH) or an array is
@@ -124,11 +129,22 @@ def expand(  # type: ignore[no-untyped-def]
                     if bnd < lb + gap:
                         continue
                 g = find_group(slots, gv, gkey, j, memo)
-                if g >= 0 and front_dominated(ft, fp, fl, lc, sig, gstart[g], glen[g], a, p2,
-                                              state, work):
-                    continue
-                if dominance(head, j, nxt, alive, lt, lp, lm, lc, sig, a, p2, scratch, state,
-                             scan, work):
+                # every group at ``j`` whose memory lies within the new mask may dominate it
+                # (its own group first: the likeliest to)
+                beaten = g >= 0 and front_dominated(ft, fp, fl, lc, sig, gstart[g], glen[g], a,
+                                                    p2, state, work)
+                h = vhead[j]
+                while h >= 0 and not beaten:
+                    work[0] += 1
+                    within = h != g
+                    for w in range(nw):
+                        if gkey[h, w] & ~scratch[w]:
+                            within = False
+                            break
+                    beaten = within and front_dominated(ft, fp, fl, lc, sig, gstart[h], glen[h],
+                                                        a, p2, state, work)
+                    h = gnext[h]
+                if beaten:
                     continue
             if n_lab >= cap:
                 if cap >= cap_max:
@@ -158,6 +174,8 @@ def expand(  # type: ignore[no-untyped-def]
                 for w in range(nw):
                     gkey[g, w] = memo[w]
                 slots[slot] = g
+                gnext[g] = vhead[j]
+                vhead[j] = g
             s = n_lab
             n_lab += 1
             lv[s] = j
@@ -190,10 +208,24 @@ def expand(  # type: ignore[no-untyped-def]
                 lmem[s, w] = memo[w]
             for w in range(nc):
                 lc[s, w] = state[w]
-            nxt[s] = head[j]
-            head[j] = s
-            used = front_insert(ft, fp, fl, gstart, glen, gcap, g, used, alive, lc, sig, a, p2, s,
-                                state, work)
+            # the labels at ``j`` the new one dominates: in group ``h`` those from the time on
+            # when the customers it remembers and ``h`` does not are out of reach
+            h = vhead[j]
+            while h >= 0:
+                if glen[h] > 0 and ft[gstart[h] + glen[h] - 1] >= a:
+                    t0 = a
+                    for e2 in range(ngp[j], ngp[j + 1]):
+                        c = ngl[e2]
+                        w = c >> 6
+                        bit = np.uint64(c & 63)
+                        if (memo[w] >> bit) & one and not (gkey[h, w] >> bit) & one and \
+                                gone[j, c] >= t0:
+                            t0 = gone[j, c] + 1
+                    if t0 <= ft[gstart[h] + glen[h] - 1]:
+                        glen[h] = front_kill(ft, fp, fl, alive, lc, sig, gstart[h], glen[h], t0,
+                                             p2, state, work)
+                h = gnext[h]
+            used = front_put(ft, fp, fl, gstart, glen, gcap, g, used, a, p2, s)
             qnx[s] = qhead[a >> qshift]
             qhead[a >> qshift] = s
             k = a // width

@@ -1,4 +1,4 @@
-"""Time-sorted label fronts of the OPTW labelling kernel, one per same-memory group.
+r"""Time-sorted label fronts of the OPTW labelling kernel, one per same-memory group.
 
 The labels of one vertex ``v`` with one ng-memory ``M`` (a *group*, found through the hash table
 of :mod:`searchtrack.plan.optw.labelling_primitives`) have masks ``M ∪ U(t)``, where ``U(t)`` —
@@ -9,12 +9,14 @@ labels' times and profits in a contiguous segment of one pool, sorted by time:
 
 - without cuts the segment is a Pareto front (times and profits both strictly increasing), so a
   new label is dominated exactly when its predecessor in time order has at least its profit (a
-  binary search), and the labels it dominates are the run that follows it;
+  binary search), and the labels it dominates are a run of consecutive entries;
 - with cuts the segment is only sorted; a check scans the earlier (or later) part, reading the
   cut states of the few labels that pass the time-and-profit test.
 
-A segment that fills is moved to the pool's end at twice its size. Labels killed by another
-group's label stay in the segment: dominance is transitive, so they remain valid witnesses.
+Across groups of one vertex the same fronts serve: a label of group ``M'`` can dominate a new
+label with mask ``K`` only if ``M' ⊆ K``, and the new label (ng-memory ``M``) can dominate the
+labels of group ``M'`` from the time on when ``M \ M'`` is out of reach. A segment that fills is
+moved to the pool's end at twice its size; dead labels leave their segment.
 """
 
 from __future__ import annotations
@@ -62,71 +64,78 @@ def front_dominated(ft, fp, fl, lc, sig, start, length, t, p, state, work):  # t
 
 
 @njit(cache=True, inline="always")
-def front_insert(ft, fp, fl, gstart, glen, gcap, g, used, alive, lc, sig, t, p, s, state, work):  # type: ignore[no-untyped-def]
-    """Add label ``s`` = ``(t, p, state)``, not dominated, to group ``g``'s segment, marking dead
-    and removing the labels it dominates.
+def front_kill(ft, fp, fl, alive, lc, sig, start, length, t0, p, state, work):  # type: ignore[no-untyped-def]
+    """Mark dead and remove the labels of the segment ``[start, start + length)`` whose time is
+    ``t0`` or later and whose profit ``(p, state)`` covers; returns the segment's new length.
 
-    Returns the pool's new used length. A segment that must move takes
-    :func:`front_room` ``(gcap[g])`` entries at the pool's end, which the caller makes sure fit.
+    ``t0`` is the earliest time at which the new label's mask is within the segment's masks
+    (its own group: the new label's time).
     """
-    start = gstart[g]
-    length = glen[g]
     end = start + length
-    lo = _after(ft, start, end, t, False)  # the insertion point
+    lo = _after(ft, start, end, t0, False)
+    if lo == end:
+        return length
     if lc.shape[1] == 0:
-        # the dominated labels are the run after ``lo`` with at most profit ``p``
+        # a Pareto front: the dominated labels are the run from ``lo`` of profit at most ``p``
         hi = lo
         while hi < end and fp[hi] <= p:
             alive[fl[hi]] = False
             hi += 1
         work[0] += hi - lo + 1
-        tail = hi
-    else:
-        # compact the survivors of ``[lo, end)`` to ``[lo, end)``
-        k = lo
-        for i in range(lo, end):
-            work[0] += 1
-            if p >= fp[i] and p - cut_penalty(lc, fl[i], state, sig, False) >= fp[i]:
-                alive[fl[i]] = False
-            else:
-                ft[k] = ft[i]
-                fp[k] = fp[i]
-                fl[k] = fl[i]
-                k += 1
-        end = k
-        tail = lo
-    # the survivors ``[tail, end)`` move to ``[lo + 1, ...)`` and the new label goes to ``lo``
-    rest = end - tail
-    new_len = lo - start + 1 + rest
-    if new_len > gcap[g]:
+        if hi == lo:
+            return length
+        for i in range(hi, end):
+            ft[lo + i - hi] = ft[i]
+            fp[lo + i - hi] = fp[i]
+            fl[lo + i - hi] = fl[i]
+        return length - (hi - lo)
+    k = lo
+    for i in range(lo, end):
+        work[0] += 1
+        if p >= fp[i] and p - cut_penalty(lc, fl[i], state, sig, False) >= fp[i]:
+            alive[fl[i]] = False
+        else:
+            ft[k] = ft[i]
+            fp[k] = fp[i]
+            fl[k] = fl[i]
+            k += 1
+    return length - (end - k)
+
+
+@njit(cache=True, inline="always")
+def front_put(ft, fp, fl, gstart, glen, gcap, g, used, t, p, s):  # type: ignore[no-untyped-def]
+    """Insert label ``s`` = ``(t, p)`` into group ``g``'s segment in time order (before the
+    labels of equal time); returns the pool's new used length.
+
+    A full segment moves to the pool's end and takes :func:`front_room` ``(gcap[g])`` entries
+    there, which the caller makes sure fit.
+    """
+    start = gstart[g]
+    end = start + glen[g]
+    lo = _after(ft, start, end, t, False)
+    if glen[g] >= gcap[g]:
         cap = front_room(gcap[g])
-        dst = used
-        used += cap
         for i in range(start, lo):
-            ft[dst + i - start] = ft[i]
-            fp[dst + i - start] = fp[i]
-            fl[dst + i - start] = fl[i]
-        lo = dst + lo - start
-        for i in range(rest):
-            ft[lo + 1 + i] = ft[tail + i]
-            fp[lo + 1 + i] = fp[tail + i]
-            fl[lo + 1 + i] = fl[tail + i]
-        gstart[g] = dst
+            ft[used + i - start] = ft[i]
+            fp[used + i - start] = fp[i]
+            fl[used + i - start] = fl[i]
+        for i in range(lo, end):
+            ft[used + i - start + 1] = ft[i]
+            fp[used + i - start + 1] = fp[i]
+            fl[used + i - start + 1] = fl[i]
+        lo = used + lo - start
+        gstart[g] = used
         gcap[g] = cap
-    elif tail > lo + 1:
-        for i in range(rest):
-            ft[lo + 1 + i] = ft[tail + i]
-            fp[lo + 1 + i] = fp[tail + i]
-            fl[lo + 1 + i] = fl[tail + i]
-    elif tail < lo + 1:
-        for i in range(rest - 1, -1, -1):
-            ft[lo + 1 + i] = ft[tail + i]
-            fp[lo + 1 + i] = fp[tail + i]
-            fl[lo + 1 + i] = fl[tail + i]
+        used += cap
+    else:
+        for i in range(end - 1, lo - 1, -1):
+            ft[i + 1] = ft[i]
+            fp[i + 1] = fp[i]
+            fl[i + 1] = fl[i]
     ft[lo] = t
     fp[lo] = p
     fl[lo] = s
-    glen[g] = new_len
+    glen[g] += 1
     return used
 
 

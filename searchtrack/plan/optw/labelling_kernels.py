@@ -12,11 +12,11 @@ longer be reached in time (Feillet et al. 2004). Label ``a`` dominates ``b`` at 
 when ``time_a ≤ time_b``, ``profit_a ≥ profit_b`` and ``mask_a ⊆ mask_b`` (with subset-row cuts,
 a label also carries their states and ``profit_a`` must cover the cuts ``a`` may still pay for
 and ``b`` not). Labels are expanded in
-order of time from a bucket queue (:mod:`searchtrack.plan.optw.labelling_expand`). A new label
-is compared with the labels at its vertex that have the same ng-memory (found through a hash
-table and kept as a time-sorted front, see :mod:`searchtrack.plan.optw.labelling_fronts`) and
-with the most recent others. The kernel allocates the label store and grows it whenever the
-expansion loop runs out of room.
+order of time from a bucket queue (:mod:`searchtrack.plan.optw.labelling_expand`). The labels
+of a vertex are grouped by ng-memory (found through a hash table), each group a time-sorted
+front (:mod:`searchtrack.plan.optw.labelling_fronts`), and a new label is compared with every
+live label at its vertex, group by group. The kernel allocates the label store and grows it
+whenever the expansion loop runs out of room.
 """
 
 from __future__ import annotations
@@ -58,8 +58,8 @@ __all__ = ["DONE", "ENOUGH", "FULL", "TIMEOUT", "label_pass"]
 
 @njit(cache=True)
 def label_pass(  # type: ignore[no-untyped-def]
-    dur, succ_ptr, succ, opn, cls, prof, ng, thr, cum, src, snk,
-    tab, use_tab, horizon, width, qshift, lb, ub, gap, cap_max, deadline, scan, collect, bprof,
+    dur, succ_ptr, succ, opn, cls, prof, ng, thr, cum, gone, src, snk,
+    tab, use_tab, horizon, width, qshift, lb, ub, gap, cap_max, deadline, collect, bprof,
     cut_s, cut_m, sig, tstop, room,
 ):
     """Run one labelling pass; see the module docstring.
@@ -79,7 +79,8 @@ def label_pass(  # type: ignore[no-untyped-def]
         ``(N, W)`` ng-neighbourhood bitmask of each vertex (own bit included).
     thr, cum
         ``thr[v]`` sorted times after which the customers fall out of reach from ``v``;
-        ``cum[v, r]`` the mask of the first ``r`` of them.
+        ``cum[v, r]`` the mask of the first ``r`` of them; ``gone[v, c]`` the time after which
+        customer ``c`` falls out of reach from ``v``.
     tab, use_tab, horizon, width
         Opposite-direction profit table used as completion bound (see
         :func:`searchtrack.plan.optw.labelling_primitives.completion`);
@@ -93,9 +94,6 @@ def label_pass(  # type: ignore[no-untyped-def]
         Most labels to store.
     deadline
         ``time.perf_counter()`` value at which to stop.
-    scan
-        A new label is compared with the front of the labels at its vertex with the same
-        ng-memory, and with the ``scan`` most recent other labels there.
     collect
         0: search for the best path (each elementary path found raises ``lb``). ``K > 0``
         (pricing mode): keep ``lb`` fixed and collect the elementary paths reaching ``lb + gap``
@@ -140,13 +138,12 @@ def label_pass(  # type: ignore[no-untyped-def]
     lp = np.empty(cap, dtype=np.float64)  # profit
     lbnd = np.empty(cap, dtype=np.float64)  # profit + completion bound
     par = np.empty(cap, dtype=np.int64)  # parent label
-    nxt = np.empty(cap, dtype=np.int64)  # next label at the same vertex
     qnx = np.empty(cap, dtype=np.int64)  # next label in the same time bucket
     alive = np.empty(cap, dtype=np.bool_)  # not dominated
     lm = np.zeros((cap, nw), dtype=np.uint64)  # mask: ng-memory and out-of-reach customers
     lmem = np.zeros((cap, nw), dtype=np.uint64)  # ng-memory part of the mask
     lc = np.zeros((cap, nc), dtype=np.uint64)  # subset-row cut states
-    head = np.full(n, -1, dtype=np.int64)  # labels of each vertex
+    vhead = np.full(n, -1, dtype=np.int64)  # the groups of each vertex, linked by ``gnext``
     qhead = np.full((horizon >> qshift) + 1, -1, dtype=np.int64)
     own = np.full(tab.shape, -np.inf)
     sinks = np.empty(max(1, room >> 9), dtype=np.int64)
@@ -163,6 +160,7 @@ def label_pass(  # type: ignore[no-untyped-def]
     gstart = np.empty(few, dtype=np.int64)
     glen = np.empty(few, dtype=np.int64)
     gcap = np.empty(few, dtype=np.int64)
+    gnext = np.empty(few, dtype=np.int64)
     ft = np.empty(8 * few, dtype=np.int64)
     fp = np.empty(8 * few, dtype=np.float64)
     fl = np.empty(8 * few, dtype=np.int64)
@@ -177,11 +175,9 @@ def label_pass(  # type: ignore[no-untyped-def]
     lbnd[0] = np.inf
     par[0] = -1
     qnx[0] = -1
-    nxt[0] = -1
     alive[0] = True
     for w in range(nw):
         lm[0, w] = cum[src, r, w]
-    head[src] = 0
     qhead[t0 >> qshift] = 0
     st = np.zeros(STATE, dtype=np.int64)
     st[Q] = t0 >> qshift
@@ -192,11 +188,11 @@ def label_pass(  # type: ignore[no-untyped-def]
     state = np.zeros(nc, dtype=np.uint64)
     scratch = np.zeros(nw, dtype=np.uint64)
     memo = np.zeros(nw, dtype=np.uint64)
-    while expand(dur, succ_ptr, succ, opn, cls, prof, ng, thr, cum, snk, tab, use_tab, horizon,
-                 width, qshift, ub, gap, cap_max, deadline, scan, collect, bprof, cut_s, cut_m,
-                 sig, tstop, outside, ngp, ngl, lv, lt, lp, lbnd, par, nxt, qnx, alive, lm, lmem,
-                 lc, head, qhead, own, sinks, found, stamp, slots, gv, gkey, gstart, glen, gcap,
-                 ft, fp, fl, st, lbv, work, state, scratch, memo) == ROOM:
+    while expand(dur, succ_ptr, succ, opn, cls, prof, ng, thr, cum, gone, snk, tab, use_tab,
+                 horizon, width, qshift, ub, gap, cap_max, deadline, collect, bprof, cut_s, cut_m,
+                 sig, tstop, outside, ngp, ngl, lv, lt, lp, lbnd, par, qnx, alive, lm, lmem, lc,
+                 qhead, own, sinks, found, stamp, slots, gv, gkey, gstart, glen, gcap, vhead,
+                 gnext, ft, fp, fl, st, lbv, work, state, scratch, memo) == ROOM:
         if st[N_LAB] >= lv.shape[0]:
             cap = min(2 * lv.shape[0], cap_max)
             lv = grow1(lv, cap)
@@ -204,7 +200,6 @@ def label_pass(  # type: ignore[no-untyped-def]
             lp = grow1(lp, cap)
             lbnd = grow1(lbnd, cap)
             par = grow1(par, cap)
-            nxt = grow1(nxt, cap)
             qnx = grow1(qnx, cap)
             alive = grow1(alive, cap)
             lm = grow2(lm, cap)
@@ -220,6 +215,7 @@ def label_pass(  # type: ignore[no-untyped-def]
             gstart = grow1(gstart, size)
             glen = grow1(glen, size)
             gcap = grow1(gcap, size)
+            gnext = grow1(gnext, size)
             gkey = grow2(gkey, size)
         if 2 * (st[N_GROUPS] + 1) > slots.shape[0]:
             slots = rehash(slots, gv, gkey, st[N_GROUPS])

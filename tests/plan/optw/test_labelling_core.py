@@ -16,6 +16,7 @@ from searchtrack.plan.optw.labelling_core import (
     CAP_MAX,
     Core,
     CutMasks,
+    PassResult,
     base_ng,
     build_cores,
     core_pair,
@@ -207,3 +208,43 @@ def test_a_pass_does_not_depend_on_the_room_it_starts_with(seed: int) -> None:
             for a, b in ((out.lv, first.lv), (out.lp, first.lp), (out.par, first.par),
                          (out.lt, first.lt), (out.alive, first.alive)):
                 assert np.array_equal(a[:k], b[:k])
+
+
+def _covers(out: PassResult, core: Core, x: int, y: int, sig: np.ndarray) -> bool:
+    """Label ``x`` dominates label ``y`` (same vertex): no later, its mask within ``y``'s, and
+    its profit enough to pay the cuts it may still owe and ``y`` not."""
+    def mask(z: int) -> np.ndarray:
+        v, t = int(out.lv[z]), int(out.lt[z])
+        return out.lmem[z] | core.cum[v, int(np.searchsorted(core.thr[v], t, side="left"))]
+
+    if out.lt[x] > out.lt[y] or np.any(mask(x) & ~mask(y)):
+        return False
+    owed = sum(float(sig[c]) for w in range(out.lc.shape[1]) for c in range(64)
+               if int(out.lc[x, w] & ~out.lc[y, w]) >> c & 1)
+    return bool(out.lp[x] - owed >= out.lp[y])
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_live_labels_are_an_antichain_and_every_dead_label_is_covered(seed: int) -> None:
+    """Dominance is complete: after a pass no two live labels at a vertex dominate one another,
+    and each label marked dead is dominated by a live one (brute force over all pairs, with
+    and without cuts)."""
+    inst = random_instance(seed)
+    fwd, _, _ = build_cores(inst)
+    if fwd.n <= 3:
+        return
+    rng = np.random.default_rng(seed)
+    ng = base_ng(fwd) | initial_ng(fwd, 2)
+    for cuts in (None, _random_cuts(fwd.n, rng)):
+        out = run_pass(fwd, ng, None, lb=-math.inf, gap=1e-6, cap=CAP_MAX,
+                       deadline=Deadline(30.0), cuts=cuts)
+        sig = np.zeros(64) if cuts is None else cuts.dual
+        stored = [x for x in range(1, out.labels) if out.lv[x] != fwd.snk]
+        live = [x for x in stored if out.alive[x]]
+        assert len(stored) > len(live) > 0
+        for x in live:
+            assert not any(_covers(out, fwd, y, x, sig) for y in live
+                           if y != x and out.lv[y] == out.lv[x])
+        for x in stored:
+            if not out.alive[x]:
+                assert any(_covers(out, fwd, y, x, sig) for y in live if out.lv[y] == out.lv[x])

@@ -1,13 +1,19 @@
 """Time-sorted label fronts: on random streams of labels over several groups sharing one pool,
-the dominance answers, the labels marked dead and each group's kept labels match a brute-force
-list, with and without subset-row cut states."""
+the dominance answers, the labels marked dead (in the label's own group, and from a later time
+on in another) and each group's kept labels match a brute-force list, with and without
+subset-row cut states."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from searchtrack.plan.optw.labelling_fronts import front_dominated, front_insert, front_room
+from searchtrack.plan.optw.labelling_fronts import (
+    front_dominated,
+    front_kill,
+    front_put,
+    front_room,
+)
 
 
 def _owed(a: int, b: int, sig: np.ndarray) -> float:
@@ -54,19 +60,27 @@ def test_fronts_match_a_brute_force_list(seed: int, cuts: bool) -> None:
         assert got == expect
         if got:
             continue
+        alive[s] = True
+        other = int(rng.integers(groups))
+        t0 = t + int(rng.integers(0, 20))  # in another group: from a later time on
+        for h, since in ((g, t), (other, t0)):
+            glen[h] = front_kill(ft, fp, fl, alive, lc, sig, gstart[h], glen[h], since, p, state,
+                                 work)
+            killed = [x for x in kept[h]
+                      if label[x][0] >= since and _dominates((since, p, bits), label[x], sig)]
+            assert not alive[killed].any()
+            kept[h] = [x for x in kept[h] if x not in killed]
+            assert alive[kept[h]].all()
         if glen[g] >= gcap[g]:
             assert used + front_room(gcap[g]) <= size
-        alive[s] = True
-        used = front_insert(ft, fp, fl, gstart, glen, gcap, g, used, alive, lc, sig, t, p, s,
-                            state, work)
-        killed = [x for x in kept[g] if _dominates(label[s], label[x], sig)]
-        assert not alive[killed].any() and alive[[x for x in kept[g] if x not in killed]].all()
-        kept[g] = [x for x in kept[g] if x not in killed] + [s]
-        seg = slice(gstart[g], gstart[g] + glen[g])
-        assert sorted(fl[seg].tolist()) == sorted(kept[g])
-        assert np.all(np.diff(ft[seg]) >= 0)  # sorted by time
-        if not cuts:  # a Pareto front: times and profits both strictly increasing
-            assert np.all(np.diff(ft[seg]) > 0) and np.all(np.diff(fp[seg]) > 0)
-        assert np.array_equal(ft[seg], [label[x][0] for x in fl[seg]])
-        assert np.array_equal(fp[seg], [label[x][1] for x in fl[seg]])
+        used = front_put(ft, fp, fl, gstart, glen, gcap, g, used, t, p, s)
+        kept[g].append(s)
+        for h in range(groups):
+            seg = slice(gstart[h], gstart[h] + glen[h])
+            assert sorted(fl[seg].tolist()) == sorted(kept[h])
+            assert np.all(np.diff(ft[seg]) >= 0)  # sorted by time
+            if not cuts:  # a Pareto front: times and profits both strictly increasing
+                assert np.all(np.diff(ft[seg]) > 0) and np.all(np.diff(fp[seg]) > 0)
+            assert np.array_equal(ft[seg], [label[x][0] for x in fl[seg]])
+            assert np.array_equal(fp[seg], [label[x][1] for x in fl[seg]])
     assert sum(len(k) for k in kept) >= groups  # the stream kept labels in every group
