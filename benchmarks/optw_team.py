@@ -7,7 +7,9 @@
 Each (instance, m, backend, limit, seed) row is appended to the CSV as soon as it is solved, and
 rows already in the CSV are skipped, so a long run can be stopped and resumed. The table printed
 at the end is built from every row of the CSV that matches the request. ``gap %`` is
-``(bound − profit) / profit``; ``root gap %`` compares bp's root bound with the best profit any
+``(bound − profit) / profit``; each plan's routes go to ``<csv>.plans.jsonl`` beside the CSV
+(one JSON object per solved row), so new best known values can be checked and listed;
+``root gap %`` compares bp's root bound with the best profit any
 backend found for that instance and ``m`` (the optimum when some backend proved it); ``vs bk %``
 compares the profit with the literature's best known value (``toptw_best_known.csv``, where it
 has one), and an OPTIMAL claim below a best known value is printed as a suspected bug. Every plan is
@@ -18,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import sys
 import time
 from pathlib import Path
@@ -77,7 +80,8 @@ def run(args: argparse.Namespace) -> list[dict[str, str]]:
             done = {_key(r): r for r in csv.DictReader(fh)}
     new = not path.exists()
     wanted = []
-    with path.open("a", newline="") as fh:
+    plans = path.with_suffix(".plans.jsonl")
+    with path.open("a", newline="") as fh, plans.open("a") as pfh:
         out = csv.DictWriter(fh, fieldnames=FIELDS)
         if new:
             out.writeheader()
@@ -97,6 +101,12 @@ def run(args: argparse.Namespace) -> list[dict[str, str]]:
                                             res.message[:200]], strict=True))
                     out.writerow(row)
                     fh.flush()
+                    routes = [list(map(int, r)) for r in res.plan] if res.plan else None
+                    pfh.write(json.dumps({"instance": name, "m": m, "backend": backend,
+                                          "limit": args.limit, "seed": args.seed,
+                                          "status": res.status.name, "profit": res.objective,
+                                          "routes": routes}) + "\n")
+                    pfh.flush()
                     done[key] = row
                     print(f"{name} m={m} {backend}: {row['status']} {row['profit']} "
                           f"≤ {row['bound']} in {row['time_s']} s", flush=True)

@@ -10,7 +10,6 @@ from __future__ import annotations
 import itertools
 import logging
 import time
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
@@ -21,8 +20,11 @@ from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw import ils_kernels as K
 from searchtrack.plan.optw import ils_search as KS
 from searchtrack.plan.optw.ils_pool import Recombiner, pack_routes
+from searchtrack.plan.optw.ils_tuning import Tuning
 from searchtrack.plan.optw.instance import OPTWInstance, Routes
 from searchtrack.plan.optw.reach import Reach, reach
+
+__all__ = ["Tuning", "solve_ils", "warm_up"]
 
 log = logging.getLogger("searchtrack.plan.optw.ils")
 
@@ -73,101 +75,6 @@ def _routes(inst: OPTWInstance, sol: Arrays) -> Routes:
         tail = () if inst.end is None else (inst.end,)
         out.append((inst.start, *inner, *tail))
     return tuple(out)
-
-
-@dataclass(frozen=True)
-class Tuning:
-    """Search parameters (defaults tuned on the Solomon and Cordeau OPTW benchmarks, m = 1, and on
-    the Cordeau TOPTW benchmark, m = 1 to 4, for ``split`` and ``k_max``, m = 4 for ``replace``,
-    m = 2 to 4 for the route pool; ``w_route``, ``relocate`` and ``elite`` are off by default).
-
-    Parameters
-    ----------
-    k_frac
-        Ruin size is uniform in ``[1, max(k_frac · visits, min(visits, 4))]``.
-    temperature
-        Start temperature of each annealing cycle, as a multiple of the mean customer profit.
-    t_end
-        Temperature at the end of a cycle, as a fraction of the start temperature.
-    cycle0, grow
-        Length in iterations of the first cycle and growth factor of the next ones; each cycle
-        restarts from the best solution.
-    p_equal
-        Probability of accepting an equal-profit solution that takes longer.
-    alpha_lo, alpha_hi
-        Range of the profit exponent ``a`` of the insertion score ``P^a / Shift``.
-    noise
-        Each insertion score is multiplied by ``1 + noise · U[0, 1)``.
-    w_segment, w_random, w_related, w_target, w_fit
-        Relative weights of the ruin operators: consecutive visits, random visits, visits related
-        to a random visit, visits related to an unvisited customer (then inserted), and the
-        same removing only until that customer fits.
-    local_search
-        Reorder routes (2-opt, or-opt) and re-insert after each recreate.
-    w_route
-        Relative weight of the route ruin: every visit of one random route.
-    k_max
-        Upper bound on the ruin size (at least 4): on large team instances many small ruins find
-        more than fewer large ones in the same time.
-    relocate
-        Also move visits between routes when that shortens the total travel, in the local search.
-    split
-        The segment ruin removes ``ceil(k / vehicles)`` visits from each route (else ``k`` from
-        each, which with several vehicles wipes out most of the plan).
-    replace
-        In the local search, also swap visits for unvisited customers of more profit in their
-        place (:func:`searchtrack.plan.optw.ils_moves.replace`).
-    elite
-        With more than 1, keep this many distinct solutions (the best and the ends of cycles,
-        ranked by profit then time) and restart each cycle from a random one of them instead of
-        the best.
-    pool
-        With more than one vehicle, recombine routes (Hu & Lim 2014;
-        :mod:`searchtrack.plan.optw.ils_pool`): pool the routes of local optima within this
-        fraction of the best profit (0: off) and pack the best disjoint ones into a plan.
-    pool_size, pack_every, pack_nodes
-        At most ``pool_size`` pooled routes; a packing each time ``pack_every`` are new, and at
-        the end, of at most ``pack_nodes`` branch-and-bound nodes.
-    pack_s
-        Seconds kept for the last packing (at most 5 % of the time limit).
-    """
-
-    k_frac: float = 0.5
-    temperature: float = 2.5
-    t_end: float = 0.01
-    cycle0: int = 1000
-    grow: float = 1.5
-    p_equal: float = 0.5
-    alpha_lo: float = 1.0
-    alpha_hi: float = 3.0
-    noise: float = 1.0
-    w_segment: float = 0.5
-    w_random: float = 0.5
-    w_related: float = 0.0
-    w_target: float = 1.0
-    w_fit: float = 1.0
-    local_search: bool = True
-    w_route: float = 0.0
-    k_max: int = 15
-    relocate: bool = False
-    split: bool = True
-    elite: int = 0
-    replace: bool = True
-    pool: float = 0.03
-    pool_size: int = 2000
-    pack_every: int = 100
-    pack_nodes: int = 100_000
-    pack_s: float = 0.02
-
-    def array(self) -> NDArray[np.float64]:
-        """Parameters in the order of the ``ils_search.P_*`` indices."""
-        return np.array([self.k_frac, self.temperature, self.t_end, self.cycle0, self.grow,
-                         self.p_equal, self.alpha_lo, self.alpha_hi, self.noise,
-                         self.w_segment, self.w_random, self.w_related, self.w_target,
-                         self.w_fit, float(self.local_search), self.w_route, float(self.k_max),
-                         float(self.relocate), float(self.split), float(self.elite),
-                         float(self.replace), self.pool],
-                        dtype=np.float64)
 
 
 def solve_ils(
@@ -312,7 +219,7 @@ def _solve(
     mean_p = float(np.mean(inst.profit[cand])) if nc else 1.0
     fst[KS.F_TEMP] = fst[KS.F_T0] = tuning.temperature * mean_p
     ctl[KS.C_CYCLE_LEN] = tuning.cycle0
-    par = tuning.array()
+    par = tuning.array(inst.vehicles)
     buf = np.zeros(nc + 1, dtype=np.int64)
     key = np.zeros(nc + 1, dtype=np.int64)
     mark = np.zeros(sink + 1, dtype=np.bool_)
@@ -324,8 +231,7 @@ def _solve(
     pool: list[tuple[float, float, Arrays]] = []
     rec = Recombiner(ins, (cur, best, work), (fst, ctl, rng, seq), tuning.pool,
                      tuning.pool_size, tuning.pack_every, tuning.pack_nodes,
-                     (tuning.relocate, tuning.replace), tuning.pack_s)
-    par[KS.P_POOL] = tuning.pool if rec.pool is not None else 0.0  # one vehicle: nothing to mix
+                     (tuning.relocate, tuning.replace))
     reserve = 0.0 if rec.pool is None else min(tuning.pack_s, 0.05 * deadline.remaining())
     while nc and fst[KS.F_BEST_P] < complete and deadline.remaining() > reserve:
         done = int(ctl[KS.C_ITER])

@@ -24,7 +24,6 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from searchtrack.core.checks import count, non_negative, real
 from searchtrack.plan.optw import ils_kernels as K
 from searchtrack.plan.optw import ils_search as KS
 
@@ -249,7 +248,8 @@ def recombine(ins: Kernel, pool: RoutePool, cur: Arrays, best: Arrays, work: Arr
 class Recombiner:
     """Route recombination inside the search loop of :mod:`searchtrack.plan.optw.ils`: the staging
     buffers to hand to :func:`~searchtrack.plan.optw.ils_search.run_search` (empty when off: at
-    most one vehicle or ``fraction`` 0), and the packing calls, on the search's own arrays.
+    most one vehicle or ``fraction`` 0), and the packing calls, on the search's own arrays. The
+    knobs are those of :class:`searchtrack.plan.optw.ils_tuning.Tuning`, which validates them.
 
     Parameters
     ----------
@@ -259,24 +259,13 @@ class Recombiner:
         Pool size, new routes between packings, node budget of each packing.
     flags
         The ``relocate`` and ``replace`` options of the local search after a packing.
-    reserve_s
-        Seconds the caller keeps for the last packing (checked here with the other knobs).
-
-    Raises
-    ------
-    InvalidInputError
-        A knob out of its domain, named as in :class:`searchtrack.plan.optw.ils.Tuning`.
     """
 
     def __init__(self, ins: Kernel, sols: tuple[Arrays, Arrays, Arrays],
                  state: tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.uint64],
                               NDArray[np.int64]],
                  fraction: float, size: int, every: int, nodes: int,
-                 flags: tuple[bool, bool], reserve_s: float = 0.0) -> None:
-        real("pool", fraction, low=0.0, high=1.0, high_open=True)
-        for name, value in (("pool_size", size), ("pack_every", every), ("pack_nodes", nodes)):
-            count(name, value, least=1)
-        non_negative("pack_s", reserve_s)
+                 flags: tuple[bool, bool]) -> None:
         self.ins, self.sols, self.state = ins, sols, state
         self.every, self.nodes, self.flags = every, nodes, flags
         m, nc = sols[0][1].shape[0], ins[5].shape[0]

@@ -39,7 +39,7 @@ from searchtrack.plan.optw.ils_moves import relocate, replace, ruin_route
 C_ITER, C_SINCE_BEST, C_CYCLE_IT, C_CYCLE_LEN, C_RESTARTS, C_STAGED, C_SEEN = range(7)
 # indices into the float state array ``fst``
 F_BEST_P, F_BEST_T, F_CUR_P, F_CUR_T, F_TEMP, F_T0 = 0, 1, 2, 3, 4, 5
-# indices into the parameter array ``par`` (see ``ils.Tuning``)
+# indices into the parameter array ``par`` (see ``ils_tuning.Tuning``)
 (P_KFRAC, P_T0, P_T1, P_CYCLE0, P_GROW, P_EQUAL, P_ALO, P_AHI, P_NOISE,
  P_WSEG, P_WRAND, P_WREL, P_WTARGET, P_WFIT, P_LS, P_WROUTE, P_KMAX, P_RELOC, P_SPLIT,
  P_ELITE, P_REPLACE, P_POOL) = range(22)

@@ -258,7 +258,7 @@ class PassResult:
     labels: int  #: labels stored
     own: NDArray[np.float64]  #: this pass's profit table, bucket by bucket
     pops: int  #: labels expanded
-    work: int  #: labels visited by dominance checks
+    work: int  #: groups and labels visited by dominance checks
     lt: NDArray[np.int64]  #: each label's time
     lmem: NDArray[np.uint64]  #: each label's ng-memory (its own vertex included)
     lc: NDArray[np.uint64]  #: each label's subset-row cut states

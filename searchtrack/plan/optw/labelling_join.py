@@ -36,7 +36,7 @@ from numba import njit
 from numpy.typing import NDArray
 
 from searchtrack.core.deadline import Deadline
-from searchtrack.core.kernel_cache import follow_callees
+from searchtrack.core.kernel_cache import NO_REFCOUNTS, follow_callees
 from searchtrack.plan.optw.labelling_core import Core, PassResult
 from searchtrack.plan.optw.labelling_kernels import DONE, TIMEOUT
 from searchtrack.plan.optw.labelling_primitives import clock, cut_shared, is_elementary
@@ -78,7 +78,6 @@ def join_kernel(  # type: ignore[no-untyped-def]
     while no elementary one was known).
     """
     n = dur.shape[0]
-    nw = fmem.shape[1]
     ptr, lab = _by_vertex(bv, bp, balive, nb, n)
     top = np.full(n, -np.inf)
     for v in range(n):
@@ -88,19 +87,41 @@ def join_kernel(  # type: ignore[no-untyped-def]
     found_f = np.empty(keep, dtype=np.int64)
     found_b = np.empty(keep, dtype=np.int64)
     found_v = np.empty(keep, dtype=np.float64)
-    n_found = 0
-    worst = 0  # slot of the least value while the buffer is full
     rel_f = np.empty(RELAXED_MAX, dtype=np.int64)
     rel_b = np.empty(RELAXED_MAX, dtype=np.int64)
     rel_v = np.empty(RELAXED_MAX, dtype=np.float64)
-    n_rel = 0
     stamp = np.zeros(n, dtype=np.int64)
+    counts = np.zeros(3, dtype=np.int64)  # elementary and relaxed joins kept, stop code
+    upper = _join_loop(dur, succ_ptr, succ, opn, horizon, tm, fv, ft, fp, fmem, fc, falive, fpar,
+                       nf, bv, bt, bp, bmem, bc, bpar, sig, target, deadline, ptr, lab, top,
+                       found_f, found_b, found_v, rel_f, rel_b, rel_v, stamp, counts)
+    return (counts[2], upper, found_f, found_b, found_v, counts[0], rel_f, rel_b, rel_v,
+            counts[1])
+
+
+@njit(cache=True, **NO_REFCOUNTS)
+def _join_loop(  # type: ignore[no-untyped-def]
+    dur, succ_ptr, succ, opn, horizon, tm, fv, ft, fp, fmem, fc, falive, fpar, nf,
+    bv, bt, bp, bmem, bc, bpar, sig, target, deadline, ptr, lab, top,
+    found_f, found_b, found_v, rel_f, rel_b, rel_v, stamp, counts,
+):
+    """The loop of :func:`join_kernel` over the arrays it allocated, compiled without numba's
+    reference counting; returns the best value of any join and sets ``counts`` to the
+    elementary and relaxed joins kept and the stop code (``DONE`` or ``TIMEOUT``)."""
+    nw = fmem.shape[1]
+    keep = found_f.shape[0]
+    n_found = 0
+    worst = 0  # slot of the least value while the buffer is full
+    n_rel = 0
     mark = 0
     upper = -np.inf
     bar = target  # a join matters only above this
     for f in range(nf):
         if f % 256 == 0 and clock() > deadline:
-            return TIMEOUT, upper, found_f, found_b, found_v, n_found, rel_f, rel_b, rel_v, n_rel
+            counts[0] = n_found
+            counts[1] = n_rel
+            counts[2] = TIMEOUT
+            return upper
         if not falive[f]:
             continue
         i = fv[f]
@@ -130,7 +151,7 @@ def join_kernel(  # type: ignore[no-untyped-def]
                 if clash:
                     continue
                 # less the pair of visits of a cut's subset that the join completes
-                value = p + bp[b] - cut_shared(fc[f], bc[b], sig)
+                value = p + bp[b] - cut_shared(fc, f, bc, b, sig)
                 if value < bar:
                     continue
                 if value > upper:
@@ -159,7 +180,10 @@ def join_kernel(  # type: ignore[no-untyped-def]
                     rel_b[n_rel] = b
                     rel_v[n_rel] = value
                     n_rel += 1
-    return DONE, upper, found_f, found_b, found_v, n_found, rel_f, rel_b, rel_v, n_rel
+    counts[0] = n_found
+    counts[1] = n_rel
+    counts[2] = DONE
+    return upper
 
 
 @dataclass(frozen=True)

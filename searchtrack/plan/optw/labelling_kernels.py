@@ -122,9 +122,9 @@ def label_pass(  # type: ignore[no-untyped-def]
         n_found, lt, lmem, lc, alive)``: ``best`` the sink label of the best elementary path
         that beat the given ``lb`` (−1 if none), ``sinks[:n_sinks]`` sink labels of
         non-elementary paths that reached ``lb + gap`` when found, ``own`` this pass's profit
-        table (same bucketing as ``tab``), ``pops`` the labels expanded, ``work`` the labels
-        visited by dominance checks, ``found[:n_found]`` the sink labels of the elementary
-        paths collected (collect mode);
+        table (same bucketing as ``tab``), ``pops`` the labels expanded, ``work`` the groups
+        and labels visited by dominance checks, ``found[:n_found]`` the sink labels of the
+        elementary paths collected (collect mode);
         ``lt``, ``lmem``, ``lc`` and ``alive`` each label's time, ng-memory (own vertex
         included), cut states and whether it is undominated.
     """
@@ -164,7 +164,7 @@ def label_pass(  # type: ignore[no-untyped-def]
     ft = np.empty(8 * few, dtype=np.int64)
     fp = np.empty(8 * few, dtype=np.float64)
     fl = np.empty(8 * few, dtype=np.int64)
-    work = np.zeros(1, dtype=np.int64)  # labels visited by dominance checks
+    work = np.zeros(1, dtype=np.int64)  # groups and labels visited by dominance checks
     outside, ngp, ngl = outside_tables(cum, ng, bprof)
 
     t0 = opn[src]

@@ -1,7 +1,7 @@
 """Numba building blocks of the OPTW labelling kernel
 (:mod:`searchtrack.plan.optw.labelling_kernels`): growable label arrays, all-pairs shortest
 durations, the out-of-reach counts (Feillet et al. 2004), the completion and outside-profit
-bounds, the elementarity check, label dominance (with subset-row cut states), and the hash
+bounds, the elementarity check, the subset-row cut penalty of label dominance, and the hash
 table that groups the labels of a vertex by their ng-memory (Baldacci, Mingozzi & Roberti 2011).
 """
 
@@ -170,7 +170,9 @@ def cut_penalty(lc, x, state, sig, owed_by_x):  # type: ignore[no-untyped-def]
     """``Σ sig[c]`` over the cuts ``c`` set in label ``x``'s states ``lc[x]`` and not in
     ``state`` (``owed_by_x``), or set in ``state`` and not in ``lc[x]``.
 
-    Reads ``lc`` by index (a row view would cost reference counting in the hot loop).
+    A label in state 1 for a cut that another label has in state 0 may still pay that cut's
+    dual, so to dominate the other its profit must exceed the other's by the sum of such duals
+    (Jepsen et al. 2008; Pecin et al. 2017).
     """
     total = 0.0
     for w in range(state.shape[0]):
@@ -179,62 +181,13 @@ def cut_penalty(lc, x, state, sig, owed_by_x):  # type: ignore[no-untyped-def]
     return total
 
 
-@njit(cache=True)
-def cut_shared(a, b, sig):  # type: ignore[no-untyped-def]
-    """``Σ sig[c]`` over the cuts ``c`` whose state bit is set in both ``a`` and ``b``."""
-    total = 0.0
-    for w in range(a.shape[0]):
-        total += sig_of(a[w] & b[w], w * 64, sig)
-    return total
-
-
 @njit(cache=True, inline="always")
-def dominance(head, h, nxt, alive, lt, lp, lm, lc, sig, t, p, mask, state, limit, work):  # type: ignore[no-untyped-def]
-    """Compare a new label ``(t, p, mask, state)`` with the first ``limit`` live labels of a list.
-
-    The list starts at ``head[h]`` and follows ``nxt``. Returns True when one of them dominates
-    the new label; otherwise marks dead every label the new one dominates. Dead labels met on
-    the way are unlinked. Equal labels count as dominating the newcomer.
-
-    ``lc`` and ``state`` are subset-row cut states (a bit per cut whose memory holds one visit
-    of its subset) and ``sig`` the cuts' duals: a label can still owe ``sig[c]`` for a cut in
-    state 1 that the other label has in state 0, so its profit must exceed the other's by their
-    sum (Jepsen et al. 2008; Pecin et al. 2017). With no cuts this is the plain rule.
-    """
-    nw = mask.shape[0]
-    prev = -1
-    x = head[h]
-    k = 0
-    while x >= 0 and k < limit:
-        work[0] += 1
-        nx = nxt[x]
-        if alive[x]:
-            k += 1
-            if lt[x] <= t and lp[x] >= p:
-                sub = True
-                for w in range(nw):
-                    if lm[x, w] & ~mask[w]:
-                        sub = False
-                        break
-                if sub and (lc.shape[1] == 0 or lp[x] - cut_penalty(lc, x, state, sig, True) >= p):
-                    return True
-            if t <= lt[x] and p >= lp[x]:
-                sup = True
-                for w in range(nw):
-                    if mask[w] & ~lm[x, w]:
-                        sup = False
-                        break
-                if sup and (lc.shape[1] == 0 or p - cut_penalty(lc, x, state, sig, False) >= lp[x]):
-                    alive[x] = False
-        if not alive[x]:
-            if prev < 0:
-                head[h] = nx
-            else:
-                nxt[prev] = nx
-        else:
-            prev = x
-        x = nx
-    return False
+def cut_shared(fc, f, bc, b, sig):  # type: ignore[no-untyped-def]
+    """``Σ sig[c]`` over the cuts ``c`` whose state bit is set in both ``fc[f]`` and ``bc[b]``."""
+    total = 0.0
+    for w in range(fc.shape[1]):
+        total += sig_of(fc[f, w] & bc[b, w], w * 64, sig)
+    return total
 
 
 @njit(cache=True, inline="always")
