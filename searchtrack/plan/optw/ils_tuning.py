@@ -21,6 +21,9 @@ class Tuning:
     the Cordeau TOPTW benchmark, m = 1 to 4, for ``split`` and ``k_max``, m = 4 for ``replace``,
     m = 2 to 4 for the route pool; ``w_route``, ``relocate`` and ``elite`` are off by default).
 
+    A value out of its domain, or ruin weights that are all zero, raises
+    :class:`~searchtrack.core.errors.InvalidInputError` naming the field.
+
     Parameters
     ----------
     k_frac
@@ -70,9 +73,6 @@ class Tuning:
         the end, of at most ``pack_nodes`` branch-and-bound nodes.
     pack_s
         Seconds kept for the last packing (at most 5 % of the time limit).
-
-    A value out of its domain, or ruin weights that are all zero, raises
-    :class:`~searchtrack.core.errors.InvalidInputError` naming the field.
     """
 
     k_frac: float = 0.5

@@ -244,8 +244,8 @@ def _search_state(inst: OPTWInstance, tuning: Tuning) -> dict[str, object]:
     ctl[KS.C_CYCLE_LEN] = tuning.cycle0
     buf, mark, key, vst = _scratch(inst)
     return {"ins": ins, "cur": cur, "best": best, "work": work, "rng": _rng(7), "ctl": ctl,
-            "fst": fst, "par": replace(tuning, pool=0.0).array(), "buf": buf, "mark": mark,
-            "key": key, "vst": vst, "seq": np.zeros(inst.n + 1, dtype=np.int64),
+            "fst": fst, "par": replace(tuning, pool=0.0).array(inst.vehicles), "buf": buf,
+            "mark": mark, "key": key, "vst": vst, "seq": np.zeros(inst.n + 1, dtype=np.int64),
             "rbuf": np.zeros((0, 3), dtype=np.int64), "seen": np.zeros((1, 2), dtype=np.int64)}
 
 
