@@ -61,6 +61,14 @@ def probability(name: str, value: object) -> float:
     return real(name, value, low=0.0, high=1.0, low_open=True, high_open=True)
 
 
+def boolean(name: str, value: object) -> bool:
+    """``value``, or :class:`InvalidInputError` unless it is ``True`` or ``False`` (not 0, 1 or
+    a string)."""
+    if not isinstance(value, bool):
+        raise InvalidInputError(name, value, "must be True or False")
+    return value
+
+
 def count(name: str, value: object, least: int = 0) -> int:
     """``value`` as an int, or :class:`InvalidInputError` unless an integer ≥ ``least``."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:

@@ -122,8 +122,7 @@ class BirthSurvivalGrid:
         for name, flag in (("count_same_cell", count_same_cell),
                            ("trace_start_is_birth", trace_start_is_birth),
                            ("trace_end_is_death", trace_end_is_death)):
-            if not isinstance(flag, bool):
-                raise InvalidInputError(name, flag, "must be True or False")
+            checks.boolean(name, flag)
         order = np.lexsort((t, trk))
         xy, trk, t = xy[order], trk[order], t[order]
         shape = np.maximum(np.ceil((b[:, 1] - b[:, 0]) / cell - 1e-9).astype(np.int64), 1)

@@ -121,8 +121,7 @@ class DownwardCamera:
         set_(self, "n_px0", checks.non_negative("n_px0", self.n_px0))
         set_(self, "sigma_px", checks.positive("sigma_px", self.sigma_px))
         set_(self, "clutter_rate", checks.non_negative("clutter_rate", self.clutter_rate))
-        if not isinstance(self.gimballed, bool):
-            raise InvalidInputError("gimballed", self.gimballed, "must be True or False")
+        checks.boolean("gimballed", self.gimballed)
 
     # ----- geometry --------------------------------------------------------------------------
 

@@ -197,8 +197,7 @@ class GPMotion:
         if self.max_step_s is not None:
             object.__setattr__(self, "max_step_s",
                                checks.positive("max_step_s", self.max_step_s))
-        if not isinstance(self.include_noise, bool):
-            raise InvalidInputError("include_noise", self.include_noise, "must be True or False")
+        checks.boolean("include_noise", self.include_noise)
 
     @property
     def state_dim(self) -> int:

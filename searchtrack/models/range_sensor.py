@@ -91,8 +91,7 @@ class RangeBearingElevationSensor:
         set_(self, "gain", checks.real("gain", self.gain, low=0.0, high=1.0, low_open=True))
         set_(self, "fov_m", _triple("fov_m", self.fov_m))
         set_(self, "sigma", _triple("sigma", self.sigma))
-        if not isinstance(self.squared, bool):
-            raise InvalidInputError("squared", self.squared, "must be True or False")
+        checks.boolean("squared", self.squared)
         set_(self, "clutter_rate", checks.non_negative("clutter_rate", self.clutter_rate))
         set_(self, "max_range_m", checks.positive("max_range_m", self.max_range_m))
 

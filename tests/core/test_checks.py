@@ -62,6 +62,14 @@ def test_count_takes_integers_at_least_its_floor() -> None:
             checks.count("n", bad, least=5)
 
 
+@pytest.mark.parametrize("bad", [0, 1, np.bool_(True), "yes", None, 1.0])
+def test_boolean_takes_true_or_false_only(bad: object) -> None:
+    """A flag is ``True`` or ``False``; a number, string or NumPy bool is one clear error."""
+    assert checks.boolean("flag", True) is True and checks.boolean("flag", False) is False
+    with pytest.raises(InvalidInputError, match="flag"):
+        checks.boolean("flag", bad)
+
+
 def test_finite_array_checks_shape_and_values() -> None:
     """finite_array gives a read-only float copy of the shape (None: any length), else raises."""
     src = [[1, 2], [3, 4], [5, 6]]

@@ -184,8 +184,7 @@ class PHDConfig:
             raise InvalidInputError("survival_map", self.survival_map,
                                     "must have a survival(positions, dt_s) method, or be None")
         object.__setattr__(self, "birth_mass", c.non_negative("birth_mass", self.birth_mass))
-        if not isinstance(self.adaptive_birth, bool):
-            raise InvalidInputError("adaptive_birth", self.adaptive_birth, "must be True or False")
+        c.boolean("adaptive_birth", self.adaptive_birth)
         if self.adaptive_birth and self.birth_mass > 1.0:
             raise InvalidInputError("birth_mass", self.birth_mass,
                                     "must be ≤ 1 with adaptive_birth (mass per measurement)")
@@ -208,8 +207,7 @@ class PHDConfig:
             raise InvalidInputError("extraction", self.extraction, f"must be one of {EXTRACTIONS}")
         object.__setattr__(self, "merge_radius_m",
                            c.non_negative("merge_radius_m", self.merge_radius_m))
-        if not isinstance(self.report_missed, bool):
-            raise InvalidInputError("report_missed", self.report_missed, "must be True or False")
+        c.boolean("report_missed", self.report_missed)
         if self.region is not None:
             r = np.array(self.region, dtype=np.float64)
             if r.ndim != 2 or r.shape[1] != 2 or not np.all(np.isfinite(r)) or not np.all(

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from searchtrack.core.checks import count, non_negative, real
+from searchtrack.core.checks import boolean, count, non_negative, real
 from searchtrack.core.errors import InvalidInputError
 
 
@@ -39,8 +39,7 @@ class Tuning:
         count("heuristic_cap", self.heuristic_cap)
         if self.table_ng is not None:
             count("table_ng", self.table_ng, least=1)
-        if not isinstance(self.bidirectional, bool):
-            raise InvalidInputError("bidirectional", self.bidirectional, "must be True or False")
+        boolean("bidirectional", self.bidirectional)
         if self.heuristic_cap > 0 and self.bidirectional:
             raise InvalidInputError("heuristic_cap", self.heuristic_cap,
                                     "needs bidirectional=False (the guided pass reads the "

@@ -229,9 +229,7 @@ def _solve(
     first = float(fst[KS.F_BEST_P])
     batch = 1
     pool: list[tuple[float, float, Arrays]] = []
-    rec = Recombiner(ins, (cur, best, work), (fst, ctl, rng, seq), tuning.pool,
-                     tuning.pool_size, tuning.pack_every, tuning.pack_nodes,
-                     (tuning.relocate, tuning.replace))
+    rec = Recombiner(ins, (cur, best, work), (fst, ctl, rng, seq), tuning)
     reserve = 0.0 if rec.pool is None else min(tuning.pack_s, 0.05 * deadline.remaining())
     while nc and fst[KS.F_BEST_P] < complete and deadline.remaining() > reserve:
         done = int(ctl[KS.C_ITER])

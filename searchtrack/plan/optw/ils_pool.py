@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 
 from searchtrack.plan.optw import ils_kernels as K
 from searchtrack.plan.optw import ils_search as KS
+from searchtrack.plan.optw.ils_tuning import Tuning
 
 Arrays = tuple[NDArray[np.int64], ...]
 Kernel = tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64],
@@ -248,32 +249,26 @@ def recombine(ins: Kernel, pool: RoutePool, cur: Arrays, best: Arrays, work: Arr
 class Recombiner:
     """Route recombination inside the search loop of :mod:`searchtrack.plan.optw.ils`: the staging
     buffers to hand to :func:`~searchtrack.plan.optw.ils_search.run_search` (empty when off: at
-    most one vehicle or ``fraction`` 0), and the packing calls, on the search's own arrays. The
-    knobs are those of :class:`searchtrack.plan.optw.ils_tuning.Tuning`, which validates them.
+    most one vehicle or ``tuning.pool`` 0), and the packing calls, on the search's own arrays.
 
-    Parameters
-    ----------
-    fraction
-        Stage the routes of local optima within this fraction of the best profit.
-    size, every, nodes
-        Pool size, new routes between packings, node budget of each packing.
-    flags
-        The ``relocate`` and ``replace`` options of the local search after a packing.
+    ``tuning`` (:class:`searchtrack.plan.optw.ils_tuning.Tuning`, which validates them) gives the
+    pool share and size, the new routes between packings, each packing's node budget, and the
+    ``relocate`` and ``replace`` options of the local search after a packing.
     """
 
     def __init__(self, ins: Kernel, sols: tuple[Arrays, Arrays, Arrays],
                  state: tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.uint64],
                               NDArray[np.int64]],
-                 fraction: float, size: int, every: int, nodes: int,
-                 flags: tuple[bool, bool]) -> None:
+                 tuning: Tuning) -> None:
         self.ins, self.sols, self.state = ins, sols, state
-        self.every, self.nodes, self.flags = every, nodes, flags
+        self.every, self.nodes = tuning.pack_every, tuning.pack_nodes
+        self.flags = (tuning.relocate, tuning.replace)
         m, nc = sols[0][1].shape[0], ins[5].shape[0]
-        rows = max(2 * m, min(256, every))  # a buffer no larger than a packing's worth
+        rows = max(2 * m, min(256, self.every))  # a buffer no larger than a packing's worth
         s, sink = int(sols[0][0][0, 0]), ins[0].shape[0] - 1
         base = int(ins[2][s] + ins[1][s] + ins[0][s, sink])
-        self.pool = RoutePool(ins[4], m, nc, size, rows, base) \
-            if fraction > 0.0 and m > 1 and nc else None
+        self.pool = RoutePool(ins[4], m, nc, tuning.pool_size, rows, base) \
+            if tuning.pool > 0.0 and m > 1 and nc else None
         self.rbuf = self.pool.rbuf if self.pool else np.zeros((0, 3), dtype=np.int64)
         self.seen = self.pool.seen if self.pool else np.zeros((1, 2), dtype=np.int64)
         self.packings = 0

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from searchtrack.core.checks import count, non_negative, real
+from searchtrack.core.checks import boolean, count, non_negative, real
 from searchtrack.core.errors import InvalidInputError
 
 _RUINS = ("w_segment", "w_random", "w_related", "w_target", "w_fit", "w_route")
@@ -118,8 +118,7 @@ class Tuning:
             raise InvalidInputError("w_segment", self.w_segment,
                                     "and the other ruin weights are all zero: nothing to ruin")
         for name in _SWITCHES:
-            if not isinstance(getattr(self, name), bool):
-                raise InvalidInputError(name, getattr(self, name), "must be True or False")
+            boolean(name, getattr(self, name))
         count("k_max", self.k_max, least=4)
         count("elite", self.elite)
         real("pool", self.pool, low=0.0, high=1.0, high_open=True)

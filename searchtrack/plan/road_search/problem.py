@@ -111,8 +111,7 @@ class RoadSearchSettings:
         checks.choice("normalization", self.normalization, NORMALIZATIONS)
         checks.choice("weighting", self.weighting, WEIGHTINGS)
         for name in ("per_length", "both_directions"):
-            if not isinstance(getattr(self, name), bool):
-                raise InvalidInputError(name, getattr(self, name), "must be True or False")
+            checks.boolean(name, getattr(self, name))
         try:
             check_seed(self.draw_seed)
         except InvalidInputError as err:
