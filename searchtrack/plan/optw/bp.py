@@ -1,8 +1,8 @@
 """Exact team OPTW by branch-and-price (Boussier, Feillet & Gendreau 2007).
 
 * **Master** (:mod:`~searchtrack.plan.optw.bp_master`): set packing over routes, solved as a
-  linear program by GLOP, columns added incrementally; first columns from the ILS plan, the
-  ``initial`` plan and the feasible single-customer routes.
+  linear program by HiGHS from the last basis, columns added incrementally; first columns from
+  the ILS plan, the ``initial`` plan and the feasible single-customer routes.
 * **Plans** (:mod:`~searchtrack.plan.optw.bp_primal`): the ILS before the tree, and again from
   the incumbent when the root leaves a gap (:attr:`Tuning.ils_again_share`); CP-SAT on the
   pool's columns after the root and periodically; every integral master solution.
@@ -25,7 +25,8 @@
   up to :attr:`Tuning.cut_depth`, their duals priced into the labels; with them the bound is
   ``Σ_i π_i + Σ_c σ_c + m · U``.
 * **Branching** (:mod:`~searchtrack.plan.optw.bp_branching`): on a customer's fractional visit,
-  then on a fractional arc, best bound first.
+  then on a fractional arc, chosen among :attr:`Tuning.strong` candidates by strong branching
+  on the pooled master; best bound first.
 
 A stopped solve reports its best plan with the largest bound of the open nodes.
 """
@@ -359,7 +360,9 @@ def _run(tree: Tree, root: _Node) -> Result[Routes]:
             current = None
             continue
         t0 = time.perf_counter()
-        kids = branch(tree.master, tree.fwd.prof, current.restr, lp)
+        kids, probes = branch(tree.master, tree.fwd.prof, current.restr, lp,
+                              most=t.strong, floor=tree.value, deadline=deadline)
+        tree.stats["strong_lps"] = tree.stats.get("strong_lps", 0.0) + probes
         tree.tick("branching_s", t0)
         if kids is None:
             if lp.artificial <= 1e-6:

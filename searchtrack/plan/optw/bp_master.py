@@ -1,6 +1,7 @@
 """Restricted master problem of the team-OPTW branch-and-price (Boussier, Feillet & Gendreau 2007).
 
-Set packing over route columns, as a linear program solved by OR-Tools GLOP::
+Set packing over route columns, as a linear program solved by HiGHS's dual simplex (Huangfu &
+Hall 2018)::
 
     max  Σ_r c_r λ_r
     s.t. Σ_r a_ir λ_r ≤ 1   (= 1 when customer i is required by a branch)   duals π_i
@@ -15,9 +16,11 @@ core path ``src → … → snk``. Every row also has an artificial variable of 
 the duals (``π_i ≥ −M``), so every Lagrangian bound computed from them stays valid.
 
 Branching restricts the master by bounds only: a column a node forbids gets upper bound 0, a
-required customer's row gets lower bound 1. GLOP keeps its basis across these changes and across
-added columns. Subset-row cuts (:mod:`searchtrack.plan.optw.bp_cuts`) are rows added by
-:meth:`Master.add_cuts`, valid at every node.
+required customer's row gets lower bound 1. HiGHS keeps its basis across these changes and across
+added columns and rows, so each solve starts from the last optimum (GLOP through OR-Tools'
+``pywraplp`` solved the changed LP from scratch after every bound change). Subset-row cuts
+(:mod:`searchtrack.plan.optw.bp_cuts`) are rows added by :meth:`Master.add_cuts`, valid at
+every node.
 """
 
 from __future__ import annotations
@@ -28,9 +31,10 @@ import time
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
+import highspy
 import numpy as np
+from highspy._core import _Highs
 from numpy.typing import NDArray
-from ortools.linear_solver import linear_solver_pb2, pywraplp
 
 from searchtrack.plan.optw.bp_cuts import SubsetRowCut
 
@@ -88,9 +92,17 @@ class LPSolution:
     artificial: float  # total artificial activity (> 0: the node looks infeasible)
 
 
+_INF = highspy.kHighsInf
+_NONE = np.zeros(0, dtype=np.int32)
+
+
 @dataclass
 class Master:
     """The RMP over a growing pool of columns, shared by every node of the tree.
+
+    Rows ``0 … n − 1`` are the core vertices (those of the source and the sink stay empty), row
+    ``n`` the fleet, then one row per cut; the LP's first ``n − 1`` columns are the artificial
+    variables (customers ``1 … n − 2``, then the fleet), then the pooled routes in pool order.
 
     Parameters
     ----------
@@ -113,30 +125,28 @@ class Master:
     _known: dict[Path, int] = field(default_factory=dict)
     cuts: list[SubsetRowCut] = field(default_factory=list)
     failures: int = field(default=0, init=False)
-    """Solves GLOP reported numerically troubled (each repeated in a fresh solver)."""
+    """Solves HiGHS did not finish at an optimum (each repeated from a fresh factorisation)."""
 
     def __post_init__(self) -> None:
-        s = pywraplp.Solver.CreateSolver("GLOP")
-        if s is None:  # pragma: no cover - GLOP ships with OR-Tools
-            raise RuntimeError("OR-Tools GLOP is not available")
-        self.solver = s
-        inf = s.infinity()
-        self.rows = [s.Constraint(-inf, 1.0) for _ in range(self.n)]
+        h = _Highs()  # the bare solver: highspy's wrapper logs a banner before any option is set
+        h.setOptionValue("output_flag", False)
+        h.setOptionValue("threads", 1)
+        h.changeObjectiveSense(highspy.ObjSense.kMaximize)
+        self.highs = h
+        for _ in range(self.n):
+            h.addRow(-_INF, 1.0, 0, _NONE, np.zeros(0))
         m = float(self.vehicles)
-        self.fleet = s.Constraint(-inf if self.empty_ok else m, m)
-        self.objective = s.Objective()
-        self.objective.SetMaximization()
-        self.slack = []
-        for i in range(1, self.n - 1):
-            a = s.NumVar(0.0, 0.0, "")
-            self.rows[i].SetCoefficient(a, 1.0)
-            self.objective.SetCoefficient(a, -self.penalty)
-            self.slack.append(a)
-        self.fleet_slack = s.NumVar(0.0, 0.0 if self.empty_ok else m, "")
-        self.fleet.SetCoefficient(self.fleet_slack, 1.0)
-        self.objective.SetCoefficient(self.fleet_slack, -self.penalty)
-        self.vars: list[pywraplp.Variable] = []
-        self.cut_rows: list[pywraplp.Constraint] = []
+        h.addRow(-_INF if self.empty_ok else m, m, 0, _NONE, np.zeros(0))
+        k = self.n - 1  # customer artificials, then the fleet's
+        rows = np.append(np.arange(1, self.n - 1), self.n).astype(np.int32)
+        upper = np.zeros(k)
+        upper[-1] = 0.0 if self.empty_ok else m
+        h.addCols(k, np.full(k, -self.penalty), np.zeros(k), upper, k,
+                  np.arange(k, dtype=np.int32), rows, np.ones(k))
+        self.upper = np.zeros(0)
+        """Upper bound of each pooled column (0: the node forbids it)."""
+        self.required: set[int] = set()
+        """Customers whose row is an equality."""
 
     @property
     def size(self) -> int:
@@ -149,39 +159,52 @@ class Master:
 
     def add(self, paths: Iterable[Path], profits: Iterable[float], allowed: bool = True) -> int:
         """Add the new ones of ``paths`` (core paths with their profit); return how many."""
-        added = 0
-        s = self.solver
+        starts: list[int] = []
+        index: list[int] = []
+        value: list[float] = []
+        cost: list[float] = []
+        fleet = self.n
         for path, c in zip(paths, profits, strict=True):
             if path in self._known:
                 continue
-            v = s.NumVar(0.0, s.infinity() if allowed else 0.0, "")
-            for i in path[1:-1]:
-                self.rows[i].SetCoefficient(v, 1.0)
-            self.fleet.SetCoefficient(v, 1.0)
-            for row, cut in zip(self.cut_rows, self.cuts, strict=True):
+            starts.append(len(index))
+            index.extend(path[1:-1])
+            value.extend([1.0] * (len(path) - 2))
+            index.append(fleet)
+            value.append(1.0)
+            for r, cut in enumerate(self.cuts):
                 a = cut.coefficient(path)
                 if a:
-                    row.SetCoefficient(v, float(a))
-            self.objective.SetCoefficient(v, float(c))
+                    index.append(fleet + 1 + r)
+                    value.append(float(a))
             self._known[path] = len(self.paths)
             self.paths.append(path)
             self.profits.append(float(c))
-            self.vars.append(v)
-            added += 1
+            cost.append(float(c))
+        added = len(cost)
+        if added:
+            up = _INF if allowed else 0.0
+            self.highs.addCols(added, np.array(cost), np.zeros(added), np.full(added, up),
+                               len(index), np.array(starts, dtype=np.int32),
+                               np.array(index, dtype=np.int32), np.array(value))
+            self.upper = np.append(self.upper, np.full(added, up))
         return added
 
     def add_cuts(self, cuts: Iterable[SubsetRowCut]) -> int:
         """Add the cuts (rows ``≤ 1`` over the pooled columns); return how many."""
-        s = self.solver
         added = 0
+        first = self.n - 1
         for cut in cuts:
-            row = s.Constraint(-s.infinity(), 1.0)
-            for v, path in zip(self.vars, self.paths, strict=True):
+            cols: list[int] = []
+            coef: list[float] = []
+            for k, path in enumerate(self.paths):
                 a = cut.coefficient(path)
                 if a:
-                    row.SetCoefficient(v, float(a))
+                    cols.append(first + k)
+                    coef.append(float(a))
+            self.highs.addRow(-_INF, 1.0, len(cols), np.array(cols, dtype=np.int32),
+                              np.array(coef))
             self.cuts.append(cut)
-            self.cut_rows.append(row)
             added += 1
         return added
 
@@ -190,68 +213,79 @@ class Master:
         return float(sum(sigma[c] * cut.coefficient(path)
                          for c, cut in enumerate(self.cuts) if sigma[c] > 0.0))
 
+    def set_upper(self, columns: NDArray[np.int64], upper: float) -> None:
+        """Give the pooled ``columns`` the upper bound ``upper`` (0 or infinity)."""
+        if columns.size:
+            up = np.full(columns.size, upper)
+            self.highs.changeColsBounds(columns.size, (columns + self.n - 1).astype(np.int32),
+                                        np.zeros(columns.size), up)
+            self.upper[columns] = upper
+
+    def require(self, customer: int, on: bool) -> None:
+        """Make the row of ``customer`` an equality (``on``) or ``≤ 1`` again."""
+        if on == (customer in self.required):
+            return
+        self.highs.changeRowBounds(customer, 1.0 if on else -_INF, 1.0)
+        self.highs.changeColBounds(customer - 1, 0.0, 1.0 if on else 0.0)
+        if on:
+            self.required.add(customer)
+        else:
+            self.required.discard(customer)
+
     def restrict(self, node: Restrictions) -> None:
         """Bounds of the node ``node``: its forbidden columns at 0, its required rows at 1."""
-        inf = self.solver.infinity()
         src, snk = 0, self.n - 1
         simple = not node.no_arcs and not node.arcs
-        for v, path in zip(self.vars, self.paths, strict=True):
-            if simple:
-                ok = not any(i in node.forbidden for i in path[1:-1])
-            else:
-                ok = node.allows(path, src, snk)
-            v.SetUb(inf if ok else 0.0)
-        for i in range(1, self.n - 1):
-            req = i in node.required
-            self.rows[i].SetLb(1.0 if req else -inf)
-            self.slack[i - 1].SetUb(1.0 if req else 0.0)
+        if simple and not node.forbidden:
+            ok = np.ones(len(self.paths), dtype=bool)
+        elif simple:
+            ok = np.array([not any(i in node.forbidden for i in path[1:-1])
+                           for path in self.paths], dtype=bool)
+        else:
+            ok = np.array([node.allows(path, src, snk) for path in self.paths], dtype=bool)
+        up = np.where(ok, _INF, 0.0)
+        changed = np.flatnonzero(up != self.upper)
+        self.set_upper(changed[ok[changed]], _INF)
+        self.set_upper(changed[~ok[changed]], 0.0)
+        for i in self.required - node.required:
+            self.require(i, False)
+        for i in node.required:
+            self.require(i, True)
 
     def solve(self, time_limit_s: float) -> LPSolution | None:
-        """Solve the RMP; ``None`` when GLOP stops before its optimum.
+        """Solve the RMP; ``None`` when HiGHS stops before its optimum.
 
-        GLOP warm-starts from the previous basis; when it reports numerical trouble
-        (``ABNORMAL``, seen after thousands of columns and many bound changes, on an RMP that a
-        fresh GLOP solves at once) the RMP is rebuilt in a new solver and solved again.
+        HiGHS starts from the previous basis; a solve that ends without an optimum for any
+        reason but the time limit is repeated once from a fresh factorisation of the same LP.
         """
-        s = self.solver
         started = time.perf_counter()
-        s.SetTimeLimit(max(1, int(1000 * time_limit_s)))
-        status = s.Solve()
-        if status == pywraplp.Solver.ABNORMAL:
-            log.warning("GLOP: numerical trouble on the master (%d columns); solving it again "
-                        "in a fresh solver", len(self.vars))
+        status = self._run(time_limit_s)
+        if status not in (highspy.HighsModelStatus.kOptimal,
+                          highspy.HighsModelStatus.kTimeLimit):
+            log.warning("HiGHS: %s on the master (%d columns); solving it again from a fresh "
+                        "factorisation", status, len(self.paths))
             self.failures += 1
-            s = self._rebuild()
-            left = time_limit_s - (time.perf_counter() - started)
-            s.SetTimeLimit(max(1, int(1000 * left)))
-            status = s.Solve()
-        if status != pywraplp.Solver.OPTIMAL:
+            self.highs.clearSolver()
+            status = self._run(time_limit_s - (time.perf_counter() - started))
+        if status != highspy.HighsModelStatus.kOptimal:
             return None
-        values = np.array([v.solution_value() for v in self.vars], dtype=np.float64)
+        sol = self.highs.getSolution()
+        col = np.asarray(sol.col_value, dtype=np.float64)
+        dual = np.asarray(sol.row_dual, dtype=np.float64)
+        k = self.n - 1
         pi = np.zeros(self.n)
-        pi[1:-1] = [self.rows[i].dual_value() for i in range(1, self.n - 1)]
-        art = sum(a.solution_value() for a in self.slack) + self.fleet_slack.solution_value()
-        sigma = np.maximum(np.array([r.dual_value() for r in self.cut_rows], dtype=np.float64),
-                           0.0)
-        return LPSolution(self.objective.Value(), values, pi, self.fleet.dual_value(), sigma,
-                          art)
+        pi[1:-1] = dual[1:self.n - 1]
+        sigma = np.maximum(dual[self.n + 1:], 0.0)
+        objective = float(self.highs.getInfo().objective_function_value)
+        return LPSolution(objective, col[k:].copy(), pi, float(dual[self.n]), sigma,
+                          float(col[:k].sum()))
 
-    def _rebuild(self) -> pywraplp.Solver:
-        """Move the RMP into a fresh GLOP (same rows, columns, bounds and objective) and
-        rebind the handles; return the new solver."""
-        proto = linear_solver_pb2.MPModelProto()
-        self.solver.ExportModelToProto(proto)
-        s = pywraplp.Solver.CreateSolver("GLOP")
-        error = s.LoadModelFromProto(proto)
-        if error:  # pragma: no cover - a model GLOP itself exported
-            raise RuntimeError(f"GLOP could not reload the master: {error}")
-        rows, columns = s.constraints(), s.variables()
-        k = self.n - 2  # customer slacks, then the fleet slack, then the route columns
-        self.rows, self.fleet = rows[:self.n], rows[self.n]
-        self.cut_rows = rows[self.n + 1:]
-        self.slack, self.fleet_slack, self.vars = columns[:k], columns[k], columns[k + 1:]
-        self.solver, self.objective = s, s.Objective()
-        return s
+    def _run(self, seconds: float) -> highspy.HighsModelStatus:
+        """One HiGHS run within ``seconds`` (its clock counts every run of the object)."""
+        h = self.highs
+        h.setOptionValue("time_limit", h.getRunTime() + max(seconds, 1e-3))
+        h.run()
+        return h.getModelStatus()
 
     def visits(self, values: NDArray[np.float64]) -> NDArray[np.float64]:
         """``Σ_r a_ir λ_r`` for every core vertex."""

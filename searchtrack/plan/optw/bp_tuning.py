@@ -30,9 +30,10 @@ class Tuning:
     primal_s: float = 2.0  # CP-SAT on the column pool, after the root and every primal_every
     primal_every: int = 50
     cuts_per_round: int = 20  # subset-row cuts separated at once (0: no cuts)
-    cuts_max: int = 120  # subset-row cuts in the master at most
-    cut_rounds: int = 8  # separation rounds per node
+    cuts_max: int = 240  # subset-row cuts in the master at most
+    cut_rounds: int = 16  # separation rounds per node
     cut_depth: int = 0  # separate at nodes of at most this depth
+    strong: int = 1  # branching candidates tried on the pooled master (1: the best ranked)
 
     def __post_init__(self) -> None:
         real("smoothing", self.smoothing, low=0.0, high=1.0, high_open=True)
@@ -53,3 +54,4 @@ class Tuning:
                      "cut_rounds", "cut_depth"):
             count(name, getattr(self, name))
         count("primal_every", self.primal_every, least=1)
+        count("strong", self.strong, least=1)

@@ -148,6 +148,19 @@ def test_random_branching(vehicles: int) -> None:
         _check(inst, fast_brute(inst))
 
 
+def test_strong_branching_reaches_the_optimum() -> None:
+    """Strong branching over five candidates, without cuts (so the trees branch), on the
+    twelve-customer instances: the brute-force optimum, proven, and the probes were made."""
+    strong = Tuning(ils_max_s=0.02, primal_s=0.0, cuts_per_round=0, strong=5, ils_again_max_s=0.0)
+    probes = 0.0
+    for seed in range(12):
+        inst = grid_instance(seed, 13, 2 + seed % 2)
+        res = solve_bp(inst, time_limit_s=20, tuning=strong)
+        assert res.status is Status.OPTIMAL and res.objective == pytest.approx(fast_brute(inst))
+        probes += res.stats.get("strong_lps", 0.0)
+    assert probes > 0
+
+
 def test_profits_in_steps_round_the_bound() -> None:
     """Profits all multiples of 10 (as on the Solomon c1 instances): bounds round down to a
     multiple of 10, and every answer is still the brute-force optimum, proven."""
@@ -206,7 +219,7 @@ def test_stop_request_keeps_the_bound_valid() -> None:
 
 
 def test_failed_master_lp_leaves_its_node_open(monkeypatch: pytest.MonkeyPatch) -> None:
-    """A node whose master LP fails (GLOP gives no optimum twice) stays open with its bound: the
+    """A node whose master LP fails (HiGHS gives no optimum twice) stays open with its bound: the
     tree goes on, no optimum is claimed, and the message says why (not "time limit")."""
     inst = grid_instance(3, 13, 2)  # optimum 52 of the 63 on offer: the root bound is not tight
     optimum = fast_brute(inst)

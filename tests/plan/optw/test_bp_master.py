@@ -95,30 +95,28 @@ def test_arc_flows_and_visits() -> None:
     assert m.arc_flows(values)[(0, 1)] == pytest.approx(1.0)
 
 
-class _Troubled:
-    """A GLOP stand-in whose first solve reports numerical trouble."""
+def test_a_troubled_solve_is_repeated_from_a_fresh_factorisation(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """When HiGHS ends a solve without an optimum the master solves the same LP again from a
+    fresh factorisation and gives the same optimum, duals and branching bounds, and keeps
+    working (adding columns, restricting)."""
+    import highspy
 
-    def __init__(self, inner: object) -> None:
-        self.inner, self.calls = inner, 0
-
-    def __getattr__(self, name: str) -> object:
-        return getattr(self.inner, name)
-
-    def Solve(self) -> int:
-        self.calls += 1
-        return int(self.inner.ABNORMAL)  # type: ignore[attr-defined]
-
-
-def test_a_troubled_solve_is_repeated_in_a_fresh_solver() -> None:
-    """After GLOP's ABNORMAL the master moves to a fresh solver and gives the same optimum,
-    duals and branching bounds, and keeps working (adding columns, restricting)."""
     m = _master(2, empty_ok=False)
     m.restrict(Restrictions(required=frozenset({2})))
     before = m.solve(10.0)
-    troubled = _Troubled(m.solver)
-    m.solver = troubled  # type: ignore[assignment]
+    real = Master._run
+    calls = []
+
+    def troubled(self: Master, seconds: float) -> highspy.HighsModelStatus:
+        calls.append(seconds)
+        if len(calls) == 1:
+            return highspy.HighsModelStatus.kSolveError
+        return real(self, seconds)
+
+    monkeypatch.setattr(Master, "_run", troubled)
     after = m.solve(10.0)
-    assert troubled.calls == 1 and m.failures == 1 and m.solver is not troubled
+    assert len(calls) == 2 and m.failures == 1
     assert before is not None and after is not None
     assert after.objective == pytest.approx(before.objective)
     np.testing.assert_allclose(after.pi, before.pi, atol=1e-9)
@@ -128,6 +126,15 @@ def test_a_troubled_solve_is_repeated_in_a_fresh_solver() -> None:
     m.restrict(Restrictions())
     lp = m.solve(10.0)
     assert lp is not None and lp.objective == pytest.approx(9.0)  # (0, 2, 1, 3) and the empty route
+
+
+def test_an_unfinished_solve_gives_no_solution() -> None:
+    """HiGHS stopped before the optimum (here by an iteration limit of 0) on both tries: no
+    solution."""
+    m = _master(2)
+    m.highs.setOptionValue("simplex_iteration_limit", 0)
+    assert m.solve(10.0) is None
+    assert m.failures == 1  # tried once more: only the time limit is not retried
 
 
 def test_cut_rows_take_the_coefficients_and_give_duals() -> None:
