@@ -17,8 +17,8 @@ the duals (``π_i ≥ −M``), so every Lagrangian bound computed from them stay
 
 Branching restricts the master by bounds only: a column a node forbids gets upper bound 0, a
 required customer's row gets lower bound 1. HiGHS keeps its basis across these changes and across
-added columns and rows, so each solve starts from the last optimum (GLOP through OR-Tools'
-``pywraplp`` solved the changed LP from scratch after every bound change). Subset-row cuts
+added columns and rows, so each solve starts from the last optimum (OR-Tools' GLOP, through
+``pywraplp``, re-solves from scratch after a bound change). Subset-row cuts
 (:mod:`searchtrack.plan.optw.bp_cuts`) are rows added by :meth:`Master.add_cuts`, valid at
 every node.
 """
@@ -275,10 +275,16 @@ class Master:
         k = self.n - 1
         pi = np.zeros(self.n)
         pi[1:-1] = dual[1:self.n - 1]
+        # the Lagrangian bound needs π ≥ 0 on the "≤ 1" rows, μ ≥ 0 on a "≤ m" fleet row and
+        # σ ≥ 0: clip what the solver's tolerances leave below 0 (equality rows keep their sign)
+        free = pi < 0.0
+        free[list(self.required)] = False
+        pi[free] = 0.0
+        mu = float(dual[self.n])
+        mu = max(mu, 0.0) if self.empty_ok else mu
         sigma = np.maximum(dual[self.n + 1:], 0.0)
         objective = float(self.highs.getInfo().objective_function_value)
-        return LPSolution(objective, col[k:].copy(), pi, float(dual[self.n]), sigma,
-                          float(col[:k].sum()))
+        return LPSolution(objective, col[k:].copy(), pi, mu, sigma, float(col[:k].sum()))
 
     def _run(self, seconds: float) -> highspy.HighsModelStatus:
         """One HiGHS run within ``seconds`` (its clock counts every run of the object)."""

@@ -31,6 +31,19 @@ def test_duals_close_the_duality_gap(vehicles: int) -> None:
         assert c - sum(lp.pi[i] for i in path[1:-1]) - lp.mu <= 1e-9
 
 
+def test_a_required_row_keeps_a_negative_dual() -> None:
+    """Customer 2 required, worth 1, while customer 1 is worth 5 and one vehicle serves either:
+    π_2 = 1 − μ < 0 is kept (an equality row's dual has no sign), the free row's π_1 is ≥ 0,
+    and Σ π + m μ still equals the LP optimum."""
+    m = Master(4, 1, True, penalty=1e3)
+    m.add([(0, 1, 3), (0, 2, 3), (0, 3)], [5.0, 1.0, 0.0])
+    m.restrict(Restrictions(required=frozenset({2})))
+    lp = m.solve(10.0)
+    assert lp is not None and lp.objective == pytest.approx(1.0)
+    assert lp.pi[2] < 0 and lp.pi[1] >= 0 and lp.mu >= 5.0 - lp.pi[1] - 1e-9
+    assert float(lp.pi.sum()) + lp.mu == pytest.approx(lp.objective)
+
+
 def test_known_columns_are_not_added_twice() -> None:
     """Adding a column already in the pool is a no-op; each column keeps its position."""
     m = _master()
