@@ -104,6 +104,7 @@ def train_policy(config: RoadTrackingConfig = TRAINING_CONFIG,
         import torch
         from stable_baselines3 import PPO
         from stable_baselines3.common.callbacks import BaseCallback
+        from stable_baselines3.common.logger import Logger
     except ModuleNotFoundError as exc:
         raise ModuleNotFoundError(f"training needs the rl extra (pip install "
                                   f"'searchtrack[rl]'): {exc}") from None
@@ -125,6 +126,7 @@ def train_policy(config: RoadTrackingConfig = TRAINING_CONFIG,
                 policy_kwargs={"net_arch": {"pi": list(settings.hidden),
                                             "vf": list(settings.hidden)},
                                "activation_fn": torch.nn.Tanh})
+    model.set_logger(Logger(None, []))  # SB3's default logger makes a /tmp/SB3-<date> folder
     model.learn(total_timesteps=settings.timesteps, callback=_Watch())
     if progress is not None:
         progress(int(model.num_timesteps), settings.timesteps)

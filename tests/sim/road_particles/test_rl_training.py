@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,12 +22,14 @@ def test_a_tiny_training_exports_the_actor_sb3_would_fly() -> None:
     """The NumPy actor takes the same greedy actions as the trained PyTorch model."""
     import torch
     from stable_baselines3 import PPO
+    from stable_baselines3.common.logger import Logger
 
     env = RoadSearchEnv(TINY)
     env.reset(seed=0)
     model = PPO("MlpPolicy", env, n_steps=64, batch_size=32, n_epochs=1, seed=0, device="cpu",
                 policy_kwargs={"net_arch": {"pi": [16, 8], "vf": [16]},
                                "activation_fn": torch.nn.Tanh})
+    model.set_logger(Logger(None, []))
     model.learn(total_timesteps=64)
     policy = export_actor(model, env)
     assert policy.signature == env.features.signature()
@@ -37,11 +40,16 @@ def test_a_tiny_training_exports_the_actor_sb3_would_fly() -> None:
         assert policy.act(obs) == int(action)
 
 
-def test_train_policy_returns_a_policy_for_the_environments_features() -> None:
+def test_train_policy_returns_a_policy_for_the_environments_features(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A policy of the right shape, and no log folder left behind (SB3's default logger would
+    make one under ``SB3_LOGDIR``)."""
+    monkeypatch.setenv("SB3_LOGDIR", str(tmp_path / "sb3"))
     policy = train_policy(TINY, TrainingConfig(timesteps=64, n_steps=32, batch_size=16,
                                                n_epochs=1, hidden=(8,)), seed=1)
     assert policy.n_inputs == RoadSearchEnv(TINY).features.size and policy.n_actions == 4
     assert len(policy.weights) == 2
+    assert not (tmp_path / "sb3").exists()
 
 
 def test_a_stop_request_ends_training_with_the_policy_so_far() -> None:
