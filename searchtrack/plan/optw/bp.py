@@ -302,7 +302,7 @@ def solve_bp(instance: OPTWInstance, *, time_limit_s: float = 60.0, seed: int = 
     total = float(fwd.prof.sum())
     master = Master(fwd.n, inst.vehicles, empty_ok, 100.0 * (total + 1.0))
     pricer = Pricer(fwd, droppable(inst, orig), table_ng=t.table_ng, guide=t.heuristic_cap > 0,
-                    bidirectional=t.bidirectional)
+                    bidirectional=t.bidirectional, half_tables=t.half_tables)
     tree = Tree(inst, fwd, orig, master, pricer, deadline, t, seed, profit_step(fwd.prof))
     seeds = [] if start is None else [plan_paths(inst, fwd, orig, start)]
     if fwd.n > 2:

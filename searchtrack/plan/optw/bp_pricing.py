@@ -26,7 +26,10 @@ stays fixed and every elementary path above it is returned as a column.
   long, so far fewer labels grow on instances whose routes visit many customers. The split
   moves after each call towards the half that made fewer labels (a dynamic half-way point,
   Tilk et al. 2017). Every finished call returns the ``collect`` best columns, not the first
-  ones, and a bound.
+  ones, and a bound. With :attr:`Pricer.half_tables` a whole table pass each way comes first
+  and its profit table bounds the completions of the other way's half pass, so labels no
+  column above the floor can extend are pruned; the table passes cost about as many labels as
+  they save on the Cordeau instances, so it is off by default.
 * **DSSR across iterations.** Cycles forbidden by one pricing call stay forbidden (the learned
   ng-memory is kept for the whole tree): ng-sets only ever grow, so every later pass is a tighter
   relaxation that is still valid.
@@ -123,6 +126,7 @@ class Pricer:
     table_ng: int | None = 4  # ng-size of the table pass that starts exact pricing (None: off)
     guide: bool = False  # keep forward tables for :meth:`guided`
     bidirectional: bool = False  # half passes joined at a time split instead of whole passes
+    half_tables: bool = False  # bidirectional: bound each half with the other way's table pass
     split: float = 0.5  # the split's share of the way from departure to the sink's latest arrival
     memory: NDArray[np.bool_] = field(init=False)
     stats: dict[str, float] = field(default_factory=lambda: dict.fromkeys(
@@ -283,12 +287,13 @@ class Pricer:
         tm = split_time(fwd, self.split)
         sig = None if cm is None else cm.dual
         every = 1 << 62
+        tables = self._tables(fwd, rev, floor, gap, cap, bprof, deadline)
         while True:
-            f = self._pass(fwd, ng, None, floor, gap, cap, every, bprof, deadline, cm, tm)
+            f = self._pass(fwd, ng, tables[1], floor, gap, cap, every, bprof, deadline, cm, tm)
             found = [(float(f.lp[s]), f.path(s)) for s in f.found.tolist()]
             b = None
             if f.code == DONE:
-                b = self._pass(rev, ng, None, floor, gap, cap, every, bprof, deadline, cm,
+                b = self._pass(rev, ng, tables[0], floor, gap, cap, every, bprof, deadline, cm,
                                backward_stop(fwd, tm))
             if b is not None and b.code == DONE:
                 j = join(fwd, f, b, tm, target=floor + gap, keep=collect, deadline=deadline,
@@ -311,6 +316,23 @@ class Pricer:
                 return Priced(paths, values, upper)
             for p in loops:
                 self._forbid(ng, idx, p)
+
+    def _tables(self, fwd: Core, rev: Core, floor: float, gap: float, cap: int,
+                bprof: NDArray[np.float64], deadline: Deadline
+                ) -> tuple[NDArray[np.float64] | None, NDArray[np.float64] | None]:
+        """With :attr:`half_tables`, whole passes each way on ``table_ng``-sets (no cuts, cycles
+        learned or not): their profit tables bound every completion, so each half pass prunes
+        the labels no path above the floor can extend (Righini & Salani 2006 §3); ``None``
+        where a pass did not finish or the option is off."""
+        if not self.half_tables or self.table_ng is None:
+            return None, None
+        out: list[NDArray[np.float64] | None] = []
+        small = base_ng(fwd) | initial_ng(fwd, self.table_ng)
+        for core in (fwd, rev):
+            done = self._pass(core, small, None, floor, gap, cap, 1 << 62, bprof, deadline)
+            self.stats["table_passes"] = self.stats.get("table_passes", 0.0) + 1
+            out.append(done.table() if done.code == DONE else None)
+        return out[0], out[1]
 
     def _cores(self, dur: NDArray[np.int64], prof: NDArray[np.float64],
                idx: NDArray[np.intp]) -> tuple[Core, Core]:

@@ -20,6 +20,7 @@ class Tuning:
     heuristic_cap: int = 0  # labels of a guided pricing pass (0: off; needs whole passes)
     table_ng: int | None = 4  # ng-size of the completion-table pass (whole passes only)
     bidirectional: bool = True  # exact pricing by half passes joined at the split time
+    half_tables: bool = False  # bidirectional: table passes bound the half passes' completions
     collect: int = 200  # most columns per pricing call
     ils_share: float = 0.02  # of the time limit, at most ils_max_s
     ils_max_s: float = 1.5
@@ -41,6 +42,7 @@ class Tuning:
         if self.table_ng is not None:
             count("table_ng", self.table_ng, least=1)
         boolean("bidirectional", self.bidirectional)
+        boolean("half_tables", self.half_tables)
         if self.heuristic_cap > 0 and self.bidirectional:
             raise InvalidInputError("heuristic_cap", self.heuristic_cap,
                                     "needs bidirectional=False (the guided pass reads the "

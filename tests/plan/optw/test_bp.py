@@ -178,10 +178,11 @@ def test_profits_in_steps_round_the_bound() -> None:
     Tuning(ils_max_s=0.02, primal_s=0.0, smoothing=0.0, table_ng=None, bidirectional=False),
     Tuning(ils_max_s=0.02, primal_s=0.0, bidirectional=False),
     Tuning(ils_max_s=0.02, primal_s=0.0, smoothing=0.9, collect=1),
-], ids=["guided", "plain", "whole-passes", "one-column"])
+    Tuning(ils_max_s=0.02, primal_s=0.0, half_tables=True),
+], ids=["guided", "plain", "whole-passes", "one-column", "bounded-halves"])
 def test_tuning_variants_agree(tuning: Tuning) -> None:
     """Guided heuristic pricing, no smoothing or table pass, whole (one-direction) passes, one
-    column per call: same optima."""
+    column per call, half passes bounded by table passes: same optima."""
     for seed in (0, 1, 8):
         inst = grid_instance(seed, 13, 2)
         res = solve_bp(inst, time_limit_s=20, tuning=tuning)

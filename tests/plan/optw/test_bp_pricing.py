@@ -6,13 +6,14 @@ import math
 
 import numpy as np
 import pytest
+from numpy.typing import NDArray
 
 from searchtrack.core.deadline import Deadline
 from searchtrack.plan.optw import validate
 from searchtrack.plan.optw.bp_master import Restrictions
 from searchtrack.plan.optw.bp_pricing import Pricer, droppable
 from searchtrack.plan.optw.labelling import warm_up
-from searchtrack.plan.optw.labelling_core import CAP_MAX, build_cores
+from searchtrack.plan.optw.labelling_core import CAP_MAX, Core, build_cores
 from tests.plan.optw.catalogue import catalogue, feasible_sets
 from tests.plan.optw.small import hand, single_vehicle_cases
 
@@ -35,10 +36,19 @@ def test_droppable_needs_the_triangle_inequality() -> None:
     assert flags[1] is False
 
 
+MODES = ["whole", "halves", "halves-bounded"]
+
+
+def _pricer(fwd: Core, drop_ok: NDArray[np.bool_], mode: str) -> Pricer:
+    """Whole passes, half passes joined, or half passes bounded by the table passes."""
+    return Pricer(fwd, drop_ok, bidirectional=mode != "whole",
+                  half_tables=mode == "halves-bounded")
+
+
 @pytest.mark.parametrize("name", sorted(single_vehicle_cases()))
 @pytest.mark.parametrize("drop", [True, False])
-@pytest.mark.parametrize("bidirectional", [False, True])
-def test_pricing_is_exact(name: str, drop: bool, bidirectional: bool) -> None:
+@pytest.mark.parametrize("mode", MODES)
+def test_pricing_is_exact(name: str, drop: bool, mode: str) -> None:
     """Columns are feasible routes of the claimed reduced profit above the floor, one is found
     whenever some route beats the floor, and the bound covers the best route."""
     inst = single_vehicle_cases()[name]
@@ -49,7 +59,7 @@ def test_pricing_is_exact(name: str, drop: bool, bidirectional: bool) -> None:
     customers = [int(c) for c in inst.customers]
     sets = feasible_sets(inst)
     rng = np.random.default_rng(len(name))
-    pricer = Pricer(fwd, droppable(inst, orig), bidirectional=bidirectional)
+    pricer = _pricer(fwd, droppable(inst, orig), mode)
     for trial in range(6):
         pi = np.zeros(fwd.n)
         pi[1:-1] = rng.uniform(0, 1.5, fwd.n - 2) * fwd.prof[1:-1]
@@ -68,14 +78,16 @@ def test_pricing_is_exact(name: str, drop: bool, bidirectional: bool) -> None:
             assert validate(inst, [route]).feasible
             assert val == pytest.approx(float(prof[list(path[1:-1])].sum()))
             assert val > floor
+    if mode != "whole":  # whole passes start with a table pass anyway
+        assert (pricer.stats.get("table_passes", 0) > 0) == (mode == "halves-bounded")
 
 
-@pytest.mark.parametrize("bidirectional", [False, True])
-def test_pricing_honours_forbidden_customers_and_arcs(bidirectional: bool) -> None:
+@pytest.mark.parametrize("mode", MODES)
+def test_pricing_honours_forbidden_customers_and_arcs(mode: str) -> None:
     """No column visits a forbidden customer or uses a forbidden arc."""
     inst = catalogue()["euclid-m1"]
     fwd, _, orig = build_cores(inst)
-    pricer = Pricer(fwd, droppable(inst, orig), bidirectional=bidirectional)
+    pricer = _pricer(fwd, droppable(inst, orig), mode)
     node = Restrictions(forbidden=frozenset({1}), no_arcs=frozenset({(0, 2)}),
                         arcs=frozenset({(3, 4)}))
     dur = pricer.node_dur(node)
