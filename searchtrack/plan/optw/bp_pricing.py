@@ -28,8 +28,8 @@ stays fixed and every elementary path above it is returned as a column.
   Tilk et al. 2017). Every finished call returns the ``collect`` best columns, not the first
   ones, and a bound. With :attr:`Pricer.half_tables` a whole table pass each way comes first
   and its profit table bounds the completions of the other way's half pass, so labels no
-  column above the floor can extend are pruned; the table passes cost about as many labels as
-  they save on the Cordeau instances, so it is off by default.
+  column above the floor can extend are pruned (off by default: the table passes are whole
+  passes, and the halves they bound are short already).
 * **DSSR across iterations.** Cycles forbidden by one pricing call stay forbidden (the learned
   ng-memory is kept for the whole tree): ng-sets only ever grow, so every later pass is a tighter
   relaxation that is still valid.
