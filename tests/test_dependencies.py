@@ -52,11 +52,30 @@ def test_campaign_engines_import_beside_the_solvers(order: str) -> None:
     assert proc.returncode == 0, proc.stderr[-2000:]
 
 
-def test_no_dependency_pulls_in_highspy() -> None:
-    """searchtrack depends on cvxpy-base (not cvxpy, which requires highspy), so no HiGHS clash."""
+def test_no_dependency_pulls_in_cvxpy() -> None:
+    """searchtrack depends on cvxpy-base (the modelling layer, not cvxpy's bundle of solvers)
+    and on highspy for the team-OPTW master; the campaign engines are there too."""
     requires = metadata.requires("searchtrack") or []
     names = {r.split(";")[0].split("[")[0].split(">")[0].split("=")[0].split("<")[0].strip()
              for r in requires}
-    assert "cvxpy-base" in names
-    assert "cvxpy" not in names and "highspy" not in names
+    assert "cvxpy-base" in names and "highspy" in names
+    assert "cvxpy" not in names
     assert {"dask", "duckdb"} <= names
+
+
+_HIGHS = ("from highspy._core import _Highs\nh = _Highs()\nh.setOptionValue('output_flag', False)\n"
+          "assert str(h.run()).endswith('kOk')\n")
+_ORTOOLS = ("from ortools.linear_solver import pywraplp\n"
+            "s = pywraplp.Solver.CreateSolver('GLOP'); x = s.NumVar(0, 1, 'x'); s.Maximize(x)\n"
+            "assert s.Solve() == 0\nassert pywraplp.Solver.CreateSolver('SCIP')\n"
+            "from ortools.sat.python import cp_model\n")
+
+
+@pytest.mark.parametrize("first", ["highspy", "ortools"])
+def test_highspy_and_ortools_work_in_either_order(first: str) -> None:
+    """HiGHS (the bp master) and OR-Tools (GLOP, SCIP, CP-SAT) both solve in one fresh
+    interpreter, whichever is imported first (older wheels bundled clashing HiGHS builds)."""
+    code = _HIGHS + _ORTOOLS if first == "highspy" else _ORTOOLS + _HIGHS
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr[-2000:]

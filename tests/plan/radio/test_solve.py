@@ -46,9 +46,10 @@ def test_auto_draws_the_look_ahead_once(monkeypatch: pytest.MonkeyPatch) -> None
         original(self, *args)  # type: ignore[arg-type]
 
     p = problem(horizon=3)
-    alone = solve(p, backend="exhaustive", seed=4)
+    alone = solve(p, backend="exhaustive", seed=4, time_limit_s=30.0)  # not the 1 s default:
+    assert alone.status is Status.OPTIMAL  # a loaded machine must not stop it early
     monkeypatch.setattr(tree.Scorer, "__init__", counting)
-    result = solve(p, backend="auto", seed=4)
+    result = solve(p, backend="auto", seed=4, time_limit_s=30.0)
     assert len(built) == 1 and result.status is Status.OPTIMAL
     assert result.objective == pytest.approx(alone.objective, rel=1e-12)
 
