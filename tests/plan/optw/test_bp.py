@@ -22,7 +22,8 @@ from tests.plan.optw.small import random_instance
 
 DATA = Path(__file__).resolve().parents[3] / "searchtrack" / "data" / "optw"
 FAST = Tuning(ils_max_s=0.02, primal_s=0.2)
-NO_CUTS = Tuning(ils_max_s=0.02, primal_s=0.2, cuts_per_round=0)
+NO_CUTS = Tuning(ils_max_s=0.02, primal_s=0.2, cuts_per_round=0, ils_again_max_s=0.0)
+QUIET = {"ils_max_s": 0.02, "primal_s": 0.0, "ils_again_max_s": 0.0}  # no heuristics to speak of
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -151,7 +152,7 @@ def test_random_branching(vehicles: int) -> None:
 def test_strong_branching_reaches_the_optimum() -> None:
     """Strong branching over five candidates, without cuts (so the trees branch), on the
     twelve-customer instances: the brute-force optimum, proven, and the probes were made."""
-    strong = Tuning(ils_max_s=0.02, primal_s=0.0, cuts_per_round=0, strong=5, ils_again_max_s=0.0)
+    strong = Tuning(**QUIET, cuts_per_round=0, strong=5)
     probes = 0.0
     for seed in range(12):
         inst = grid_instance(seed, 13, 2 + seed % 2)
@@ -174,11 +175,11 @@ def test_profits_in_steps_round_the_bound() -> None:
 
 
 @pytest.mark.parametrize("tuning", [
-    Tuning(ils_max_s=0.02, primal_s=0.0, heuristic_cap=1 << 14, bidirectional=False),
-    Tuning(ils_max_s=0.02, primal_s=0.0, smoothing=0.0, table_ng=None, bidirectional=False),
-    Tuning(ils_max_s=0.02, primal_s=0.0, bidirectional=False),
-    Tuning(ils_max_s=0.02, primal_s=0.0, smoothing=0.9, collect=1),
-    Tuning(ils_max_s=0.02, primal_s=0.0, half_tables=True),
+    Tuning(**QUIET, heuristic_cap=1 << 14, bidirectional=False),
+    Tuning(**QUIET, smoothing=0.0, table_ng=None, bidirectional=False),
+    Tuning(**QUIET, bidirectional=False),
+    Tuning(**QUIET, smoothing=0.9, collect=1),
+    Tuning(**QUIET, half_tables=True),
 ], ids=["guided", "plain", "whole-passes", "one-column", "bounded-halves"])
 def test_tuning_variants_agree(tuning: Tuning) -> None:
     """Guided heuristic pricing, no smoothing or table pass, whole (one-direction) passes, one
