@@ -76,7 +76,7 @@ def pooled_value(master: Master, parent: Restrictions, child: Restrictions,
     """
     extra = Restrictions(child.forbidden - parent.forbidden, child.required - parent.required,
                          child.no_arcs - parent.no_arcs, child.arcs - parent.arcs)
-    off = _newly_forbidden(master, extra)
+    off = np.flatnonzero(master.ruled_out(extra) & (master.upper > 0.0))
     master.set_upper(off, 0.0)
     for i in extra.required:
         master.require(i, True)
@@ -87,19 +87,6 @@ def pooled_value(master: Master, parent: Restrictions, child: Restrictions,
         for i in extra.required:
             master.require(i, False)
     return None if lp is None else lp.objective
-
-
-def _newly_forbidden(master: Master, extra: Restrictions) -> NDArray[np.int64]:
-    """The pooled columns still allowed that the decisions ``extra`` rule out."""
-    if extra.no_arcs or extra.arcs:
-        n = master.n
-        bad = [k for k, path in enumerate(master.paths) if not extra.allows(path, 0, n - 1)]
-    elif extra.forbidden:
-        bad = [k for k, path in enumerate(master.paths) if not extra.forbidden.isdisjoint(path)]
-    else:  # a required row rules no column out
-        return np.zeros(0, dtype=np.int64)
-    cols = np.array(bad, dtype=np.int64)
-    return cols[master.upper[cols] > 0.0] if cols.size else cols
 
 
 def strong(master: Master, restr: Restrictions, found: list[Branching], parent: float,

@@ -232,17 +232,19 @@ class Master:
         else:
             self.required.discard(customer)
 
+    def ruled_out(self, node: Restrictions) -> NDArray[np.bool_]:
+        """For each pooled column, whether the decisions ``node`` forbid it."""
+        if node.no_arcs or node.arcs:
+            return np.array([not node.allows(path, 0, self.n - 1) for path in self.paths],
+                            dtype=bool)
+        if node.forbidden:  # a customer decision only: no need to look at the arcs
+            return np.array([not node.forbidden.isdisjoint(path) for path in self.paths],
+                            dtype=bool)
+        return np.zeros(len(self.paths), dtype=bool)  # a required row rules no column out
+
     def restrict(self, node: Restrictions) -> None:
         """Bounds of the node ``node``: its forbidden columns at 0, its required rows at 1."""
-        src, snk = 0, self.n - 1
-        simple = not node.no_arcs and not node.arcs
-        if simple and not node.forbidden:
-            ok = np.ones(len(self.paths), dtype=bool)
-        elif simple:
-            ok = np.array([not any(i in node.forbidden for i in path[1:-1])
-                           for path in self.paths], dtype=bool)
-        else:
-            ok = np.array([node.allows(path, src, snk) for path in self.paths], dtype=bool)
+        ok = ~self.ruled_out(node)
         up = np.where(ok, _INF, 0.0)
         changed = np.flatnonzero(up != self.upper)
         self.set_upper(changed[ok[changed]], _INF)

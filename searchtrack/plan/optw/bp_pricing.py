@@ -238,11 +238,7 @@ class Pricer:
         tables: list[NDArray[np.float64] | None] = [None, None]
         if self.table_ng is not None:
             # a cheap backward pass on small ng-sets: its profit table bounds every completion
-            small = base_ng(fwd) | initial_ng(fwd, self.table_ng)
-            out = self._pass(rev, small, None, floor, gap, cap, 1 << 62, bprof, deadline)
-            self.stats["table_passes"] = self.stats.get("table_passes", 0.0) + 1
-            if out.code == DONE:
-                tables[1] = out.table()
+            tables[1] = self._table(fwd, rev, floor, gap, cap, bprof, deadline)
         upper = math.inf
         direction = 0
         while True:
@@ -320,19 +316,24 @@ class Pricer:
     def _tables(self, fwd: Core, rev: Core, floor: float, gap: float, cap: int,
                 bprof: NDArray[np.float64], deadline: Deadline
                 ) -> tuple[NDArray[np.float64] | None, NDArray[np.float64] | None]:
-        """With :attr:`half_tables`, whole passes each way on ``table_ng``-sets (no cuts, cycles
-        learned or not): their profit tables bound every completion, so each half pass prunes
-        the labels no path above the floor can extend (Righini & Salani 2006 §3); ``None``
-        where a pass did not finish or the option is off."""
+        """With :attr:`half_tables`, a table pass each way (:meth:`_table`): each bounds the
+        completions of the other way's half pass, which then prunes the labels no path above
+        the floor can extend (Righini & Salani 2006 §3); ``None`` where the option is off."""
         if not self.half_tables or self.table_ng is None:
             return None, None
-        out: list[NDArray[np.float64] | None] = []
+        return (self._table(fwd, fwd, floor, gap, cap, bprof, deadline),
+                self._table(fwd, rev, floor, gap, cap, bprof, deadline))
+
+    def _table(self, fwd: Core, core: Core, floor: float, gap: float, cap: int,
+               bprof: NDArray[np.float64], deadline: Deadline) -> NDArray[np.float64] | None:
+        """The profit table of a whole pass on ``core`` with ``table_ng``-sets of ``fwd``'s
+        vertices (no cuts, learned cycles ignored), a bound on every completion; ``None`` if
+        the pass did not finish."""
+        assert self.table_ng is not None
         small = base_ng(fwd) | initial_ng(fwd, self.table_ng)
-        for core in (fwd, rev):
-            done = self._pass(core, small, None, floor, gap, cap, 1 << 62, bprof, deadline)
-            self.stats["table_passes"] = self.stats.get("table_passes", 0.0) + 1
-            out.append(done.table() if done.code == DONE else None)
-        return out[0], out[1]
+        out = self._pass(core, small, None, floor, gap, cap, 1 << 62, bprof, deadline)
+        self.stats["table_passes"] = self.stats.get("table_passes", 0.0) + 1
+        return out.table() if out.code == DONE else None
 
     def _cores(self, dur: NDArray[np.int64], prof: NDArray[np.float64],
                idx: NDArray[np.intp]) -> tuple[Core, Core]:
