@@ -27,6 +27,8 @@
 * **Branching** (:mod:`~searchtrack.plan.optw.bp_branching`): on a customer's fractional visit,
   then on a fractional arc, chosen among :attr:`Tuning.strong` candidates by strong branching
   on the pooled master; best bound first.
+* **Enumeration** (:mod:`~searchtrack.plan.optw.bp_enumeration`): once a node's gap is small,
+  every route that can be part of a better plan is listed and a set packing settles the node.
 
 A stopped solve reports its best plan with the largest bound of the open nodes.
 """
@@ -47,6 +49,7 @@ from searchtrack.core.deadline import Deadline, check_time_limit
 from searchtrack.core.result import Result
 from searchtrack.plan.optw.bp_branching import branch
 from searchtrack.plan.optw.bp_cuts import separate
+from searchtrack.plan.optw.bp_enumeration import Duals, close_node
 from searchtrack.plan.optw.bp_master import LPSolution, Master, Path, Restrictions
 from searchtrack.plan.optw.bp_pricing import Pricer, droppable
 from searchtrack.plan.optw.bp_primal import ils_paths, plan_paths, pool_ip
@@ -77,6 +80,7 @@ class _Node:
     bound: float = field(compare=False)
     depth: int = field(compare=False)
     restr: Restrictions = field(compare=False)
+    duals: Duals | None = field(default=None, compare=False)  # those of its least bound
 
 
 @dataclass
@@ -93,6 +97,7 @@ class Tree:
     seed: int
     step: int  # every plan's profit is a multiple of it (0: profits not integral)
     value: float = -math.inf
+    enum_failed: float = math.inf  # the gap at which route enumeration last failed
     best: list[Path] = field(default_factory=list)
     stats: dict[str, float] = field(default_factory=dict)
 
@@ -211,6 +216,8 @@ class Tree:
                 if upper is not None:
                     lag = float(pi[1:-1].sum() + sigma.sum()) + m.vehicles * upper
                     node.bound = min(node.bound, lag)
+                    if node.duals is None or lag < node.duals.lagrangian:
+                        node.duals = Duals(pi.copy(), sigma.copy(), upper, lag)
                     if lag < centre_bound:
                         centre_bound, centre = lag, (pi.copy(), upper, sigma.copy())
                 gain = [self.path_profit(p) for p in paths]
@@ -356,7 +363,8 @@ def _run(tree: Tree, root: _Node) -> Result[Routes]:
             tree.primal()
         if nodes == 1 and not tree.pruned(current.bound):
             tree.again()
-        if tree.pruned(current.bound):
+        if tree.pruned(current.bound) or (
+                current.duals is not None and close_node(tree, current.restr, current.duals)):
             current = None
             continue
         t0 = time.perf_counter()

@@ -228,9 +228,7 @@ class Pricer:
         idx = np.flatnonzero(keep)
         cm = masks(cuts, duals, idx)
         fwd, rev = self._cores(dur, prof, idx)
-        full = fwd.n - 2 <= FULL_MEMORY
-        ng = base_ng(fwd) | initial_ng(fwd, fwd.n if full else self.ng_size)
-        ng |= _pack(self.memory[np.ix_(idx, idx)])
+        ng = self._ng(fwd, idx)
         bprof = np.maximum(fwd.prof, 0.0)
         if self.bidirectional:
             return self._bidirectional(fwd, rev, ng, idx, floor, gap, cap, collect, bprof,
@@ -334,6 +332,30 @@ class Pricer:
         out = self._pass(core, small, None, floor, gap, cap, 1 << 62, bprof, deadline)
         self.stats["table_passes"] = self.stats.get("table_passes", 0.0) + 1
         return out.table() if out.code == DONE else None
+
+    def completion_table(self, dur: NDArray[np.int64], prof: NDArray[np.float64], floor: float,
+                         *, forbidden: frozenset[int], cap: int, deadline: Deadline
+                         ) -> tuple[Core, NDArray[np.intp], NDArray[np.float64] | None]:
+        """The node's forward graph on every customer it allows (none dropped, no cuts), its
+        vertices, and the profit table of a backward pass on the pricing's ng-sets (learned
+        cycles included, no cuts: cut states weaken dominance so much that such a pass costs
+        more than the enumeration it would prune) pruned at ``floor``: a bound on the
+        completions of any path that can still reach it (``None`` when the pass did not
+        finish). What route enumeration runs on."""
+        keep = np.ones(self.fwd.n, dtype=bool)
+        keep[list(forbidden)] = False
+        idx = np.flatnonzero(keep)
+        fwd, rev = self._cores(dur, prof, idx)
+        out = self._pass(rev, self._ng(fwd, idx), None, floor, 0.0, cap, 1 << 62,
+                         np.maximum(fwd.prof, 0.0), deadline)
+        return fwd, idx, out.table() if out.code == DONE else None
+
+    def _ng(self, fwd: Core, idx: NDArray[np.intp]) -> NDArray[np.uint64]:
+        """The ng-sets of exact pricing on the vertices ``idx``: every customer when they are
+        few, else the nearest ones, and the cycles learned so far."""
+        full = fwd.n - 2 <= FULL_MEMORY
+        ng = base_ng(fwd) | initial_ng(fwd, fwd.n if full else self.ng_size)
+        return ng | _pack(self.memory[np.ix_(idx, idx)])
 
     def _cores(self, dur: NDArray[np.int64], prof: NDArray[np.float64],
                idx: NDArray[np.intp]) -> tuple[Core, Core]:

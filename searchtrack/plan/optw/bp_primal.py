@@ -3,12 +3,14 @@
 * :func:`ils_paths`: the iterated local search (:mod:`searchtrack.plan.optw.ils`) before the
   tree, and again from the incumbent once the root leaves a gap; its routes become columns and
   its plan an incumbent.
-* :func:`pool_ip`: the restricted master's columns as an integer program, by CP-SAT.
+* :func:`pool_ip`: the restricted master's columns as an integer program, by CP-SAT;
+  :func:`packing` the same with required customers and a proof flag, for the routes that
+  :mod:`~searchtrack.plan.optw.bp_enumeration` lists.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
@@ -48,13 +50,27 @@ def pool_ip(paths: Sequence[Path], profits: Sequence[float], vehicles: int, empt
     The restricted master's columns as an integer program: a cheap primal heuristic that often
     closes the gap of a branch-and-price on its own.
     """
+    return packing(paths, profits, vehicles, empty_ok, floor, time_limit_s, seed, hint)[0]
+
+
+def packing(paths: Sequence[Path], profits: Sequence[float], vehicles: int, empty_ok: bool,
+            floor: float, time_limit_s: float, seed: int, hint: Sequence[int] = (),
+            required: Collection[int] = ()) -> tuple[list[int] | None, bool]:
+    """:func:`pool_ip` with the customers ``required`` served exactly once, and whether the
+    answer is proven: the best packing (``None`` when none beats ``floor``) and True when
+    CP-SAT proved it optimal, or proved that no packing beats ``floor``."""
     from ortools.sat.python import cp_model
 
     from searchtrack.core.interrupt import watch
 
     p = np.asarray(profits, dtype=np.float64)
-    whole = bool(np.all(p == np.round(p)))
-    scale = 1.0 if whole else 1e6 / max(1.0, float(p.max(initial=1.0)))
+    # the least power of ten that makes every profit whole keeps the weights exact (and a
+    # proof a proof); otherwise six significant digits
+    scale = next((10.0 ** k for k in range(7)
+                  if np.allclose(p * 10.0 ** k, np.round(p * 10.0 ** k), rtol=0, atol=1e-6)),
+                 None)
+    exact = scale is not None
+    scale = scale or 1e6 / max(1.0, float(p.max(initial=1.0)))
     weights = np.round(p * scale).astype(np.int64).tolist()
     model = cp_model.CpModel()
     x = [model.new_bool_var("") for _ in paths]
@@ -62,8 +78,13 @@ def pool_ip(paths: Sequence[Path], profits: Sequence[float], vehicles: int, empt
     for var, path in zip(x, paths, strict=True):
         for i in path[1:-1]:
             cover.setdefault(i, []).append(var)
-    for vs in cover.values():
-        if len(vs) > 1:
+    for i in required:
+        if i not in cover:
+            return None, True
+    for i, vs in cover.items():
+        if i in required:
+            model.add_exactly_one(vs)
+        elif len(vs) > 1:
             model.add_at_most_one(vs)
     if empty_ok:
         model.add(sum(x) <= vehicles)
@@ -82,9 +103,12 @@ def pool_ip(paths: Sequence[Path], profits: Sequence[float], vehicles: int, empt
     solver.parameters.catch_sigint_signal = False
     with watch(solver.stop_search):
         status = solver.solve(model)
+    if status == cp_model.INFEASIBLE:
+        return None, True  # not even a plan
     if status not in (cp_model.OPTIMAL, cp_model.FEASIBLE):
-        return None
+        return None, False
+    proven = status == cp_model.OPTIMAL and exact
     chosen = [k for k, var in enumerate(x) if solver.value(var)]
     if float(p[chosen].sum()) <= floor:
-        return None
-    return chosen
+        return None, proven
+    return chosen, proven

@@ -35,6 +35,9 @@ class Tuning:
     cut_rounds: int = 16  # separation rounds per node
     cut_depth: int = 0  # separate at nodes of at most this depth
     strong: int = 1  # branching candidates tried on the pooled master (1: the best ranked)
+    enum_labels: int = 4_000_000  # route enumeration's label budget at a node (0: off)
+    enum_routes: int = 200_000  # most routes it may list for the set packing
+    enum_mip_s: float = 30.0  # CP-SAT's time on that set packing
 
     def __post_init__(self) -> None:
         real("smoothing", self.smoothing, low=0.0, high=1.0, high_open=True)
@@ -50,10 +53,10 @@ class Tuning:
         count("collect", self.collect, least=1)
         real("ils_share", self.ils_share, low=0.0, high=1.0)
         real("ils_again_share", self.ils_again_share, low=0.0, high=1.0)
-        for name in ("ils_max_s", "ils_again_max_s", "primal_s"):
+        for name in ("ils_max_s", "ils_again_max_s", "primal_s", "enum_mip_s"):
             non_negative(name, getattr(self, name))
         for name in ("ils_iterations", "ils_again_iterations", "cuts_per_round", "cuts_max",
-                     "cut_rounds", "cut_depth"):
+                     "cut_rounds", "cut_depth", "enum_labels", "enum_routes"):
             count(name, getattr(self, name))
         count("primal_every", self.primal_every, least=1)
         count("strong", self.strong, least=1)

@@ -22,8 +22,10 @@ from tests.plan.optw.small import random_instance
 
 DATA = Path(__file__).resolve().parents[3] / "searchtrack" / "data" / "optw"
 FAST = Tuning(ils_max_s=0.02, primal_s=0.2)
-NO_CUTS = Tuning(ils_max_s=0.02, primal_s=0.2, cuts_per_round=0, ils_again_max_s=0.0)
-QUIET = {"ils_max_s": 0.02, "primal_s": 0.0, "ils_again_max_s": 0.0}  # no heuristics to speak of
+NO_CUTS = Tuning(ils_max_s=0.02, primal_s=0.2, cuts_per_round=0, ils_again_max_s=0.0,
+                 enum_labels=0)
+# no heuristics to speak of and no enumeration: the tree itself
+QUIET = {"ils_max_s": 0.02, "primal_s": 0.0, "ils_again_max_s": 0.0, "enum_labels": 0}
 
 
 @pytest.fixture(scope="module", autouse=True)

@@ -21,7 +21,7 @@ from tests.plan.optw.small import elementary_paths, random_instance, single_vehi
 from tests.plan.optw.test_bp import fast_brute, grid_instance
 
 EVERYWHERE = Tuning(ils_max_s=0.02, primal_s=0.2, cuts_per_round=30, cuts_max=400,
-                    cut_rounds=50, cut_depth=1000)
+                    cut_rounds=50, cut_depth=1000, enum_labels=0)
 
 
 @pytest.fixture(scope="module", autouse=True)

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import itertools
+
+import numpy as np
 import pytest
 
 from searchtrack.plan.optw import validate
-from searchtrack.plan.optw.bp_primal import ils_paths, plan_paths, pool_ip
+from searchtrack.plan.optw.bp_primal import ils_paths, packing, plan_paths, pool_ip
 from searchtrack.plan.optw.labelling_core import build_cores, instance_route
 from tests.plan.optw.catalogue import catalogue
 
@@ -24,6 +27,37 @@ def test_pool_ip_packs_disjoint_columns(vehicles: int, empty_ok: bool, best: flo
         return
     assert chosen is not None and sum(PROFITS[k] for k in chosen) == best
     assert pool_ip(PATHS[:3], PROFITS[:3], vehicles, empty_ok, best, 5.0, 0) is None
+
+
+def test_packing_against_brute_force() -> None:
+    """Random pools of columns over eight customers, required customers, fractional profits in
+    cents: the packing's optimum and its proof agree with trying every subset of columns."""
+    rng = np.random.default_rng(7)
+    for trial in range(40):
+        paths = [(0, *sorted({int(v) for v in rng.integers(1, 9, rng.integers(1, 4))}), 9)
+                 for _ in range(10)]
+        profits = (rng.integers(1, 2000, len(paths)) / 100.0).tolist()
+        vehicles, empty_ok = int(rng.integers(1, 4)), bool(trial % 2)
+        required = {int(v) for v in rng.choice(np.arange(1, 9), int(rng.integers(0, 3)),
+                                               replace=False)}
+        best = -np.inf
+        for k in range(vehicles + 1):
+            if k < vehicles and not empty_ok:
+                continue
+            for combo in itertools.combinations(range(len(paths)), k):
+                seen = [v for c in combo for v in paths[c][1:-1]]
+                if len(seen) == len(set(seen)) and required <= set(seen):
+                    best = max(best, sum(profits[c] for c in combo))
+        chosen, proven = packing(paths, profits, vehicles, empty_ok, -1.0, 10.0, 0,
+                                 required=required)
+        assert proven
+        if best == -np.inf:
+            assert chosen is None
+            continue
+        assert chosen is not None and sum(profits[c] for c in chosen) == pytest.approx(best)
+        assert required <= {v for c in chosen for v in paths[c][1:-1]}
+        assert packing(paths, profits, vehicles, empty_ok, best, 10.0, 0,
+                       required=required) == (None, True)
 
 
 @pytest.mark.parametrize("name", sorted(catalogue()))
