@@ -126,8 +126,8 @@ def _settle(tree: Tree, restr: Restrictions, duals: Duals) -> bool:
 
 
 def threshold(upper: float, lagrangian: float, incumbent: float, step: float) -> float:
-    """``θ = U − (L − z* − s)``: the least value ``Σ (p_i − π_i)`` of a route in a plan that
-    beats the incumbent ``z*`` by the profit step ``s`` (by any amount when ``s = 0``; a small
+    """``θ = U − (L − z* − s)``: the least value ``v_r`` of a route in a plan that beats the
+    incumbent ``z*`` by the profit step ``s`` (by any amount when ``s = 0``; a small
     tolerance then keeps the routes of plans equal to it)."""
     slack = 1e-6 * max(1.0, abs(lagrangian)) if step == 0 else 1e-6
     return upper - (lagrangian - incumbent - step) - slack
