@@ -33,7 +33,6 @@ from __future__ import annotations
 import logging
 import math
 import time
-from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -47,7 +46,7 @@ from searchtrack.plan.optw.bp_cuts import masks
 from searchtrack.plan.optw.bp_master import Path, Restrictions
 from searchtrack.plan.optw.bp_primal import packing
 from searchtrack.plan.optw.labelling_core import CAP_MAX, MAX_BUCKETS, Core, CutMasks
-from searchtrack.plan.optw.labelling_primitives import completion, sig_of
+from searchtrack.plan.optw.labelling_primitives import clock, completion, sig_of
 
 if TYPE_CHECKING:
     from searchtrack.plan.optw.bp import Tree
@@ -142,16 +141,28 @@ class Enumerated:
     labels: int
 
 
+_MIX = np.uint64(0x9E3779B97F4A7C15)
+_CHECK_EVERY = 1024  # labels expanded between two looks at the clock
+
+
+@njit(cache=True, inline="always")
+def _mix(h, word):  # type: ignore[no-untyped-def]
+    """Fold a 64-bit word into the hash ``h`` (multiply-xorshift)."""
+    h = (h ^ word) * _MIX
+    return h ^ (h >> np.uint64(29))
+
+
 @njit(cache=True)
 def _level(  # type: ignore[no-untyped-def]
         bits, last, t, val, lc, dur, succ_ptr, succ, opn, cls, prof, tab, horizon, width, theta,
-        snk, cut_s, cut_m, sig, room, write):
+        snk, cut_s, cut_m, sig, room, write, deadline):
     """Extend every label of one level by one vertex.
 
-    Returns the number of new labels (``-1`` when over ``room``), the new labels (when
-    ``write``: sets, last vertices, times, values, cut states, parents) and the labels whose
-    route closes at the sink with a value of at least ``theta``. A label's value carries the
-    costs of the subset-row cuts its visits complete (limited memory, as in the pricing).
+    Returns the number of new labels (``-1`` when over ``room``, ``-2`` past ``deadline``),
+    the new labels (when ``write``: sets, last vertices, times, values, cut states, parents,
+    and a hash of set, last vertex and cut states) and the labels whose route closes at the sink
+    with a value of at least ``theta``. A label's value carries the costs of the subset-row
+    cuts its visits complete (limited memory, as in the pricing).
     """
     n_lab, words = bits.shape
     nc = lc.shape[1]
@@ -162,12 +173,15 @@ def _level(  # type: ignore[no-untyped-def]
     nv = np.empty(size, dtype=np.float64)
     ns = np.zeros((size, nc), dtype=np.uint64)
     npar = np.empty(size, dtype=np.int64)
+    nh = np.empty(size, dtype=np.uint64)
     fin = np.empty(n_lab, dtype=np.int64)
     state = np.empty(nc, dtype=np.uint64)
     n_fin = 0
     k = 0
     one = np.uint64(1)
     for x in range(n_lab):
+        if x % _CHECK_EVERY == 0 and clock() > deadline:
+            return -2, nb, nl, nt, nv, ns, npar, nh, fin[:n_fin]
         v = last[x]
         for e in range(succ_ptr[v], succ_ptr[v + 1]):
             j = succ[e]
@@ -193,56 +207,99 @@ def _level(  # type: ignore[no-untyped-def]
             if p2 + completion(tab, j, a, horizon, width, prof) < theta:
                 continue
             if k >= room:
-                return -1, nb, nl, nt, nv, ns, npar, fin[:n_fin]
+                return -1, nb, nl, nt, nv, ns, npar, nh, fin[:n_fin]
             if write:
+                h = np.uint64(j) * _MIX
                 for q in range(words):
-                    nb[k, q] = bits[x, q]
-                nb[k, w] |= b
+                    word = bits[x, q] | b if q == w else bits[x, q]
+                    nb[k, q] = word
+                    h = _mix(h, word)
+                for q in range(nc):
+                    ns[k, q] = state[q]
+                    h = _mix(h, state[q])
                 nl[k] = j
                 nt[k] = a
                 nv[k] = p2
-                for q in range(nc):
-                    ns[k, q] = state[q]
                 npar[k] = x
+                nh[k] = h
             k += 1
-    return k, nb, nl, nt, nv, ns, npar, fin[:n_fin]
+    return k, nb, nl, nt, nv, ns, npar, nh, fin[:n_fin]
 
 
 @njit(cache=True)
-def _front(order, new, val):  # type: ignore[no-untyped-def]
-    """Along ``order`` (groups marked by ``new``, each sorted by time), the labels whose value
-    beats every earlier one of their group: the Pareto front of time and value."""
+def _front(order, hashes, bits, last, states, val):  # type: ignore[no-untyped-def]
+    """Along ``order`` (by hash, then time, then value down), the labels no earlier label of
+    the same set, last vertex and cut states beats in value: the Pareto front of time and value
+    of each such group. Labels of one hash are compared key by key (a collision only costs a
+    comparison)."""
     keep = np.zeros(order.size, dtype=np.bool_)
-    best = -np.inf
+    start = 0
     for r in range(order.size):
-        if new[r]:
-            best = -np.inf
-        v = val[order[r]]
-        if v > best + 1e-9:
-            keep[r] = True
-            best = v
+        x = order[r]
+        if r > 0 and hashes[x] != hashes[order[r - 1]]:
+            start = r
+        beaten = False
+        for q in range(start, r):
+            y = order[q]
+            if not keep[q] or last[y] != last[x] or val[y] < val[x] - 1e-9:
+                continue
+            same = True
+            for c in range(bits.shape[1]):
+                if bits[y, c] != bits[x, c]:
+                    same = False
+                    break
+            for c in range(states.shape[1]):
+                if same and states[y, c] != states[x, c]:
+                    same = False
+            if same:
+                beaten = True
+                break
+        keep[r] = not beaten
     return order[keep]
 
 
-def _groups(keys: Sequence[NDArray[np.int64] | NDArray[np.uint64]],
-            order: NDArray[np.intp]) -> NDArray[np.bool_]:
-    """True where a row of ``order`` starts a new run of equal ``keys``."""
-    new = np.ones(order.size, dtype=bool)
-    if order.size > 1:
-        same = np.ones(order.size - 1, dtype=bool)
-        for c in keys:
-            s = c[order]
-            same &= s[1:] == s[:-1]
-        new[1:] = ~same
-    return new
+def _kept(bits: NDArray[np.uint64], last: NDArray[np.int64], states: NDArray[np.uint64],
+          t: NDArray[np.int64], val: NDArray[np.float64],
+          hashes: NDArray[np.uint64]) -> NDArray[np.int64]:
+    """The labels no label of equal set, last vertex and cut states beats in time and value."""
+    order = np.lexsort([-val, t, hashes])
+    return np.asarray(_front(order, hashes, bits, last, states, val), dtype=np.int64)
 
 
-def _kept(keys: Sequence[NDArray[np.int64] | NDArray[np.uint64]], t: NDArray[np.int64],
-          val: NDArray[np.float64]) -> NDArray[np.int64]:
-    """The labels no label of equal ``keys`` (set, last vertex, cut states) beats in time and
-    value."""
-    order = np.lexsort([-val, t, *list(keys)[::-1]])
-    return np.asarray(_front(order, _groups(keys, order), val), dtype=np.int64)
+@njit(cache=True)
+def _distinct(order, hashes, bits):  # type: ignore[no-untyped-def]
+    """Along ``order`` (by hash), the first row of each distinct ``bits`` row."""
+    keep = np.zeros(order.size, dtype=np.bool_)
+    start = 0
+    for r in range(order.size):
+        x = order[r]
+        if r > 0 and hashes[x] != hashes[order[r - 1]]:
+            start = r
+        seen = False
+        for q in range(start, r):
+            if keep[q]:
+                y = order[q]
+                same = True
+                for c in range(bits.shape[1]):
+                    if bits[y, c] != bits[x, c]:
+                        same = False
+                        break
+                if same:
+                    seen = True
+                    break
+        keep[r] = not seen
+    return order[keep]
+
+
+@njit(cache=True)
+def _set_hashes(bits):  # type: ignore[no-untyped-def]
+    out = np.empty(bits.shape[0], dtype=np.uint64)
+    for x in range(bits.shape[0]):
+        h = _MIX
+        for q in range(bits.shape[1]):
+            h = _mix(h, bits[x, q])
+        out[x] = h
+    return out
 
 
 def enumerate_routes(core: Core, table: NDArray[np.float64], theta: float, *, labels: int,
@@ -295,10 +352,13 @@ def enumerate_routes(core: Core, table: NDArray[np.float64], theta: float, *, la
     while last.size:
         if deadline.expired():
             return None
-        count = _level(bits, last, t, val, lc, *graph, labels - made, False)[0]
+        count = _level(bits, last, t, val, lc, *graph, labels - made, False, deadline.end)[0]
         if count < 0:
             return None
-        _, nb, nl, nt, nv, ns, npar, fin = _level(bits, last, t, val, lc, *graph, count, True)
+        count, nb, nl, nt, nv, ns, npar, nh, fin = _level(bits, last, t, val, lc, *graph,
+                                                          count, True, deadline.end)
+        if count < 0:
+            return None
         if fin.size:
             ends.append((len(levels), fin))
             sets.append(bits[fin])
@@ -306,8 +366,7 @@ def enumerate_routes(core: Core, table: NDArray[np.float64], theta: float, *, la
             if found > 4 * routes:
                 return None
         levels.append((last, parents))
-        keep = _kept([*(nb[:, q] for q in range(words)), nl, *(ns[:, q] for q in
-                                                                range(ns.shape[1]))], nt, nv)
+        keep = _kept(nb, nl, ns, nt, nv, nh)
         bits, last, t, val, lc, parents = nb[keep], nl[keep], nt[keep], nv[keep], ns[keep], \
             npar[keep]
         made += int(keep.size)
@@ -316,9 +375,8 @@ def enumerate_routes(core: Core, table: NDArray[np.float64], theta: float, *, la
     allsets = np.concatenate(sets)
     which = np.concatenate([np.full(f.size, lv, dtype=np.int64) for lv, f in ends])
     leaf = np.concatenate([f for _, f in ends])
-    cols = [allsets[:, q] for q in range(words)]
-    order = np.lexsort(cols[::-1])
-    one = order[_groups(cols, order)]
+    hashes = _set_hashes(allsets)
+    one = _distinct(np.argsort(hashes, kind="stable"), hashes, allsets)
     if one.size > routes:
         return None
     paths = [_path(levels, int(which[i]), int(leaf[i]), core.snk) for i in one.tolist()]
