@@ -155,24 +155,22 @@ def _mix(h, word):  # type: ignore[no-untyped-def]
 @njit(cache=True)
 def _level(  # type: ignore[no-untyped-def]
         bits, last, t, val, lc, dur, succ_ptr, succ, opn, cls, prof, tab, horizon, width, theta,
-        snk, cut_s, cut_m, sig, room, write, deadline):
+        snk, cut_s, cut_m, sig, room, deadline):
     """Extend every label of one level by one vertex.
 
     Returns the number of new labels (``-1`` when over ``room``, ``-2`` past ``deadline``),
-    the new labels (when ``write``: sets, last vertices, times, values, cut states, parents,
-    and a hash of set, last vertex and cut states) and the labels whose route closes at the sink
-    with a value of at least ``theta``. A label's value carries the costs of the subset-row
-    cuts its visits complete (limited memory, as in the pricing).
+    the new labels (sets, last vertices, times, values, cut states, parents, and a hash of set,
+    last vertex and cut states) and the labels whose route closes at the sink with a value of
+    at least ``theta``. A label's value carries the costs of the subset-row cuts its visits
+    complete (limited memory, as in the pricing).
     """
     n_lab, words = bits.shape
     nc = lc.shape[1]
-    size = room if write else 0
+    size = min(room, max(4096, 4 * n_lab))
     nb = np.zeros((size, words), dtype=np.uint64)
-    nl = np.empty(size, dtype=np.int64)
-    nt = np.empty(size, dtype=np.int64)
-    nv = np.empty(size, dtype=np.float64)
     ns = np.zeros((size, nc), dtype=np.uint64)
-    npar = np.empty(size, dtype=np.int64)
+    ints = np.empty((size, 3), dtype=np.int64)  # last vertex, time, parent
+    nv = np.empty(size, dtype=np.float64)
     nh = np.empty(size, dtype=np.uint64)
     fin = np.empty(n_lab, dtype=np.int64)
     state = np.empty(nc, dtype=np.uint64)
@@ -181,10 +179,14 @@ def _level(  # type: ignore[no-untyped-def]
     one = np.uint64(1)
     for x in range(n_lab):
         if x % _CHECK_EVERY == 0 and clock() > deadline:
-            return -2, nb, nl, nt, nv, ns, npar, nh, fin[:n_fin]
+            return -2, nb, ns, ints, nv, nh, fin[:n_fin]
         v = last[x]
         for e in range(succ_ptr[v], succ_ptr[v + 1]):
             j = succ[e]
+            w = j >> 6
+            b = one << np.uint64(j & 63)
+            if j != snk and bits[x, w] & b:
+                continue
             a = t[x] + dur[v, j]
             if a < opn[j]:
                 a = opn[j]
@@ -195,35 +197,46 @@ def _level(  # type: ignore[no-untyped-def]
                     fin[n_fin] = x
                     n_fin += 1
                 continue
-            w = j >> 6
-            b = one << np.uint64(j & 63)
-            if bits[x, w] & b:
-                continue
             p2 = val[x] + prof[j]
+            rest = completion(tab, j, a, horizon, width, prof)
+            if p2 + rest < theta:
+                continue  # cut costs only lower it
             for q in range(nc):
                 s0 = lc[x, q] & cut_m[j, q]
                 state[q] = s0 ^ cut_s[j, q]
                 p2 -= sig_of(s0 & cut_s[j, q], q * 64, sig)
-            if p2 + completion(tab, j, a, horizon, width, prof) < theta:
+            if p2 + rest < theta:
                 continue
-            if k >= room:
-                return -1, nb, nl, nt, nv, ns, npar, nh, fin[:n_fin]
-            if write:
-                h = np.uint64(j) * _MIX
-                for q in range(words):
-                    word = bits[x, q] | b if q == w else bits[x, q]
-                    nb[k, q] = word
-                    h = _mix(h, word)
-                for q in range(nc):
-                    ns[k, q] = state[q]
-                    h = _mix(h, state[q])
-                nl[k] = j
-                nt[k] = a
-                nv[k] = p2
-                npar[k] = x
-                nh[k] = h
+            if k == size:
+                if size >= room:
+                    return -1, nb, ns, ints, nv, nh, fin[:n_fin]
+                size = min(room, 2 * size)
+                nb2 = np.zeros((size, words), dtype=np.uint64)
+                nb2[:k] = nb[:k]
+                ns2 = np.zeros((size, nc), dtype=np.uint64)
+                ns2[:k] = ns[:k]
+                ints2 = np.empty((size, 3), dtype=np.int64)
+                ints2[:k] = ints[:k]
+                nv2 = np.empty(size, dtype=np.float64)
+                nv2[:k] = nv[:k]
+                nh2 = np.empty(size, dtype=np.uint64)
+                nh2[:k] = nh[:k]
+                nb, ns, ints, nv, nh = nb2, ns2, ints2, nv2, nh2
+            h = np.uint64(j) * _MIX
+            for q in range(words):
+                word = bits[x, q] | b if q == w else bits[x, q]
+                nb[k, q] = word
+                h = _mix(h, word)
+            for q in range(nc):
+                ns[k, q] = state[q]
+                h = _mix(h, state[q])
+            ints[k, 0] = j
+            ints[k, 1] = a
+            ints[k, 2] = x
+            nv[k] = p2
+            nh[k] = h
             k += 1
-    return k, nb, nl, nt, nv, ns, npar, nh, fin[:n_fin]
+    return k, nb[:k], ns[:k], ints[:k], nv[:k], nh[:k], fin[:n_fin]
 
 
 @njit(cache=True)
@@ -352,13 +365,11 @@ def enumerate_routes(core: Core, table: NDArray[np.float64], theta: float, *, la
     while last.size:
         if deadline.expired():
             return None
-        count = _level(bits, last, t, val, lc, *graph, labels - made, False, deadline.end)[0]
+        count, nb, ns, ints, nv, nh, fin = _level(bits, last, t, val, lc, *graph,
+                                                  labels - made, deadline.end)
         if count < 0:
             return None
-        count, nb, nl, nt, nv, ns, npar, nh, fin = _level(bits, last, t, val, lc, *graph,
-                                                          count, True, deadline.end)
-        if count < 0:
-            return None
+        nl, nt, npar = ints[:, 0].copy(), ints[:, 1].copy(), ints[:, 2].copy()
         if fin.size:
             ends.append((len(levels), fin))
             sets.append(bits[fin])
