@@ -32,8 +32,10 @@ def result(tree: Tree, nodes: int, open_bounds: list[float]) -> Result[Routes]:
         if plan is None:
             return Result(Status.INFEASIBLE, None, None, elapsed, BACKEND, None,
                           message=f"no {inst.vehicles} routes exist", stats=stats)
+        settled = int(stats.get("enum_settled", 0.0))
+        by_enum = f", {settled} settled by route enumeration" if settled else ""
         return Result(Status.OPTIMAL, tree.value, tree.value, elapsed, BACKEND, plan,
-                      message=f"proven optimal; {nodes} nodes", stats=stats)
+                      message=f"proven optimal; {nodes} nodes{by_enum}", stats=stats)
     bound = max(tree.rounded(b) for b in open_bounds)
     why = ("stopped on request" if stop_requested() else "time limit" if deadline.expired()
            else "nodes left open by failed master LPs")

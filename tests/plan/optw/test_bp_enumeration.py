@@ -145,6 +145,8 @@ def test_branch_and_price_settles_nodes_at_the_optimum() -> None:
             assert res.status is Status.OPTIMAL
             assert res.objective == pytest.approx(fast_brute(inst))
             settled += res.stats.get("enum_settled", 0.0)
+            said = "settled by route enumeration" in res.message
+            assert said == bool(res.stats.get("enum_settled", 0.0)), res.message
     assert settled >= 3
 
 
