@@ -239,6 +239,15 @@ def _level(  # type: ignore[no-untyped-def]
     return k, nb[:k], ns[:k], ints[:k], nv[:k], nh[:k], fin[:n_fin]
 
 
+@njit(cache=True, inline="always")
+def _same(rows, x, y):  # type: ignore[no-untyped-def]
+    """True when rows ``x`` and ``y`` of ``rows`` are equal."""
+    for c in range(rows.shape[1]):  # noqa: SIM110 (a loop numba compiles without allocating)
+        if rows[x, c] != rows[y, c]:
+            return False
+    return True
+
+
 @njit(cache=True)
 def _front(order, hashes, bits, last, states, val):  # type: ignore[no-untyped-def]
     """Along ``order`` (by hash, then time, then value down), the labels no earlier label of
@@ -256,15 +265,7 @@ def _front(order, hashes, bits, last, states, val):  # type: ignore[no-untyped-d
             y = order[q]
             if not keep[q] or last[y] != last[x] or val[y] < val[x] - 1e-9:
                 continue
-            same = True
-            for c in range(bits.shape[1]):
-                if bits[y, c] != bits[x, c]:
-                    same = False
-                    break
-            for c in range(states.shape[1]):
-                if same and states[y, c] != states[x, c]:
-                    same = False
-            if same:
+            if _same(bits, x, y) and _same(states, x, y):
                 beaten = True
                 break
         keep[r] = not beaten
@@ -277,31 +278,6 @@ def _kept(bits: NDArray[np.uint64], last: NDArray[np.int64], states: NDArray[np.
     """The labels no label of equal set, last vertex and cut states beats in time and value."""
     order = np.lexsort([-val, t, hashes])
     return np.asarray(_front(order, hashes, bits, last, states, val), dtype=np.int64)
-
-
-@njit(cache=True)
-def _distinct(order, hashes, bits):  # type: ignore[no-untyped-def]
-    """Along ``order`` (by hash), the first row of each distinct ``bits`` row."""
-    keep = np.zeros(order.size, dtype=np.bool_)
-    start = 0
-    for r in range(order.size):
-        x = order[r]
-        if r > 0 and hashes[x] != hashes[order[r - 1]]:
-            start = r
-        seen = False
-        for q in range(start, r):
-            if keep[q]:
-                y = order[q]
-                same = True
-                for c in range(bits.shape[1]):
-                    if bits[y, c] != bits[x, c]:
-                        same = False
-                        break
-                if same:
-                    seen = True
-                    break
-        keep[r] = not seen
-    return order[keep]
 
 
 @njit(cache=True)
@@ -387,7 +363,10 @@ def enumerate_routes(core: Core, table: NDArray[np.float64], theta: float, *, la
     which = np.concatenate([np.full(f.size, lv, dtype=np.int64) for lv, f in ends])
     leaf = np.concatenate([f for _, f in ends])
     hashes = _set_hashes(allsets)
-    one = _distinct(np.argsort(hashes, kind="stable"), hashes, allsets)
+    # one route per set: the front of equal sets with equal (no) last vertex, states and value
+    nothing = np.zeros(allsets.shape[0])
+    one = _front(np.argsort(hashes, kind="stable"), hashes, allsets, nothing.astype(np.int64),
+                 np.zeros((allsets.shape[0], 0), dtype=np.uint64), nothing)
     if one.size > routes:
         return None
     paths = [_path(levels, int(which[i]), int(leaf[i]), core.snk) for i in one.tolist()]
