@@ -29,6 +29,8 @@
   on the pooled master; best bound first.
 * **Enumeration** (:mod:`~searchtrack.plan.optw.bp_enumeration`): once a node's gap is small,
   every route that can be part of a better plan is listed and a set packing settles the node.
+  Before it, at the root, the arcs no such route uses are fixed out of pricing
+  (:mod:`~searchtrack.plan.optw.bp_fixing`).
 
 A stopped solve reports its best plan with the largest bound of the open nodes.
 """
@@ -50,6 +52,7 @@ from searchtrack.core.result import Result
 from searchtrack.plan.optw.bp_branching import branch
 from searchtrack.plan.optw.bp_cuts import separate
 from searchtrack.plan.optw.bp_enumeration import Duals, close_node
+from searchtrack.plan.optw.bp_fixing import fix_arcs
 from searchtrack.plan.optw.bp_master import LPSolution, Master, Path, Restrictions
 from searchtrack.plan.optw.bp_pricing import Pricer, droppable
 from searchtrack.plan.optw.bp_primal import ils_paths, plan_paths, pool_ip
@@ -363,6 +366,8 @@ def _run(tree: Tree, root: _Node) -> Result[Routes]:
             tree.primal()
         if nodes == 1 and not tree.pruned(current.bound):
             tree.again()
+        if nodes == 1 and t.fix_arcs and current.duals is not None:
+            fix_arcs(tree, current.duals)
         if tree.pruned(current.bound) or (
                 current.duals is not None and close_node(tree, current.restr, current.duals)):
             current = None

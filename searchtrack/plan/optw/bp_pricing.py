@@ -129,11 +129,13 @@ class Pricer:
     half_tables: bool = False  # bidirectional: bound each half with the other way's table pass
     split: float = 0.5  # the split's share of the way from departure to the sink's latest arrival
     memory: NDArray[np.bool_] = field(init=False)
+    fixed: NDArray[np.bool_] = field(init=False)  # arcs left out of every pricing graph
     stats: dict[str, float] = field(default_factory=lambda: dict.fromkeys(
         ("pricing_calls", "passes", "labels"), 0.0))
 
     def __post_init__(self) -> None:
         self.memory = np.zeros((self.fwd.n, self.fwd.n), dtype=bool)
+        self.fixed = np.zeros((self.fwd.n, self.fwd.n), dtype=bool)
         self._guide: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
 
     def guided(self, dur: NDArray[np.int64], prof: NDArray[np.float64], floor: float, gap: float,
@@ -170,8 +172,10 @@ class Pricer:
         return out
 
     def node_dur(self, node: Restrictions) -> NDArray[np.int64]:
-        """The root durations with the node's arc and customer decisions applied."""
+        """The root durations with the fixed arcs removed and the node's arc and customer
+        decisions applied."""
         dur = self.fwd.dur.copy()
+        dur[self.fixed] = BIG
         src, snk = self.fwd.src, self.fwd.snk
         for v in node.forbidden:
             dur[v, :] = BIG
@@ -333,21 +337,42 @@ class Pricer:
         self.stats["table_passes"] = self.stats.get("table_passes", 0.0) + 1
         return out.table() if out.code == DONE else None
 
-    def completion_table(self, dur: NDArray[np.int64], prof: NDArray[np.float64], floor: float,
-                         *, forbidden: frozenset[int], cap: int, deadline: Deadline
-                         ) -> tuple[Core, NDArray[np.intp], NDArray[np.float64] | None]:
-        """The node's forward graph on every customer it allows (none dropped, no cuts), its
-        vertices, and the profit table of a backward pass on the pricing's ng-sets (learned
-        cycles included, no cuts: cut states weaken dominance so much that such a pass costs
-        more than the enumeration it would prune) pruned at ``floor``: a bound on the
-        completions of any path that can still reach it (``None`` when the pass did not
-        finish). What route enumeration runs on."""
+    def fix(self, arcs: NDArray[np.bool_]) -> None:
+        """Leave the arcs ``arcs`` out of every later pricing graph; a customer stays droppable
+        only while every shortcut ``i → k`` around it (``i → j`` and ``j → k`` arcs) is still
+        an arc, else leaving it out could lose a route."""
+        self.fixed |= arcs
+        arc = (self.fwd.dur < BIG) & ~self.fixed
+        src, snk = self.fwd.src, self.fwd.snk
+        for j in np.flatnonzero(self.drop_ok).tolist():
+            into, out = np.flatnonzero(arc[:, j]), np.flatnonzero(arc[j, :])
+            short = arc[np.ix_(into, out)] | (into[:, None] == out[None, :])
+            short |= (into[:, None] == src) & (out[None, :] == snk)  # as :func:`droppable`
+            self.drop_ok[j] = bool(short.all())
+
+    def graphs(self, dur: NDArray[np.int64], prof: NDArray[np.float64],
+               forbidden: frozenset[int]
+               ) -> tuple[Core, Core, NDArray[np.intp], NDArray[np.uint64]]:
+        """A node's forward and backward graphs on every customer it allows (none dropped),
+        their vertices and the pricing's ng-sets on them (learned cycles included): what route
+        enumeration and arc fixing run on."""
         keep = np.ones(self.fwd.n, dtype=bool)
         keep[list(forbidden)] = False
         idx = np.flatnonzero(keep)
         fwd, rev = self._cores(dur, prof, idx)
-        out = self._pass(rev, self._ng(fwd, idx), None, floor, 0.0, cap, 1 << 62,
-                         np.maximum(fwd.prof, 0.0), deadline)
+        return fwd, rev, idx, self._ng(fwd, idx)
+
+    def completion_table(self, dur: NDArray[np.int64], prof: NDArray[np.float64], floor: float,
+                         *, forbidden: frozenset[int], cap: int, deadline: Deadline
+                         ) -> tuple[Core, NDArray[np.intp], NDArray[np.float64] | None]:
+        """The node's forward graph and its vertices (:meth:`graphs`), and the profit table of
+        a backward pass on the pricing's ng-sets without cuts (cut states weaken dominance so
+        much that such a pass costs more than the enumeration it would prune) pruned at
+        ``floor``: a bound on the completions of any path that can still reach it (``None``
+        when the pass did not finish)."""
+        fwd, rev, idx, ng = self.graphs(dur, prof, forbidden)
+        out = self._pass(rev, ng, None, floor, 0.0, cap, 1 << 62, np.maximum(fwd.prof, 0.0),
+                         deadline)
         return fwd, idx, out.table() if out.code == DONE else None
 
     def _ng(self, fwd: Core, idx: NDArray[np.intp]) -> NDArray[np.uint64]:

@@ -38,6 +38,7 @@ class Tuning:
     enum_labels: int = 4_000_000  # route enumeration's label budget at a node (0: off)
     enum_routes: int = 200_000  # most routes it may list for the set packing
     enum_mip_s: float = 30.0  # CP-SAT's time on that set packing
+    fix_arcs: bool = True  # fix the arcs no route of a better plan uses, after the root
 
     def __post_init__(self) -> None:
         real("smoothing", self.smoothing, low=0.0, high=1.0, high_open=True)
@@ -46,6 +47,7 @@ class Tuning:
             count("table_ng", self.table_ng, least=1)
         boolean("bidirectional", self.bidirectional)
         boolean("half_tables", self.half_tables)
+        boolean("fix_arcs", self.fix_arcs)
         if self.heuristic_cap > 0 and self.bidirectional:
             raise InvalidInputError("heuristic_cap", self.heuristic_cap,
                                     "needs bidirectional=False (the guided pass reads the "

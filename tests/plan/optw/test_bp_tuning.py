@@ -27,7 +27,7 @@ def test_defaults_and_documented_variants_are_accepted() -> None:
     ("collect", 0), ("ils_share", 1.5), ("ils_again_share", -0.1), ("ils_max_s", -1.0),
     ("primal_s", float("inf")), ("ils_iterations", -5), ("cuts_max", True),
     ("cut_depth", -1), ("primal_every", 0), ("strong", 0), ("strong", 1.5), ("half_tables", 1),
-    ("enum_labels", -1), ("enum_routes", 2.5), ("enum_mip_s", -1.0),
+    ("enum_labels", -1), ("enum_routes", 2.5), ("enum_mip_s", -1.0), ("fix_arcs", 0),
 ])
 def test_a_bad_value_names_its_field(field: str, value: Any) -> None:
     with pytest.raises(InvalidInputError, match=field):
