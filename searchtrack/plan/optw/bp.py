@@ -29,8 +29,9 @@
   on the pooled master; best bound first.
 * **Enumeration** (:mod:`~searchtrack.plan.optw.bp_enumeration`): once a node's gap is small,
   every route that can be part of a better plan is listed and a set packing settles the node.
-  Before it, at the root, the arcs no such route uses are fixed out of pricing
-  (:mod:`~searchtrack.plan.optw.bp_fixing`).
+  With :attr:`Tuning.fix_arcs` the arcs no such route uses are first fixed out of pricing at
+  the root (:mod:`~searchtrack.plan.optw.bp_fixing`); off by default: on the Cordeau
+  instances the arcs it fixes are those the pricing's completion bounds prune already.
 
 A stopped solve reports its best plan with the largest bound of the open nodes.
 """

@@ -38,7 +38,7 @@ class Tuning:
     enum_labels: int = 4_000_000  # route enumeration's label budget at a node (0: off)
     enum_routes: int = 200_000  # most routes it may list for the set packing
     enum_mip_s: float = 30.0  # CP-SAT's time on that set packing
-    fix_arcs: bool = True  # fix the arcs no route of a better plan uses, after the root
+    fix_arcs: bool = False  # fix the arcs no route of a better plan uses, after the root
 
     def __post_init__(self) -> None:
         real("smoothing", self.smoothing, low=0.0, high=1.0, high_open=True)

@@ -182,10 +182,12 @@ def test_profits_in_steps_round_the_bound() -> None:
     Tuning(**QUIET, bidirectional=False),
     Tuning(**QUIET, smoothing=0.9, collect=1),
     Tuning(**QUIET, half_tables=True),
-], ids=["guided", "plain", "whole-passes", "one-column", "bounded-halves"])
+    Tuning(**(QUIET | {"enum_labels": 1 << 20}), fix_arcs=True),
+], ids=["guided", "plain", "whole-passes", "one-column", "bounded-halves", "fixed-arcs"])
 def test_tuning_variants_agree(tuning: Tuning) -> None:
     """Guided heuristic pricing, no smoothing or table pass, whole (one-direction) passes, one
-    column per call, half passes bounded by table passes: same optima."""
+    column per call, half passes bounded by table passes, arcs fixed at the root before
+    enumeration: same optima."""
     for seed in (0, 1, 8):
         inst = grid_instance(seed, 13, 2)
         res = solve_bp(inst, time_limit_s=20, tuning=tuning)

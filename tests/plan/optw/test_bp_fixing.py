@@ -78,7 +78,7 @@ def test_branch_and_price_with_fixed_arcs_at_the_optimum() -> None:
     branch on the fixed graphs): every answer is the brute-force optimum, and arcs were
     fixed."""
     tuning = Tuning(ils_max_s=0.02, primal_s=0.0, ils_again_max_s=0.0, cuts_per_round=0,
-                    enum_labels=0)
+                    enum_labels=0, fix_arcs=True)
     fixed = 0.0
     for seed in range(12):
         for vehicles in (2, 3):
