@@ -140,7 +140,7 @@ def test_without_figures_the_drawn_ones_are_left_out(monkeypatch: pytest.MonkeyP
     assert GALLERY.on_page_markdown(page, None, None, None) == page
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")  # one build per worker, whatever runs between its tests
 def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The site built by ``mkdocs build --strict`` (every warning is an error) into a tmp dir."""
     missing = _missing_tools()
