@@ -12,10 +12,11 @@ import pytest
 
 from searchtrack.core.errors import InvalidInputError
 from searchtrack.core.interrupt import clear_stop, request_stop
-from searchtrack.core.result import Status
+from searchtrack.core.result import Result, Status
 from searchtrack.plan.optw import OPTWInstance, read_optw, validate
 from searchtrack.plan.optw.bp import Tuning, solve_bp
 from searchtrack.plan.optw.bp_master import LPSolution, Master
+from searchtrack.plan.optw.instance import Routes
 from searchtrack.plan.optw.labelling import warm_up
 from tests.plan.optw.catalogue import brute_force, catalogue
 from tests.plan.optw.small import random_instance
@@ -101,6 +102,20 @@ def grid_instance(seed: int, n: int, vehicles: int) -> OPTWInstance:
     return OPTWInstance.from_coordinates(
         xy, profit, service, opn, close, decimals=1, end=end,
         tmax=float(rng.integers(40, 100)), vehicles=vehicles, name=f"grid-{seed}")
+
+
+def branching_optima(tuning: Tuning) -> list[Result[Routes]]:
+    """Solve the twelve-customer wide-window instances (seeds 0–11, two and three vehicles)
+    with ``tuning``; each answer must be the brute-force optimum, proven."""
+    out = []
+    for seed in range(12):
+        for vehicles in (2, 3):
+            inst = grid_instance(seed, 13, vehicles)
+            res = solve_bp(inst, time_limit_s=20, tuning=tuning)
+            assert res.status is Status.OPTIMAL
+            assert res.objective == pytest.approx(fast_brute(inst))
+            out.append(res)
+    return out
 
 
 def _check(inst: OPTWInstance, best: float, tuning: Tuning = FAST) -> float:

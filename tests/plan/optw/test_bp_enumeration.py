@@ -20,7 +20,7 @@ from searchtrack.plan.optw.instance import OPTWInstance
 from searchtrack.plan.optw.labelling import warm_up
 from searchtrack.plan.optw.labelling_core import CAP_MAX, build_cores
 from tests.plan.optw.small import elementary_paths, random_instance
-from tests.plan.optw.test_bp import fast_brute, grid_instance
+from tests.plan.optw.test_bp import branching_optima, fast_brute, grid_instance
 
 QUIET = Tuning(ils_max_s=0.02, primal_s=0.0, ils_again_max_s=0.0)
 
@@ -138,15 +138,10 @@ def test_branch_and_price_settles_nodes_at_the_optimum() -> None:
     enumeration settled some of the nodes."""
     tuning = Tuning(ils_max_s=0.02, primal_s=0.0, ils_again_max_s=0.0, cuts_per_round=0)
     settled = 0.0
-    for seed in range(12):
-        for vehicles in (2, 3):
-            inst = grid_instance(seed, 13, vehicles)
-            res = solve_bp(inst, time_limit_s=20, tuning=tuning)
-            assert res.status is Status.OPTIMAL
-            assert res.objective == pytest.approx(fast_brute(inst))
-            settled += res.stats.get("enum_settled", 0.0)
-            said = "settled by route enumeration" in res.message
-            assert said == bool(res.stats.get("enum_settled", 0.0)), res.message
+    for res in branching_optima(tuning):
+        settled += res.stats.get("enum_settled", 0.0)
+        said = "settled by route enumeration" in res.message
+        assert said == bool(res.stats.get("enum_settled", 0.0)), res.message
     assert settled >= 3
 
 
