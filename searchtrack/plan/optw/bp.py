@@ -367,7 +367,8 @@ def _run(tree: Tree, root: _Node) -> Result[Routes]:
             tree.primal()
         if nodes == 1 and not tree.pruned(current.bound):
             tree.again()
-        if nodes == 1 and t.fix_arcs and current.duals is not None:
+        if (nodes == 1 and t.fix_arcs and current.duals is not None
+                and not tree.pruned(current.bound)):
             fix_arcs(tree, current.duals)
         if tree.pruned(current.bound) or (
                 current.duals is not None and close_node(tree, current.restr, current.duals)):

@@ -45,7 +45,7 @@ from searchtrack.core.kernel_cache import follow_callees
 from searchtrack.plan.optw.bp_cuts import masks
 from searchtrack.plan.optw.bp_master import Path, Restrictions
 from searchtrack.plan.optw.bp_primal import packing
-from searchtrack.plan.optw.labelling_core import CAP_MAX, MAX_BUCKETS, Core, CutMasks
+from searchtrack.plan.optw.labelling_core import CAP_MAX, Core, CutMasks, bucket_width
 from searchtrack.plan.optw.labelling_primitives import clock, completion, sig_of
 
 if TYPE_CHECKING:
@@ -65,6 +65,12 @@ class Duals:
     sigma: NDArray[np.float64]  # of the master's first len(sigma) cuts
     upper: float
     lagrangian: float
+
+    def reduced(self, prof: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The core profits ``prof`` less ``π`` (0 at the source and the sink)."""
+        out = np.zeros(prof.size)
+        out[1:-1] = prof[1:-1] - self.pi[1:-1]
+        return out
 
 
 def close_node(tree: Tree, restr: Restrictions, duals: Duals) -> bool:
@@ -97,10 +103,9 @@ def close_node(tree: Tree, restr: Restrictions, duals: Duals) -> bool:
 def _settle(tree: Tree, restr: Restrictions, duals: Duals) -> bool:
     t, fwd, d = tree.tuning, tree.fwd, tree.deadline
     theta = threshold(duals.upper, duals.lagrangian, tree.value, tree.step)
-    prof = np.zeros(fwd.n)
-    prof[1:-1] = fwd.prof[1:-1] - duals.pi[1:-1]
     cuts = tree.master.cuts[:duals.sigma.size]
-    core, idx, table = tree.pricer.completion_table(tree.pricer.node_dur(restr), prof, theta,
+    core, idx, table = tree.pricer.completion_table(tree.pricer.node_dur(restr),
+                                                    duals.reduced(fwd.prof), theta,
                                                     forbidden=restr.forbidden, cap=CAP_MAX,
                                                     deadline=d)
     if table is None:
@@ -320,7 +325,7 @@ def enumerate_routes(core: Core, table: NDArray[np.float64], theta: float, *, la
         ``None`` when a budget or the deadline ran out first.
     """
     words = (core.n + 63) // 64
-    width = max(1, math.ceil((core.horizon + 1) / MAX_BUCKETS))  # as the table's pass
+    width = bucket_width(core.horizon)
     if cuts is None:
         cut_s = cut_m = np.zeros((core.n, 0), dtype=np.uint64)
         sig = np.zeros(0)

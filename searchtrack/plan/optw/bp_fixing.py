@@ -11,7 +11,7 @@ profit table of the backward pass), cut costs left out since they only lower it.
 
 Fixed arcs break the shortcut that lets pricing drop a customer of non-positive reduced profit
 (:func:`~searchtrack.plan.optw.bp_pricing.droppable`), so a customer stays droppable only
-while every shortcut around it is still an arc (:meth:`Pricer.fix`).
+while every shortcut around it is still an arc (:func:`leave_out`).
 """
 
 from __future__ import annotations
@@ -24,39 +24,53 @@ import numpy as np
 from numba import njit
 from numpy.typing import NDArray
 
-from searchtrack.core.deadline import Deadline
 from searchtrack.core.kernel_cache import follow_callees
 from searchtrack.plan.optw.bp_enumeration import Duals, threshold
 from searchtrack.plan.optw.bp_master import Restrictions
-from searchtrack.plan.optw.labelling_core import BIG, CAP_MAX, MAX_BUCKETS, Core, run_pass
+from searchtrack.plan.optw.labelling_core import BIG, CAP_MAX, Core, PassResult, bucket_width
 from searchtrack.plan.optw.labelling_kernels import DONE
 from searchtrack.plan.optw.labelling_primitives import completion
 
 if TYPE_CHECKING:
     from searchtrack.plan.optw.bp import Tree
+    from searchtrack.plan.optw.bp_pricing import Pricer
 
-__all__ = ["fix_arcs", "fixable_arcs"]
+__all__ = ["fix_arcs", "fixable_arcs", "leave_out"]
 
 
 def fix_arcs(tree: Tree, duals: Duals) -> None:
     """Fix the arcs no route of a better plan can use, at the root's duals ``duals``
-    (:meth:`~searchtrack.plan.optw.bp_pricing.Pricer.fix`)."""
+    (:func:`leave_out`)."""
     if tree.value == -math.inf:
         return
     t0 = time.perf_counter()
-    fwd = tree.fwd
-    prof = np.zeros(fwd.n)
-    prof[1:-1] = fwd.prof[1:-1] - duals.pi[1:-1]
-    core, rev, idx, ng = tree.pricer.graphs(tree.pricer.node_dur(Restrictions()), prof,
-                                            frozenset())
+    fwd, pricer = tree.fwd, tree.pricer
+    core, rev, idx, ng = pricer.graphs(pricer.node_dur(Restrictions()), duals.reduced(fwd.prof),
+                                       frozenset())
     theta = threshold(duals.upper, duals.lagrangian, tree.value, tree.step)
-    arcs = fixable_arcs(core, rev, ng, theta, tree.deadline)
+    ahead, back = (pricer.bound_pass(g, ng, theta, CAP_MAX, tree.deadline) for g in (core, rev))
+    arcs = fixable_arcs(core, ahead, back, theta)
     if arcs is not None:
         full = np.zeros((fwd.n, fwd.n), dtype=bool)
         full[np.ix_(idx, idx)] = arcs
-        tree.pricer.fix(full)
+        leave_out(pricer, full)
         tree.stats["fixed_arcs"] = float(tree.pricer.fixed.sum())
     tree.tick("fixing_s", t0)
+
+
+def leave_out(pricer: Pricer, arcs: NDArray[np.bool_]) -> None:
+    """Leave the arcs ``arcs`` out of every later pricing graph of ``pricer``
+    (:attr:`~searchtrack.plan.optw.bp_pricing.Pricer.fixed`); a customer stays droppable only
+    while every shortcut ``i → k`` around it (``i → j`` and ``j → k`` arcs) is still an arc,
+    else leaving it out could lose a route."""
+    pricer.fixed |= arcs
+    arc = (pricer.fwd.dur < BIG) & ~pricer.fixed
+    src, snk = pricer.fwd.src, pricer.fwd.snk
+    for j in np.flatnonzero(pricer.drop_ok).tolist():
+        into, out = np.flatnonzero(arc[:, j]), np.flatnonzero(arc[j, :])
+        short = arc[np.ix_(into, out)] | (into[:, None] == out[None, :])
+        short |= (into[:, None] == src) & (out[None, :] == snk)  # as :func:`droppable`
+        pricer.drop_ok[j] = bool(short.all())
 
 
 @njit(cache=True)
@@ -87,22 +101,20 @@ def _useless(  # type: ignore[no-untyped-def]
     return out
 
 
-def fixable_arcs(fwd: Core, rev: Core, ng: NDArray[np.uint64], theta: float,
-                 deadline: Deadline) -> NDArray[np.bool_] | None:
+def fixable_arcs(fwd: Core, ahead: PassResult, back: PassResult,
+                 theta: float) -> NDArray[np.bool_] | None:
     """The arcs of ``fwd`` (a node's graph on reduced profits) through which no route reaches
-    ``theta``, from a forward and a backward labelling pass on the ng-sets ``ng``; ``None``
-    when a pass did not finish."""
-    bprof = np.maximum(fwd.prof, 0.0)
-    passes = [run_pass(core, ng, None, lb=theta, gap=0.0, cap=CAP_MAX, deadline=deadline,
-                       collect=1 << 62, bprof=bprof) for core in (fwd, rev)]
-    if any(p.code != DONE for p in passes):
+    ``theta``, from a forward and a backward pass on it that kept every label able to reach
+    ``theta`` (:meth:`~searchtrack.plan.optw.bp_pricing.Pricer.bound_pass`); ``None`` when a
+    pass did not finish."""
+    if ahead.code != DONE or back.code != DONE:
         return None
-    own = passes[0].own.copy()
-    width = max(1, math.ceil((fwd.horizon + 1) / MAX_BUCKETS))  # as the passes
+    own = ahead.own.copy()
+    width = bucket_width(fwd.horizon)
     start = min(int(fwd.opn[fwd.src]) // width, own.shape[1] - 1)
     own[fwd.src, start] = max(own[fwd.src, start], 0.0)  # the empty path at the source
     return np.asarray(_useless(fwd.dur, fwd.succ_ptr, fwd.succ, fwd.opn, fwd.cls, fwd.prof, own,
-                               passes[1].table(), fwd.horizon, width, theta, fwd.snk, BIG),
+                               back.table(), fwd.horizon, width, theta, fwd.snk, BIG),
                       dtype=np.bool_)
 
 

@@ -337,19 +337,6 @@ class Pricer:
         self.stats["table_passes"] = self.stats.get("table_passes", 0.0) + 1
         return out.table() if out.code == DONE else None
 
-    def fix(self, arcs: NDArray[np.bool_]) -> None:
-        """Leave the arcs ``arcs`` out of every later pricing graph; a customer stays droppable
-        only while every shortcut ``i → k`` around it (``i → j`` and ``j → k`` arcs) is still
-        an arc, else leaving it out could lose a route."""
-        self.fixed |= arcs
-        arc = (self.fwd.dur < BIG) & ~self.fixed
-        src, snk = self.fwd.src, self.fwd.snk
-        for j in np.flatnonzero(self.drop_ok).tolist():
-            into, out = np.flatnonzero(arc[:, j]), np.flatnonzero(arc[j, :])
-            short = arc[np.ix_(into, out)] | (into[:, None] == out[None, :])
-            short |= (into[:, None] == src) & (out[None, :] == snk)  # as :func:`droppable`
-            self.drop_ok[j] = bool(short.all())
-
     def graphs(self, dur: NDArray[np.int64], prof: NDArray[np.float64],
                forbidden: frozenset[int]
                ) -> tuple[Core, Core, NDArray[np.intp], NDArray[np.uint64]]:
@@ -371,9 +358,16 @@ class Pricer:
         ``floor``: a bound on the completions of any path that can still reach it (``None``
         when the pass did not finish)."""
         fwd, rev, idx, ng = self.graphs(dur, prof, forbidden)
-        out = self._pass(rev, ng, None, floor, 0.0, cap, 1 << 62, np.maximum(fwd.prof, 0.0),
-                         deadline)
+        out = self.bound_pass(rev, ng, floor, cap, deadline)
         return fwd, idx, out.table() if out.code == DONE else None
+
+    def bound_pass(self, core: Core, ng: NDArray[np.uint64], floor: float, cap: int,
+                   deadline: Deadline) -> PassResult:
+        """A whole pass on ``core`` (a graph of :meth:`graphs`) with the ng-sets ``ng``, no
+        cuts, every label kept that can reach ``floor``: its profit tables bound every path
+        through a vertex at a time, for enumeration and arc fixing."""
+        return self._pass(core, ng, None, floor, 0.0, cap, 1 << 62, np.maximum(core.prof, 0.0),
+                          deadline)
 
     def _ng(self, fwd: Core, idx: NDArray[np.intp]) -> NDArray[np.uint64]:
         """The ng-sets of exact pricing on the vertices ``idx``: every customer when they are

@@ -280,6 +280,12 @@ class PassResult:
         return np.maximum.accumulate(self.own, axis=1)
 
 
+def bucket_width(horizon: int) -> int:
+    """Time ticks per bucket of a pass's profit table (at most :data:`MAX_BUCKETS` buckets):
+    what a reader of :attr:`PassResult.own` or :meth:`PassResult.table` must bucket by."""
+    return max(1, math.ceil((horizon + 1) / MAX_BUCKETS))
+
+
 def run_pass(core: Core, ng: NDArray[np.uint64], table: NDArray[np.float64] | None, *,
              lb: float, gap: float, cap: int, deadline: Deadline, ub: float = math.inf,
              collect: int = 0, bprof: NDArray[np.float64] | None = None,
@@ -318,7 +324,7 @@ def run_pass(core: Core, ng: NDArray[np.uint64], table: NDArray[np.float64] | No
     room
         Labels the store starts with; it grows as needed, and the result does not depend on it.
     """
-    width = max(1, math.ceil((core.horizon + 1) / MAX_BUCKETS))
+    width = bucket_width(core.horizon)
     buckets = core.horizon // width + 1
     out = K.label_pass(
         core.dur, core.succ_ptr, core.succ, core.opn, core.cls, core.prof, ng,

@@ -11,11 +11,11 @@ import pytest
 
 from searchtrack.core.deadline import Deadline
 from searchtrack.plan.optw.bp import Tuning
-from searchtrack.plan.optw.bp_fixing import fixable_arcs
+from searchtrack.plan.optw.bp_fixing import fixable_arcs, leave_out
 from searchtrack.plan.optw.bp_master import Restrictions
 from searchtrack.plan.optw.bp_pricing import Pricer, droppable
 from searchtrack.plan.optw.labelling import warm_up
-from searchtrack.plan.optw.labelling_core import BIG, build_cores
+from searchtrack.plan.optw.labelling_core import BIG, CAP_MAX, build_cores
 from tests.plan.optw.small import elementary_paths, random_instance
 from tests.plan.optw.test_bp import branching_optima, grid_instance
 
@@ -42,7 +42,9 @@ def test_no_fixed_arc_carries_a_good_route() -> None:
         value = {p: float(core.prof[list(p[1:-1])].sum()) for p in paths}
         for quantile in (0.0, 0.5, 0.9, 1.0):
             theta = float(np.quantile(list(value.values()), quantile)) - 1e-7
-            arcs = fixable_arcs(core, rev, ng, theta, Deadline(30))
+            ahead, back = (pricer.bound_pass(g, ng, theta, CAP_MAX, Deadline(30))
+                           for g in (core, rev))
+            arcs = fixable_arcs(core, ahead, back, theta)
             assert arcs is not None
             used = {a for p in paths if value[p] >= theta for a in itertools.pairwise(p)}
             assert not any(arcs[a] for a in used), (seed, quantile)
@@ -66,7 +68,7 @@ def test_a_customer_stays_droppable_only_with_its_shortcuts() -> None:
     pricer = Pricer(fwd, drop.copy())
     cut = np.zeros_like(arc)
     cut[pairs[0]] = True
-    pricer.fix(cut)
+    leave_out(pricer, cut)
     assert not pricer.drop_ok[j]
     assert pricer.node_dur(Restrictions())[pairs[0]] == BIG
     assert pricer.drop_ok.sum() < drop.sum()
