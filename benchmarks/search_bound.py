@@ -5,7 +5,8 @@
 
 MOC over a run counts each target from the step it is first validly tracked. Before a target is
 found it cannot be tracked, so the whole-run MOC is capped by how fast the fleet can cover the
-road. This script estimates that cap under idealisations that all favour the search
+road. This script estimates that cap under idealisations that favour the search (all but the
+targets standing still, which cuts both ways)
 (``searchtrack.sim.roads.search_cap``):
 
 - targets stand still where they start (uniform over the road length, as the missions spawn

@@ -2,7 +2,9 @@
 
 A target counts toward MOC (thesis 001 (6.8)) only from the step it is first validly tracked, so
 the whole-run MOC is capped by how fast the fleet can cover the road. :func:`ideal_sweep_moc`
-estimates that cap under idealisations that all favour the search:
+estimates that cap under idealisations that favour the search (all but the targets standing
+still, which cuts both ways: a driving target can enter road already searched or drive into
+view from road not yet searched):
 
 - the targets stand still where they start (uniform over the road length, as
   :meth:`~searchtrack.models.targets.CourierMotion.spawn` places them), are found the instant a
