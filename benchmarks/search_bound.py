@@ -15,9 +15,10 @@ targets standing still, which cuts both ways)
   model (6.7), the Dubins speed limit), the fleet's starting footprints count as covered, and the
   lanes fill the squares of side ``2ρ`` holding the most road first, with no overlap, no turns
   and no travel between squares (the best of ``offsets × offsets`` grid placements);
-- "all search": every UAV searches to the end. "one holds each": a found target takes one UAV
-  out of the search (the loiter strategies hold each found target with a UAV), which is what
-  the missions do.
+- "all search" (the cap): every UAV searches to the end. "one holds each": a found target takes
+  one UAV out of the search, a strict reading of the loiter strategies (one UAV per tracker);
+  not a cap, since a holding UAV's footprint follows its target over new road and sees the
+  targets that drive through it.
 
 The expected MOC under these idealisations is averaged over ``samples`` draws of the targets'
 positions (seeded), which places each along the fleet's coverage order.

@@ -13,8 +13,10 @@ view from road not yet searched):
   (``π ρ²`` each) count as covered, and the lanes fill the squares of side ``2ρ`` holding the
   most road first, with no overlap, no turns and no travel between squares
   (:func:`densest_road_curve`, the pointwise best of several grid placements);
-- with ``hold``, each found target takes one UAV out of the search (the loiter strategies pair
-  one UAV with each tracker), otherwise every UAV searches to the end.
+- every UAV searches to the end (the cap); or, with ``hold``, each found target takes one UAV out
+  of the search, a strict reading of the loiter strategies (one UAV per tracker). That variant
+  is not a cap: a holding UAV's footprint follows its target over new road and sees the
+  targets that drive through it.
 
 Under these assumptions the fleet covers the road in one fixed order and a target at coverage
 area ``a`` is found when the swept area reaches ``a`` (:func:`find_times`); the expected MOC is
@@ -81,7 +83,7 @@ def find_times(area_m2: FloatArray, *, uavs: int, start_m2: float, rate_m2_s: fl
 
 
 def ideal_sweep_moc(network: RoadNetwork, *, uavs: int, targets: int, footprint_radius_m: float,
-                    speed_mps: float, duration_s: float, hold: bool = True, offsets: int = 4,
+                    speed_mps: float, duration_s: float, hold: bool = False, offsets: int = 4,
                     samples: int = 200_000, seed: int = 0) -> tuple[float, FloatArray]:
     """``(moc, covered_at)``: the expected whole-run MOC of the ideal sweep (module docstring)
     over ``samples`` seeded draws of the targets' positions, and ``covered_at(t)``, the road
