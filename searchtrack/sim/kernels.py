@@ -30,7 +30,7 @@ import numpy as np
 
 from searchtrack.core.registry import Registry
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
-from searchtrack.plan.optw.solve import ILS_KERNELS, LABELLING_KERNELS
+from searchtrack.plan.optw.solve import BP_KERNELS, ILS_KERNELS, LABELLING_KERNELS
 
 log = logging.getLogger(__name__)
 
@@ -45,6 +45,12 @@ def _warm_optw_labelling() -> None:
     from searchtrack.plan.optw import labelling
 
     labelling.warm_up()
+
+
+def _warm_optw_bp() -> None:
+    from searchtrack.plan.optw import bp_warm_up
+
+    bp_warm_up.warm_up()
 
 
 def _warm_simplex() -> None:
@@ -142,6 +148,10 @@ KERNEL_SETS: dict[str, KernelSet] = {s.name: s for s in (
               ("searchtrack.plan.optw.labelling_kernels",
                "searchtrack.plan.optw.labelling_primitives"),
               _warm_optw_labelling),
+    KernelSet(BP_KERNELS, "OPTW branch-and-price: pricing join, route enumeration, arc fixing",
+              ("searchtrack.plan.optw.labelling_join", "searchtrack.plan.optw.bp_enumeration",
+               "searchtrack.plan.optw.bp_fixing"),
+              _warm_optw_bp),
     KernelSet("simplex", "network simplex (EMD association)",
               ("searchtrack.estimate.transport.simplex_kernels",
                "searchtrack.estimate.transport.dijkstra_kernels",

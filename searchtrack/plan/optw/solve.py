@@ -85,8 +85,9 @@ def _auto(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Route
                                 heuristic_limit_s=heuristic_share(time_limit_s), tol=_TOL)
 
 
-#: The kernel sets of the ILS and of the labelling DP (``searchtrack warm-up`` names).
-ILS_KERNELS, LABELLING_KERNELS = "optw-ils", "optw-labelling"
+#: The kernel sets of the ILS, the labelling DP and branch-and-price (``searchtrack warm-up``
+#: names).
+ILS_KERNELS, LABELLING_KERNELS, BP_KERNELS = "optw-ils", "optw-labelling", "optw-bp"
 
 _WARMED: set[str] = set()
 
@@ -105,6 +106,10 @@ def warm_up(backend: str) -> None:
             from searchtrack.plan.optw import ils
 
             ils.warm_up()
+        elif kernel == BP_KERNELS:
+            from searchtrack.plan.optw import bp_warm_up
+
+            bp_warm_up.warm_up()
         else:
             from searchtrack.plan.optw import labelling
 
@@ -121,7 +126,8 @@ BACKENDS: Registry[OPTWInstance, Routes] = Registry(
     "optw", validator=lambda instance, result, seed: answer_problems(instance, result))
 BACKENDS.register(Backend("auto", _auto, True,
                           "ILS answer at once, then labelling (m = 1) or branch-and-price "
-                          "(m ≥ 2) to prove it", kernels=(ILS_KERNELS, LABELLING_KERNELS)))
+                          "(m ≥ 2) to prove it",
+                          kernels=(ILS_KERNELS, LABELLING_KERNELS, BP_KERNELS)))
 BACKENDS.register(Backend("ils", _ils, False, "iterated local search (Vansteenwegen et al. 2009+)",
                           kernels=(ILS_KERNELS,)))
 BACKENDS.register(Backend("labelling", _labelling, True,
@@ -130,7 +136,7 @@ BACKENDS.register(Backend("labelling", _labelling, True,
 BACKENDS.register(Backend("cpsat", _cpsat, True, "OR-Tools CP-SAT circuit model"))
 BACKENDS.register(Backend("bp", _bp, True,
                           "branch-and-price on route columns (Boussier, Feillet & Gendreau 2007)",
-                          kernels=(ILS_KERNELS, LABELLING_KERNELS)))
+                          kernels=(ILS_KERNELS, LABELLING_KERNELS, BP_KERNELS)))
 BACKENDS.register(Backend("mip", _mip, True, "integer program (5.17)–(5.26) with OR-Tools SCIP"))
 
 
