@@ -3,6 +3,10 @@ arc fixing, so that none compiles inside a timed solve."""
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
+
 from searchtrack.plan.optw import bp_enumeration, bp_fixing, bp_warm_up, labelling_join
 from searchtrack.plan.optw.solve import BACKENDS, BP_KERNELS
 from searchtrack.sim.kernels import KERNEL_SETS, is_cold
@@ -30,3 +34,17 @@ def test_the_small_instance_is_a_two_vehicle_team_problem() -> None:
     inst = bp_warm_up.small_instance()
     assert inst.vehicles == 2
     assert inst.customers.size == 12
+
+
+def test_auto_on_one_vehicle_leaves_the_set_alone() -> None:
+    """``auto`` proves one vehicle by the labelling DP, so its warm-up skips the set there; on
+    two vehicles, and for ``bp`` on one, it readies it (each in a fresh process)."""
+    code = ("import importlib, json, sys\n"
+            "solve = importlib.import_module('searchtrack.plan.optw.solve')\n"
+            "solve.warm_up(sys.argv[1], int(sys.argv[2]))\n"
+            "print(json.dumps(sorted(solve._WARMED)))")
+    for backend, vehicles, warmed in (("auto", 1, False), ("auto", 2, True), ("bp", 1, True)):
+        done = subprocess.run([sys.executable, "-c", code, backend, str(vehicles)],
+                              capture_output=True, text=True, timeout=600, check=True)
+        sets = json.loads(done.stdout.strip().splitlines()[-1])
+        assert (BP_KERNELS in sets) is warmed, (backend, vehicles, sets)
