@@ -65,6 +65,9 @@ class Replay:
     heat: tuple[HeatFrame, ...]
 
 
+_INT_LIMIT = 2.0**53
+"""Integer fields hold whole numbers of magnitude below this: exact as floats, and in int64."""
+
 _NUMBERS = np.frompyfunc(lambda v: isinstance(v, (int, float, np.integer, np.floating))
                          and not isinstance(v, bool), 1, 1)
 
@@ -92,7 +95,8 @@ class _Reader(JsonFields):
         if not bad.any():
             with np.errstate(over="ignore"):
                 x = leaves.astype(np.float64)
-            bad = ~np.isfinite(x) | (x < low) | (x > high) | (integer & (x != np.round(x)))
+            whole = (x == np.round(x)) & (np.abs(x) < _INT_LIMIT)
+            bad = ~np.isfinite(x) | (x < low) | (x > high) | (integer & ~whole)
         if bad.any():
             where = tuple(int(i) for i in np.argwhere(bad)[0])
             raise self.fail(field + "".join(f"[{i}]" for i in where),

@@ -214,6 +214,7 @@ BAD = [
     ("moc.3", 1.5, "moc[3]", "fractions"),
     ("trackers.0", True, "trackers[0]", "True"),
     ("valid_trackers.0", 0.5, "valid_trackers[0]", "counts"),
+    ("valid_trackers.1", 1e19, "valid_trackers[1]", "counts"),
     ("time_s", [], "time_s", "is empty"),
     ("tracks", [], "tracks", "one per step"),
     ("heat.frames", [], "heat.frames", "non-empty"),
