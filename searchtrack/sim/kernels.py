@@ -17,6 +17,7 @@ compiles are those the registered backends list plus the estimators' (:func:`war
 from __future__ import annotations
 
 import dataclasses
+import functools
 import importlib
 import logging
 import multiprocessing
@@ -30,27 +31,9 @@ import numpy as np
 
 from searchtrack.core.registry import Registry
 from searchtrack.plan.optw.solve import BACKENDS as OPTW_BACKENDS
-from searchtrack.plan.optw.solve import BP_KERNELS, ILS_KERNELS, LABELLING_KERNELS
+from searchtrack.plan.optw.solve import BP_KERNELS, ILS_KERNELS, LABELLING_KERNELS, warm_set
 
 log = logging.getLogger(__name__)
-
-
-def _warm_optw_ils() -> None:
-    from searchtrack.plan.optw import ils
-
-    ils.warm_up()
-
-
-def _warm_optw_labelling() -> None:
-    from searchtrack.plan.optw import labelling
-
-    labelling.warm_up()
-
-
-def _warm_optw_bp() -> None:
-    from searchtrack.plan.optw import bp_warm_up
-
-    bp_warm_up.warm_up()
 
 
 def _warm_simplex() -> None:
@@ -143,11 +126,11 @@ ROAD_FILTER_KERNELS, RADIO_KERNELS, PHD_KERNELS = "road-filter", "radio", "phd"
 KERNEL_SETS: dict[str, KernelSet] = {s.name: s for s in (
     KernelSet(ILS_KERNELS, "OPTW iterated local search",
               ("searchtrack.plan.optw.ils_kernels", "searchtrack.plan.optw.ils_search"),
-              _warm_optw_ils),
+              functools.partial(warm_set, ILS_KERNELS)),
     KernelSet(LABELLING_KERNELS, "OPTW labelling DP",
               ("searchtrack.plan.optw.labelling_kernels",
                "searchtrack.plan.optw.labelling_primitives"),
-              _warm_optw_labelling),
+              functools.partial(warm_set, LABELLING_KERNELS)),
     KernelSet("simplex", "network simplex (EMD association)",
               ("searchtrack.estimate.transport.simplex_kernels",
                "searchtrack.estimate.transport.dijkstra_kernels",
@@ -168,7 +151,7 @@ KERNEL_SETS: dict[str, KernelSet] = {s.name: s for s in (
     KernelSet(BP_KERNELS, "OPTW branch-and-price: pricing join, route enumeration, arc fixing",
               ("searchtrack.plan.optw.labelling_join", "searchtrack.plan.optw.bp_enumeration",
                "searchtrack.plan.optw.bp_fixing"),
-              _warm_optw_bp),
+              functools.partial(warm_set, BP_KERNELS)),
 )}
 """Every kernel set of the library, by name."""
 

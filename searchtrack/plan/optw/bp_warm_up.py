@@ -14,6 +14,7 @@ from searchtrack.plan.optw.bp_fixing import fixable_arcs
 from searchtrack.plan.optw.bp_pricing import Pricer, droppable
 from searchtrack.plan.optw.instance import OPTWInstance
 from searchtrack.plan.optw.labelling_core import CAP_MAX, build_cores
+from searchtrack.plan.optw.labelling_kernels import DONE
 
 __all__ = ["small_instance", "warm_up"]
 
@@ -43,12 +44,11 @@ def warm_up() -> None:
         pricer.price(fwd.dur, fwd.prof, 0.0, 0.0, drop=False, forbidden=frozenset(),
                      collect=10, cap=CAP_MAX, deadline=deadline, cuts=priced_cuts,
                      sigma=np.ones(len(priced_cuts)))
-    core, idx, table = pricer.completion_table(fwd.dur, fwd.prof, 0.0, forbidden=frozenset(),
-                                               cap=CAP_MAX, deadline=deadline)
-    if table is not None:
-        for cuts in (None, masks([cut], np.ones(1), idx)):
-            enumerate_routes(core, table, 0.0, labels=1 << 20, routes=1 << 20,
-                             deadline=deadline, cuts=cuts)
-    core, rev, _, ng = pricer.graphs(fwd.dur, fwd.prof, frozenset())
+    # the passes behind enumeration's completion table and arc fixing, run once for both
+    core, rev, idx, ng = pricer.graphs(fwd.dur, fwd.prof, frozenset())
     ahead, back = (pricer.bound_pass(g, ng, 0.0, CAP_MAX, deadline) for g in (core, rev))
+    if back.code == DONE:
+        for cuts in (None, masks([cut], np.ones(1), idx)):
+            enumerate_routes(core, back.table(), 0.0, labels=1 << 20, routes=1 << 20,
+                             deadline=deadline, cuts=cuts)
     fixable_arcs(core, ahead, back, 0.0)

@@ -9,6 +9,7 @@ loads answers without it (``auto``: the ILS's answer).
 
 from __future__ import annotations
 
+import importlib
 import logging
 import time
 
@@ -71,13 +72,19 @@ def heuristic_share(time_limit_s: float) -> float:
     return min(1.0, 0.5 * time_limit_s, max(0.02, 0.1 * time_limit_s))
 
 
+def _prover(inst: OPTWInstance) -> str:
+    """The backend ``auto`` proves ``inst`` with: the labelling DP on one vehicle, else
+    branch-and-price."""
+    return "labelling" if inst.vehicles == 1 else "bp"
+
+
 def _auto(inst: OPTWInstance, *, time_limit_s: float, seed: int) -> Result[Routes]:
     from searchtrack.plan.optw.ils import solve_ils
     from searchtrack.plan.optw.labelling import solve_labelling
 
     def exact(problem: OPTWInstance, first: Result[Routes], limit_s: float,
               seed: int) -> Result[Routes]:
-        if problem.vehicles == 1:
+        if _prover(problem) == "labelling":
             return solve_labelling(problem, time_limit_s=limit_s, seed=seed, initial=first.plan)
         return _bp(problem, time_limit_s=limit_s, seed=seed, initial=first.plan)
 
@@ -92,29 +99,28 @@ ILS_KERNELS, LABELLING_KERNELS, BP_KERNELS = "optw-ils", "optw-labelling", "optw
 _WARMED: set[str] = set()
 
 
-def warm_up(backend: str, vehicles: int | None = None) -> None:
-    """Compile (or load from numba's cache) the kernels ``backend`` needs, once per process
-    (for ``auto`` on ``vehicles`` = 1 not branch-and-price's: it proves by the labelling DP).
+def warm_set(kernel: str) -> None:
+    """Compile (or load from numba's cache) the kernel set ``kernel`` (one of the names above)
+    through its module's ``warm_up``, which solves a small instance."""
+    module = {ILS_KERNELS: "ils", LABELLING_KERNELS: "labelling", BP_KERNELS: "bp_warm_up"}[kernel]
+    importlib.import_module(f"searchtrack.plan.optw.{module}").warm_up()
+
+
+def warm_up(backend: str, instance: OPTWInstance | None = None) -> None:
+    """Compile (or load from numba's cache) the kernels ``backend`` needs, once per process;
+    for ``auto`` given the ``instance``, only those of the ILS and of the backend that proves it.
 
     ``solve`` calls it before starting the clock, so a time limit measures solving, not
     just-in-time compilation (about 20 s per kernel set on a cold cache, under 1 s warm).
     """
-    for kernel in BACKENDS.get(backend).kernels:
-        if kernel in _WARMED or (kernel == BP_KERNELS and backend == "auto" and vehicles == 1):
+    kernels = BACKENDS.get(backend).kernels
+    if backend == "auto" and instance is not None:
+        kernels = (ILS_KERNELS, *BACKENDS.get(_prover(instance)).kernels)
+    for kernel in dict.fromkeys(kernels):
+        if kernel in _WARMED:
             continue
         started = time.perf_counter()
-        if kernel == ILS_KERNELS:
-            from searchtrack.plan.optw import ils
-
-            ils.warm_up()
-        elif kernel == BP_KERNELS:
-            from searchtrack.plan.optw import bp_warm_up
-
-            bp_warm_up.warm_up()
-        else:
-            from searchtrack.plan.optw import labelling
-
-            labelling.warm_up()
+        warm_set(kernel)
         _WARMED.add(kernel)
         log.info("%s kernels ready in %.2f s", kernel, time.perf_counter() - started)
 
@@ -166,7 +172,7 @@ def solve(
         Unknown backend, a backend that cannot take this instance, or a bad time limit.
     """
     chosen = BACKENDS.checked(backend, instance, time_limit_s, seed)
-    warm_up(backend, instance.vehicles)
+    warm_up(backend, instance)
     started = time.perf_counter()
     result = interrupted(chosen.solve(instance, time_limit_s=time_limit_s, seed=seed))
     log.info("optw %s via %s: %s %s in %.3f s", instance.name, backend, result.status.name,

@@ -75,8 +75,8 @@ def find_times(area_m2: FloatArray, *, uavs: int, start_m2: float, rate_m2_s: fl
     for k in range(area_m2.shape[-1]):
         searching = uavs - k if hold else uavs
         need = np.maximum(area_m2[..., k] - covered, 0.0)
-        t = t + need / (searching * rate_m2_s) if searching > 0 else np.where(need > 0, np.inf,
-                                                                              t)
+        rate = searching * rate_m2_s
+        t = t + need / rate if rate > 0 else np.where(need > 0, np.inf, t)
         covered = np.maximum(covered, area_m2[..., k])
         times[..., k] = t
     return times

@@ -41,7 +41,8 @@ def test_auto_on_one_vehicle_leaves_the_set_alone() -> None:
     two vehicles, and for ``bp`` on one, it readies it (each in a fresh process)."""
     code = ("import importlib, json, sys\n"
             "solve = importlib.import_module('searchtrack.plan.optw.solve')\n"
-            "solve.warm_up(sys.argv[1], int(sys.argv[2]))\n"
+            "from searchtrack.plan.optw.bp_warm_up import small_instance\n"
+            "solve.warm_up(sys.argv[1], small_instance().with_vehicles(int(sys.argv[2])))\n"
             "print(json.dumps(sorted(solve._WARMED)))")
     for backend, vehicles, warmed in (("auto", 1, False), ("auto", 2, True), ("bp", 1, True)):
         done = subprocess.run([sys.executable, "-c", code, backend, str(vehicles)],
